@@ -1,0 +1,69 @@
+"""ament_python build of linkage_ros: the pure `solver` library and the ROS 2 package `linkage_ros`.
+
+Works with colcon (ROS 2 Jazzy or colcon from PyPI) and with plain pip.
+"""
+
+from glob import glob
+from pathlib import Path
+
+from setuptools import find_packages, setup
+
+package_name = "linkage_ros"
+here = Path(__file__).parent
+
+
+def _files(pattern: str) -> list[str]:
+    return sorted(p for p in glob(pattern, recursive=True) if Path(p).is_file())
+
+
+def _tree(root: str) -> list[tuple[str, list[str]]]:
+    """data_files entries that keep the folder layout of ``root`` under share/linkage_ros."""
+    groups: dict[str, list[str]] = {}
+    for path in _files(f"{root}/**/*"):
+        groups.setdefault(str(Path(path).parent), []).append(path)
+    return [(f"share/{package_name}/{folder}", paths) for folder, paths in sorted(groups.items())]
+
+
+setup(
+    name=package_name,
+    version="0.1.0",
+    packages=find_packages(include=["solver", "solver.*", "linkage_ros", "linkage_ros.*"]),
+    data_files=[
+        ("share/ament_index/resource_index/packages", [f"resource/{package_name}"]),
+        (f"share/{package_name}", ["package.xml"]),
+        (f"share/{package_name}/launch", _files("launch/*.launch.py")),
+        *_tree("config"),
+    ],
+    python_requires=">=3.10",
+    install_requires=["setuptools", "numpy>=1.26", "PyYAML>=6"],
+    extras_require={
+        "record": ["rosbags>=0.10", "mcap>=1.2", "mcap-ros2-support>=0.5", "rerun-sdk>=0.41,<0.42"],
+        "test": [
+            "pytest>=8",
+            "hypothesis>=6.100",
+            "mpmath>=1.3",
+            "ruff>=0.6",
+            "mypy>=1.10",
+            "types-PyYAML",
+            "yourdfpy>=0.0.56",
+            "colcon-common-extensions",
+        ],
+        "bench": ["matplotlib>=3.8", "pylinkage==1.3.0"],
+    },
+    zip_safe=True,
+    maintainer="linkage_ros developers",
+    maintainer_email="linkage-ros@example.com",
+    description="Exact closed-form kinematics of linkage mechanisms, published into ROS 2.",
+    license="Apache-2.0",
+    tests_require=["pytest"],
+    entry_points={
+        "console_scripts": [
+            "linkage-solve = solver.cli:main",
+            "mechanism_node = linkage_ros.node:main",
+            "linkage-run = linkage_ros.cli:run_main",
+            "linkage-view = linkage_ros.cli:view_main",
+            "linkage-mcap = linkage_ros.cli:mcap_main",
+            "linkage-urdf = linkage_ros.urdf:main",
+        ],
+    },
+)

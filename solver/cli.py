@@ -1,0 +1,146 @@
+"""``linkage-solve``: sweep a scene over the crank angle and print a summary or write a CSV."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from collections.abc import Sequence
+from typing import TextIO
+
+import numpy as np
+
+from .errors import SolverError
+from .kinematics import Kinematics
+from .scene import Scene, load_scene
+
+__all__ = ["main", "csv_header", "write_csv", "summary"]
+
+AXES = "xyz"
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="linkage-solve",
+        description="Exact kinematics of a linkage scene over one turn of its input (or given angles).",
+    )
+    p.add_argument("scene", help="scene file, or the name of a shipped scene (e.g. harvester_finger)")
+    grid = p.add_mutually_exclusive_group()
+    grid.add_argument("--phi-count", type=int, default=360, metavar="N", help="N angles over one turn (default 360)")
+    grid.add_argument("--phi", type=_floats, metavar="V1,V2,...", help="these input angles (rad, or deg with --deg)")
+    p.add_argument("--deg", action="store_true", help="--phi values are in degrees; the summary shows degrees")
+    p.add_argument("--omega", type=float, default=1.0, metavar="W", help="input angular velocity, rad/s (default 1)")
+    p.add_argument("--epsilon", type=float, default=0.0, metavar="E", help="input angular acceleration, rad/s² (default 0)")
+    p.add_argument("--csv", metavar="FILE|-", help="write the table as CSV (SI units, phi in rad) to FILE or stdout")
+    p.add_argument(
+        "--mask",
+        action="store_true",
+        help="where the mechanism cannot be assembled, leave those angles out instead of failing",
+    )
+    return p
+
+
+def _floats(text: str) -> list[float]:
+    try:
+        values = [float(v) for v in text.split(",") if v.strip()]
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"not a comma-separated list of numbers: {text!r}") from exc
+    if not values:
+        raise argparse.ArgumentTypeError("give at least one angle")
+    return values
+
+
+def csv_header(scene: Scene) -> list[str]:
+    cols = ["phi"]
+    axes = AXES[: scene.dim]
+    for p in scene.output_points:
+        for prefix in ("", "v", "a"):
+            cols += [f"{p}.{prefix}{a}" for a in axes]
+    for j in scene.output_joints:
+        cols += [f"{j}.q", f"{j}.dq", f"{j}.ddq"]
+    return cols
+
+
+def table(scene: Scene, k: Kinematics) -> np.ndarray:
+    """The CSV's columns as one (N, columns) array."""
+    cols: list[np.ndarray] = [k.phi[:, None]]
+    for p in scene.output_points:
+        m = k.point(p)
+        cols += [m.position, m.velocity, m.acceleration]
+    for j in scene.output_joints:
+        m = k.joint(j)
+        cols += [m.position[:, None], m.velocity[:, None], m.acceleration[:, None]]
+    return np.hstack(cols)
+
+
+def write_csv(scene: Scene, k: Kinematics, out: TextIO) -> None:
+    out.write(",".join(csv_header(scene)) + "\n")
+    data = table(scene, k)[k.valid]
+    np.savetxt(out, data, delimiter=",", fmt="%.17g")
+
+
+def summary(scene: Scene, k: Kinematics, *, deg: bool = True) -> str:
+    """Per output: range, and the extremes of |velocity| and |acceleration| with their φ."""
+    phi = k.phi[k.valid]
+    unit = "°" if deg else " rad"
+
+    def at(i: int) -> str:
+        return f"{math.degrees(phi[i]):.2f}°" if deg else f"{phi[i]:.4f} rad"
+
+    lines = [f"scene {scene.name}: {len(phi)} positions, ω = {k.omega.flat[0] if k.omega.size else 0:g} rad/s, ε = {k.epsilon.flat[0] if k.epsilon.size else 0:g} rad/s²"]
+    if scene.provenance:
+        lines.append(f"  ({scene.provenance.split('.')[0]}.)")
+    for p in scene.output_points:
+        m = k.point(p)
+        pos, vel, acc = (x[k.valid] for x in m)
+        if not len(phi):
+            break
+        lo, hi = pos.min(axis=0), pos.max(axis=0)
+        rng = ", ".join(f"{a} ∈ [{lo[i]:.6g}, {hi[i]:.6g}]" for i, a in enumerate(AXES[: scene.dim]))
+        sv, sa = np.linalg.norm(vel, axis=1), np.linalg.norm(acc, axis=1)
+        iv, ia = int(np.argmax(sv)), int(np.argmax(sa))
+        lines.append(f"  point {p}: {rng} m")
+        lines.append(f"    max |v| = {sv[iv]:.6g} m/s at φ = {at(iv)}; max |a| = {sa[ia]:.6g} m/s² at φ = {at(ia)}")
+    for j in scene.output_joints:
+        q, dq, ddq = (x[k.valid] for x in k.joint(j))
+        if not len(phi):
+            break
+        iv, ia = int(np.argmax(np.abs(dq))), int(np.argmax(np.abs(ddq)))
+        lines.append(f"  joint {j}: q ∈ [{q.min():.6g}, {q.max():.6g}] (rad or m)")
+        lines.append(
+            f"    max |dq| = {abs(dq[iv]):.6g} at φ = {at(iv)}; max |ddq| = {abs(ddq[ia]):.6g} at φ = {at(ia)}"
+        )
+    _ = unit
+    return "\n".join(lines)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    try:
+        scene = load_scene(args.scene)
+        if args.phi is not None:
+            phi = np.radians(args.phi) if args.deg else np.asarray(args.phi, float)
+        else:
+            if args.phi_count < 1:
+                raise SolverError(f"--phi-count must be at least 1, got {args.phi_count}")
+            phi = np.linspace(0.0, 2 * math.pi, args.phi_count, endpoint=False)
+        k = scene.solve(phi, omega=args.omega, epsilon=args.epsilon, mask=args.mask)
+        if args.csv:
+            if args.csv == "-":
+                write_csv(scene, k, sys.stdout)
+            else:
+                with open(args.csv, "w", encoding="utf-8", newline="") as fh:
+                    write_csv(scene, k, fh)
+        else:
+            print(summary(scene, k, deg=True))
+    except SolverError as exc:
+        print(f"linkage-solve: error: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print(f"linkage-solve: error: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,66 @@
+"""The error hierarchy of the solver.
+
+Every message carries its inputs: the scene file and entry for a :class:`SceneError`, the group
+and the crank angles for an :class:`AssemblyError`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+__all__ = ["SolverError", "SceneError", "AssemblyError", "format_intervals"]
+
+
+class SolverError(ValueError):
+    """Base of every error the solver raises on purpose."""
+
+
+class SceneError(SolverError):
+    """A scene file (or scene data) that cannot be turned into a mechanism."""
+
+    def __init__(self, message: str, *, file: str | None = None, entry: str | None = None) -> None:
+        self.file = file
+        self.entry = entry
+        self.reason = message
+        where = ": ".join(part for part in (file, entry) if part)
+        super().__init__(f"{where}: {message}" if where else message)
+
+
+def format_intervals(intervals: Sequence[tuple[float, float]]) -> str:
+    """``[(lo, hi), ...]`` in rad as text in degrees with 4 decimals."""
+    return ", ".join(
+        f"({math.degrees(lo):.4f}°, {math.degrees(hi):.4f}°)" for lo, hi in intervals
+    )
+
+
+class AssemblyError(SolverError):
+    """A group cannot be assembled at some crank angles.
+
+    ``intervals`` lists the open intervals of φ (rad, within one turn ``[0, 2π)``, or the sweep's
+    own range) where it cannot be assembled; ``phi`` holds the requested angles that fall inside.
+    """
+
+    def __init__(
+        self,
+        *,
+        group: str,
+        phi: Sequence[float] = (),
+        intervals: Sequence[tuple[float, float]] = (),
+        reason: str = "cannot be assembled",
+        scene: str | None = None,
+    ) -> None:
+        self.group = group
+        self.phi = tuple(float(p) for p in phi)
+        self.intervals = tuple((float(lo), float(hi)) for lo, hi in intervals)
+        self.reason = reason
+        self.scene = scene
+        head = f"{scene}: " if scene else ""
+        text = f"{head}group '{group}' {reason}"
+        if self.intervals:
+            text += f" for φ in {format_intervals(self.intervals)}"
+        if self.phi:
+            shown = ", ".join(f"{math.degrees(p):.4f}°" for p in self.phi[:5])
+            more = f" and {len(self.phi) - 5} more" if len(self.phi) > 5 else ""
+            text += f"; requested φ = {shown}{more}"
+        super().__init__(text)

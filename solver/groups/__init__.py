@@ -1,0 +1,31 @@
+"""Structural groups: one module per kind, each solving its points in closed form with exact analogs."""
+
+from __future__ import annotations
+
+from .attached import Attached
+from .base import Context, Group
+from .crank import Crank
+from .joints import JOINT_KINDS, JointExpression
+from .rrp import RRP
+from .rrr import RRR
+from .slotted import Slotted
+from .spherical import SphericalCrankSlider
+
+__all__ = [
+    "Attached",
+    "Context",
+    "Crank",
+    "Group",
+    "GROUP_TYPES",
+    "JOINT_KINDS",
+    "JointExpression",
+    "RRP",
+    "RRR",
+    "Slotted",
+    "SphericalCrankSlider",
+]
+
+#: The group types a scene's ``groups:`` list may name, by their ``type:`` key.
+GROUP_TYPES: dict[str, type] = {
+    cls.kind: cls for cls in (Crank, Attached, Slotted, RRR, RRP, SphericalCrankSlider)
+}

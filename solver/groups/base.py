@@ -1,0 +1,111 @@
+"""What every group shares: its names in the plan and the context it is solved in."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Callable, ClassVar
+
+import numpy as np
+
+from .._backend import Backend
+from ..errors import AssemblyError
+from ..jet import Jet
+
+__all__ = ["Group", "Context", "at_most_one"]
+
+
+def at_most_one(x: Any) -> Any:
+    """``min(x, 1)`` for a scalar or elementwise for an array."""
+    return min(x, 1.0) if isinstance(x, float) else np.minimum(x, 1.0)
+
+Num = Any
+
+
+@dataclass
+class Context:
+    """One evaluation of a plan: the crank angle(s), the evaluator, and the jets solved so far.
+
+    Points and joints share one namespace, ``values``. ``conditioning`` collects each group's
+    dimensionless conditioning figure (1 = well conditioned, 0 = singular). With
+    ``mask=True`` unassemblable samples are recorded in ``invalid`` instead of raising.
+    """
+
+    phi: Num
+    xp: Backend
+    values: dict[str, Jet] = field(default_factory=dict)
+    conditioning: dict[str, Num] = field(default_factory=dict)
+    mask: bool = False
+    invalid: Num = False
+    scene: str | None = None
+    find_intervals: Callable[[str], list[tuple[float, float]]] | None = None
+
+    def intervals_of(self, group: str) -> list[tuple[float, float]]:
+        """The φ intervals in which ``group`` cannot be assembled, where the plan can tell."""
+        return self.find_intervals(group) if self.find_intervals is not None else []
+
+    def require(self, group: Group, ok: Num, *, reason: str = "cannot be assembled") -> None:
+        """Stop (or, in mask mode, record) the samples where ``ok`` is false."""
+        if not self.xp.vectorised:
+            if not ok:
+                if self.mask:
+                    self.invalid = True
+                    return
+                raise AssemblyError(
+                    group=group.name,
+                    phi=[self.phi],
+                    intervals=self.intervals_of(group.name),
+                    reason=reason,
+                    scene=self.scene,
+                )
+            return
+        if bool(np.all(ok)):
+            return
+        bad = ~np.asarray(ok, dtype=bool)
+        if self.mask:
+            self.invalid = self.invalid | bad
+            return
+        phi = np.broadcast_to(self.phi, bad.shape)
+        raise AssemblyError(
+            group=group.name,
+            phi=phi[bad].tolist(),
+            intervals=self.intervals_of(group.name),
+            reason=reason,
+            scene=self.scene,
+        )
+
+
+@dataclass(frozen=True)
+class Group:
+    """A structural group: solves some points and joints from others, in closed form.
+
+    Subclasses state their loop equation, derivatives, linear system and branch rule in their
+    module docstring, list what they read in :meth:`requires` and what they write in
+    :meth:`provides`, and implement :meth:`solve`.
+    """
+
+    kind: ClassVar[str] = ""
+    #: True for the group that takes φ as its input (a crank); a scene has exactly one.
+    drives: ClassVar[bool] = False
+    name: str
+
+    def joints(self) -> tuple[str, ...]:
+        """Which of the provided names are joint coordinates (the rest are points)."""
+        return ()
+
+    def input_joint(self) -> str | None:
+        """The joint whose coordinate is φ, for the driving group."""
+        return None
+
+    def requires(self) -> tuple[str, ...]:
+        raise NotImplementedError
+
+    def provides(self) -> tuple[str, ...]:
+        raise NotImplementedError
+
+    def links(self) -> tuple[tuple[str, ...], ...]:
+        """Polylines of point names that draw this group's bodies."""
+        return ()
+
+    def solve(self, ctx: Context) -> None:
+        raise NotImplementedError
+

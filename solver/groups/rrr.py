@@ -1,0 +1,94 @@
+"""The RRR dyad (ВВВ group) of seed 003: joint B at distance l₁ from A and l₂ from C.
+
+Loop equation
+    |B − A| = l₁,  |B − C| = l₂,  with A and C known.
+    With d = C − A and D = |d|: B = A + d·(a − j·M·h), where
+    a = (l₁² − l₂² + D²)/(2D²) and h² = l₁²/D² − a²  (the law of cosines of seed 003).
+Derivatives (exact): differentiate (B − A)·(B − A) = l₁², (B − C)·(B − C) = l₂².
+Linear system, with p = B − A, q = B − C (real dot products on complex numbers):
+    B'·p = A'·p,                    B'·q = C'·q,
+    B''·p = A''·p − |B' − A'|²,     B''·q = C''·q − |B' − C'|²,
+    solved by Cramer's rule: for X·p = s₁, X·q = s₂,  X = j·(s₂·p − s₁·q) / (p × q).
+Branch rule (seed 003)
+    M = +1 when the joints A → B → C are traversed counter-clockwise (the signed area of the
+    triangle A, B, C is positive), M = −1 clockwise; chosen once, it holds for every position.
+Conditioning
+    |p × q| / (l₁·l₂) = |sin| of the angle between the links: 0 at a toggle (dead centre).
+Assembly fails where h² < 0 (|l₁ − l₂| ≤ D ≤ l₁ + l₂ violated).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from .._backend import abs2, cross, dot
+from ..jet import Jet
+from ..tolerances import ASSEMBLY_SLACK
+from .._fields import Entry, Units
+from .base import Context, Group
+
+__all__ = ["RRR", "solve_linear"]
+
+
+def solve_linear(p: Any, q: Any, det: Any, s1: Any, s2: Any) -> Any:
+    """The planar vector X with X·p = s₁ and X·q = s₂, given det = p × q."""
+    return 1j * (s2 * p - s1 * q) / det
+
+
+@dataclass(frozen=True)
+class RRR(Group):
+    kind = "rrr"
+    ends: tuple[str, str]  # A, C
+    point: str  # B
+    lengths: tuple[float, float]  # |AB|, |CB|
+    mode: int  # M = ±1
+
+    def requires(self) -> tuple[str, ...]:
+        return self.ends
+
+    def provides(self) -> tuple[str, ...]:
+        return (self.point,)
+
+    def links(self) -> tuple[tuple[str, ...], ...]:
+        return ((self.ends[0], self.point, self.ends[1]),)
+
+    def solve(self, ctx: Context) -> None:
+        xp, vals = ctx.xp, ctx.values
+        ja, jc = vals[self.ends[0]], vals[self.ends[1]]
+        l1, l2 = self.lengths
+        a_, c_ = ja.value, jc.value
+        d = c_ - a_
+        dd = abs2(d)
+        ctx.require(self, dd > 0.0, reason="has its two ends on one point")
+        a = (l1 * l1 - l2 * l2 + dd) / (2.0 * dd)
+        h2 = l1 * l1 / dd - a * a
+        # rounding at a toggle can leave h² a few ulps below zero: clamp that, report the rest.
+        ctx.require(self, h2 >= -ASSEMBLY_SLACK * (l1 * l1 + l2 * l2) / dd)
+        h = xp.sqrt(h2 * (h2 > 0.0))
+        b = a_ + d * (a - 1j * self.mode * h)
+        p, q = b - a_, b - c_
+        det = cross(p, q)
+        b1 = solve_linear(p, q, det, dot(ja.d1, p), dot(jc.d1, q))
+        s1 = dot(ja.d2, p) - abs2(b1 - ja.d1)
+        s2 = dot(jc.d2, q) - abs2(b1 - jc.d1)
+        b2 = solve_linear(p, q, det, s1, s2)
+        vals[self.point] = Jet(b, b1, b2)
+        ctx.conditioning[self.name] = abs(det) / (l1 * l2)
+
+    @classmethod
+    def from_entry(cls, e: Entry, units: Units, fixed: Mapping[str, Any]) -> RRR:
+        """``{type: rrr, name, ends: [A, C], point: B, lengths: [AB, CB], M: ±1}``."""
+        ends = e.names("ends", 2)
+        raw = e.raw("lengths")
+        if not isinstance(raw, (list, tuple)) or len(raw) != 2:
+            raise e.error(f"must be [|AB|, |CB|], got {raw!r}", "lengths")
+        sub = e.child("lengths", {"AB": raw[0], "CB": raw[1]})
+        return cls(
+            name=e.name("name"),
+            ends=(ends[0], ends[1]),
+            point=e.name("point"),
+            lengths=(sub.length("AB", units), sub.length("CB", units)),
+            mode=e.mode(),
+        )

@@ -1,0 +1,71 @@
+"""The slotted link (kulisa, RPR) of seed 000: a link pivoted at A that passes through B.
+
+Loop equation
+    The link's direction is u = (B − A)/|B − A|; each point P_k on it lies at a signed distance
+    L_k from A:  P_k = A + L_k·u  (seed 000: AC = TurnRI(AB, 0, L_AC), C = A + AC).
+Derivatives (exact), with r = B − A, ln r = ln ρ + jθ:
+    θ' = Im(r'/r),  θ'' = Im(r''/r − (r'/r)²),
+    P_k' = A' + jθ'·(P_k − A),  P_k'' = A'' + (jθ'' − θ'²)·(P_k − A).
+    The slide of B along the link is ρ = |r|: ρ' = ρ·Re(r'/r).
+Linear system
+    none: explicit.
+Branch rule
+    none. B must not coincide with A (the link's direction is undefined there: AssemblyError).
+Conditioning: ρ / ρ_max, the slide relative to the largest distance named on the link.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from ..jet import sub
+from .attached import points_on_link
+from .._fields import Entry, Units
+from .base import Context, Group, at_most_one
+
+__all__ = ["Slotted"]
+
+
+@dataclass(frozen=True)
+class Slotted(Group):
+    kind = "slotted"
+    pivot: str
+    through: str
+    points: tuple[tuple[str, float], ...]  # (name, distance from the pivot)
+
+    def requires(self) -> tuple[str, ...]:
+        return (self.pivot, self.through)
+
+    def provides(self) -> tuple[str, ...]:
+        return tuple(name for name, _ in self.points)
+
+    def links(self) -> tuple[tuple[str, ...], ...]:
+        far = max(self.points, key=lambda p: abs(p[1]))[0]
+        return ((self.pivot, self.through, far),)
+
+    def solve(self, ctx: Context) -> None:
+        vals = ctx.values
+        r = sub(vals[self.through], vals[self.pivot])
+        z = r.value
+        ctx.require(self, z.real * z.real + z.imag * z.imag > 0.0, reason="has its eyelet on the pivot")
+        jets, rho = points_on_link(
+            vals[self.pivot], r, tuple(complex(d) for _, d in self.points), ctx.xp
+        )
+        for (name, _), jet in zip(self.points, jets):
+            vals[name] = jet
+        scale = max(abs(d) for _, d in self.points)
+        ctx.conditioning[self.name] = at_most_one(rho / scale)
+
+    @classmethod
+    def from_entry(cls, e: Entry, units: Units, fixed: Mapping[str, Any]) -> Slotted:
+        """``{type: slotted, name, pivot, through, points: {C: L_AC, ...}}``."""
+        raw = e.raw("points")
+        if not isinstance(raw, Mapping) or not raw:
+            raise e.error("must map point names to their distances from the pivot", "points")
+        sub = e.child("points", raw)
+        points = tuple((str(k), sub.length(str(k), units, positive=False)) for k in raw)
+        if any(d == 0.0 for _, d in points):
+            raise e.error("a point on the slotted link at distance 0 is the pivot itself", "points")
+        return cls(name=e.name("name"), pivot=e.name("pivot"), through=e.name("through"), points=points)
