@@ -8,8 +8,9 @@ Planar points are complex numbers ``x + j·y`` (seed 000's notation).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -32,7 +33,12 @@ class Backend:
 
     def cis(self, angle: Num) -> Num:
         """``e^{j·angle}``."""
-        return self.cos(angle) + 1j * self.sin(angle)
+        if not self.vectorised:
+            return complex(self.cos(angle), self.sin(angle))
+        out = np.empty(np.shape(angle), np.complex128)
+        np.cos(angle, out=out.real)
+        np.sin(angle, out=out.imag)
+        return out
 
 
 NUMPY = Backend("numpy", np.sqrt, np.cos, np.sin, np.arctan2, np.tan, True)

@@ -30,7 +30,9 @@ def _parser() -> argparse.ArgumentParser:
     grid.add_argument("--phi", type=_floats, metavar="V1,V2,...", help="these input angles (rad, or deg with --deg)")
     p.add_argument("--deg", action="store_true", help="--phi values are in degrees; the summary shows degrees")
     p.add_argument("--omega", type=float, default=1.0, metavar="W", help="input angular velocity, rad/s (default 1)")
-    p.add_argument("--epsilon", type=float, default=0.0, metavar="E", help="input angular acceleration, rad/s² (default 0)")
+    p.add_argument(
+        "--epsilon", type=float, default=0.0, metavar="E", help="input angular acceleration, rad/s² (default 0)"
+    )
     p.add_argument("--csv", metavar="FILE|-", help="write the table as CSV (SI units, phi in rad) to FILE or stdout")
     p.add_argument(
         "--mask",
@@ -87,7 +89,9 @@ def summary(scene: Scene, k: Kinematics, *, deg: bool = True) -> str:
     def at(i: int) -> str:
         return f"{math.degrees(phi[i]):.2f}°" if deg else f"{phi[i]:.4f} rad"
 
-    lines = [f"scene {scene.name}: {len(phi)} positions, ω = {k.omega.flat[0] if k.omega.size else 0:g} rad/s, ε = {k.epsilon.flat[0] if k.epsilon.size else 0:g} rad/s²"]
+    w = k.omega.flat[0] if k.omega.size else 0.0
+    e = k.epsilon.flat[0] if k.epsilon.size else 0.0
+    lines = [f"scene {scene.name}: {len(phi)} positions, ω = {w:g} rad/s, ε = {e:g} rad/s²"]
     if scene.provenance:
         lines.append(f"  ({scene.provenance.split('.')[0]}.)")
     for p in scene.output_points:

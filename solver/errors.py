@@ -29,9 +29,7 @@ class SceneError(SolverError):
 
 def format_intervals(intervals: Sequence[tuple[float, float]]) -> str:
     """``[(lo, hi), ...]`` in rad as text in degrees with 4 decimals."""
-    return ", ".join(
-        f"({math.degrees(lo):.4f}°, {math.degrees(hi):.4f}°)" for lo, hi in intervals
-    )
+    return ", ".join(f"({math.degrees(lo):.4f}°, {math.degrees(hi):.4f}°)" for lo, hi in intervals)
 
 
 class AssemblyError(SolverError):

@@ -63,9 +63,11 @@ def direction(r: Jet, xp: Backend) -> Direction:
 
 def angle_of(r: Jet, xp: Backend) -> Jet:
     """Angle θ = arg r in (−π, π] with θ' = Im(r'/r), θ'' = Im((r'/r)')."""
-    d = direction(r, xp)
     z = r.value
-    return Jet(xp.atan2(z.imag, z.real), _imag(d.w), _imag(d.w1))
+    inv = z.conjugate() / (z.real * z.real + z.imag * z.imag)  # 1/r
+    w = r.d1 * inv
+    w1 = r.d2 * inv - w * w
+    return Jet(xp.atan2(z.imag, z.real), _imag(w), _imag(w1))
 
 
 def length_of(r: Jet, xp: Backend) -> Jet:

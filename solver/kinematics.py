@@ -16,7 +16,7 @@ import numpy as np
 from .errors import SolverError
 from .jet import Jet
 
-__all__ = ["Kinematics", "Motion"]
+__all__ = ["Kinematics", "Motion", "empty_motion", "fill_motion", "scalar_motion"]
 
 
 class Motion(NamedTuple):
@@ -30,6 +30,50 @@ class Motion(NamedTuple):
     acceleration: np.ndarray
 
 
+def empty_motion(n: int, width: int | None) -> Motion:
+    """Uninitialised (N, width) arrays, or (N,) for a joint (``width=None``).
+
+    Planar points (width 2) are allocated as complex (N,) arrays and viewed as float (N, 2), so
+    that filling them from complex jets is a contiguous copy.
+    """
+    if width == 2:
+        return Motion(*(np.empty(n, complex).view(np.float64).reshape(n, 2) for _ in range(3)))
+    shape = (n,) if width is None else (n, width)
+    return Motion(np.empty(shape), np.empty(shape), np.empty(shape))
+
+
+def fill_motion(out: Motion, rows: slice, jet: Jet, omega: Any, epsilon: Any, *, planar: bool) -> None:
+    """Write the real motion of ``jet`` for the samples ``rows`` into ``out``.
+
+    Planar points are complex jets (written as x, y columns); spatial points (…, 3) real jets;
+    joints real jets.
+    """
+    z0, z1, z2 = jet
+    w, e = omega, epsilon
+    if not planar and out.position.ndim == 2 and np.ndim(omega):
+        w, e = omega[:, None], epsilon[:, None]
+    pos, vel, acc = (x.view(np.complex128)[rows, 0] for x in out) if planar else (x[rows] for x in out)
+    pos[...] = z0
+    np.multiply(z1, w, out=vel)
+    np.multiply(z2, w * w, out=acc)
+    if np.ndim(e) or e != 0.0:
+        acc += z1 * e
+
+
+def scalar_motion(jet: Jet, omega: float, epsilon: float, *, planar: bool) -> Motion:
+    """Real motion at one φ: (2,) / (3,) arrays for a point, 0-d arrays for a joint."""
+    z0, z1, z2 = jet
+    v = z1 * omega
+    a = z2 * (omega * omega) + z1 * epsilon
+    if planar:
+        z0, v, a = complex(z0), complex(v), complex(a)
+        rows = np.array(((z0.real, z0.imag), (v.real, v.imag), (a.real, a.imag)))
+    else:
+        rows = np.empty((3, *np.shape(z0)))
+        rows[0], rows[1], rows[2] = z0, v, a
+    return Motion(rows[0], rows[1], rows[2])
+
+
 class Kinematics:
     """Motion of the requested points and joints over the sampled crank angles."""
 
@@ -39,76 +83,41 @@ class Kinematics:
         phi: np.ndarray,
         omega: np.ndarray,
         epsilon: np.ndarray,
-        values: Mapping[str, Jet],
+        motions: Mapping[str, Motion],
         points: tuple[str, ...],
         joints: tuple[str, ...],
         conditioning: Mapping[str, Any],
         valid: np.ndarray | None = None,
-        scalar: bool = False,
     ) -> None:
         self.phi = phi
         self.omega = omega
         self.epsilon = epsilon
         self.points = points
         self.joints = joints
-        self._values = values
-        self._scalar = scalar
-        shape = phi.shape
-        self.conditioning = {k: np.broadcast_to(np.asarray(v, float), shape) for k, v in conditioning.items()}
+        self._motions = motions
+        self._conditioning = conditioning
         #: False where a sample could not be assembled (only with ``mask=True``).
-        self.valid = np.ones(shape, bool) if valid is None else np.broadcast_to(valid, shape)
-        self._cache: dict[str, Motion] = {}
+        self.valid = np.ones(phi.shape, bool) if valid is None else valid
 
     def point(self, name: str) -> Motion:
         """Position, velocity and acceleration of point ``name``: (N, 2) or (N, 3) arrays."""
         if name not in self.points:
             raise SolverError(f"point '{name}' was not requested; requested points: {list(self.points)}")
-        if name not in self._cache:
-            self._cache[name] = self._motion(self._values[name], planar=None)
-        return self._cache[name]
+        return self._motions[name]
 
     def joint(self, name: str) -> Motion:
         """Coordinate, velocity and acceleration of joint ``name`` (rad or m): (N,) arrays."""
         if name not in self.joints:
             raise SolverError(f"joint '{name}' was not requested; requested joints: {list(self.joints)}")
-        if name not in self._cache:
-            self._cache[name] = self._motion(self._values[name], planar=False)
-        return self._cache[name]
+        return self._motions[name]
+
+    @property
+    def conditioning(self) -> dict[str, np.ndarray]:
+        """Per group, its dimensionless conditioning per sample: 1 well conditioned, 0 singular."""
+        return {k: np.broadcast_to(np.asarray(v, float), self.phi.shape) for k, v in self._conditioning.items()}
 
     @property
     def min_conditioning(self) -> np.ndarray:
         """The worst conditioning over all groups, per sample (1 where no group reports one)."""
-        if not self.conditioning:
-            return np.ones(self.phi.shape)
-        return np.minimum.reduce(list(self.conditioning.values()))
-
-    def _motion(self, jet: Jet, *, planar: bool | None) -> Motion:
-        w, e = self.omega, self.epsilon
-        z0, z1, z2 = jet
-        is_complex = planar is None and np.iscomplexobj(np.asarray(z0))
-        spatial = planar is None and not is_complex
-        if spatial:  # (…, 3) arrays: broadcast ω, ε over the last axis
-            w, e = w[..., None], e[..., None]
-        v = z1 * w
-        a = z2 * (w * w) + z1 * e
-        shape = self.phi.shape + ((3,) if spatial else ())
-        out = [_as(x, shape, complex if is_complex else float) for x in (z0, v, a)]
-        if is_complex:
-            out = [_planar(x) for x in out]
-        return Motion(*out)
-
-
-def _as(x: Any, shape: tuple[int, ...], dtype: type) -> np.ndarray:
-    arr = np.asarray(x, dtype=dtype)
-    if arr.shape != shape:
-        arr = np.broadcast_to(arr, shape).copy()
-    return arr
-
-
-def _planar(z: np.ndarray) -> np.ndarray:
-    """complex (…,) → float (…, 2) without a copy where the memory allows."""
-    if z.ndim == 0:
-        return np.array([z.real, z.imag])
-    if not z.flags.c_contiguous:
-        z = z.copy()
-    return z.view(np.float64).reshape(z.shape + (2,))
+        values = list(self.conditioning.values())
+        return np.minimum.reduce(values) if values else np.ones(self.phi.shape)

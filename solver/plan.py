@@ -17,9 +17,7 @@ from .jet import constant
 __all__ = ["Plan", "order_groups", "build_plan"]
 
 
-def order_groups(
-    groups: Sequence[Group], known: Iterable[str], *, file: str | None = None
-) -> tuple[Group, ...]:
+def order_groups(groups: Sequence[Group], known: Iterable[str], *, file: str | None = None) -> tuple[Group, ...]:
     """Groups in dependency order; a group whose inputs nothing provides is a SceneError."""
     available = set(known)
     pending = list(groups)
@@ -86,8 +84,7 @@ def build_plan(ordered: Sequence[Group], fixed: Mapping[str, Any], targets: Iter
         if g.name not in keep:
             keep.add(g.name)
             stack.extend(r for r in g.requires() if r not in fixed)
-    kept = tuple(g for g in ordered if g.name in keep)
+    wanted = needed | {r for g in ordered if g.name in keep for r in g.requires()}
+    kept = tuple(g.restricted(wanted) for g in ordered if g.name in keep)
     used_fixed = {n: v for n, v in fixed.items() if any(n in g.requires() for g in kept) or n in targets}
     return Plan(kept, used_fixed, targets)
-
-

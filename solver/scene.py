@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 import os
 import sys
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -20,12 +20,16 @@ import numpy as np
 
 from ._backend import NUMPY, SCALAR
 from ._loader import SceneData, parse_scene, read_yaml
-from .errors import SceneError, SolverError
+from .errors import AssemblyError, SceneError, SolverError
 from .groups import Context
-from .kinematics import Kinematics
+from .kinematics import Kinematics, empty_motion, fill_motion, scalar_motion
 from .plan import Plan, build_plan, order_groups
 
-__all__ = ["Scene", "Link", "load_scene", "find_scene", "shipped_scenes", "scene_dirs"]
+__all__ = ["Scene", "Link", "load_scene", "find_scene", "shipped_scenes", "scene_dirs", "CHUNK"]
+
+#: Samples per block of the vectorised path: small enough that a group's temporaries stay in
+#: the CPU cache, large enough that numpy's per-call overhead is amortised.
+CHUNK = 1 << 13
 
 
 @dataclass(frozen=True)
@@ -85,17 +89,23 @@ def load_scene(name_or_path: str | os.PathLike[str]) -> Scene:
 class Scene:
     """A validated mechanism with a set of outputs and the plan that computes them."""
 
-    def __init__(self, data: SceneData, *, points: Iterable[str] | None = None, joints: Iterable[str] | None = None) -> None:
+    def __init__(
+        self, data: SceneData, *, points: Iterable[str] | None = None, joints: Iterable[str] | None = None
+    ) -> None:
         self._data = data
         self.ordered = order_groups(data.groups, data.fixed, file=data.file)
         self.output_points = tuple(data.output_points if points is None else points)
         self.output_joints = tuple(data.output_joints if joints is None else joints)
         for p in self.output_points:
             if p not in self.point_names:
-                raise SceneError(f"unknown point '{p}'; points: {list(self.point_names)}", file=data.file, entry="outputs")
+                raise SceneError(
+                    f"unknown point '{p}'; points: {list(self.point_names)}", file=data.file, entry="outputs"
+                )
         for j in self.output_joints:
             if j not in self.joint_names:
-                raise SceneError(f"unknown joint '{j}'; joints: {list(self.joint_names)}", file=data.file, entry="outputs")
+                raise SceneError(
+                    f"unknown joint '{j}'; joints: {list(self.joint_names)}", file=data.file, entry="outputs"
+                )
         self.plan: Plan = build_plan(self.ordered, data.fixed, (*self.output_points, *self.output_joints))
 
     # -- what the scene is -------------------------------------------------------------------
@@ -154,42 +164,96 @@ class Scene:
         the defaults (1, 0) the velocities and accelerations are the analogs. A position where a
         group cannot be assembled raises :class:`~solver.errors.AssemblyError`; with
         ``mask=True`` such samples are flagged in ``Kinematics.valid`` instead.
+        A scalar ``phi`` takes the per-tick path (Python scalars, no numpy per operation) and
+        returns (dim,) points and 0-d joints; an array takes the vectorised path, in blocks of
+        ``CHUNK`` samples so that the temporaries stay in cache.
         """
-        scalar = np.ndim(phi) == 0
+        if np.ndim(phi) == 0 and np.ndim(omega) == 0 and np.ndim(epsilon) == 0:
+            return self._solve_scalar(float(phi), float(omega), float(epsilon), mask)
         phi_arr = np.asarray(phi, dtype=float)
-        if phi_arr.ndim > 1:
-            raise SolverError(f"phi must be a float or a 1-D array, got shape {phi_arr.shape}")
-        omega_arr = np.broadcast_to(np.asarray(omega, dtype=float), phi_arr.shape)
-        epsilon_arr = np.broadcast_to(np.asarray(epsilon, dtype=float), phi_arr.shape)
-        for label, arr in (("phi", phi_arr), ("omega", omega_arr), ("epsilon", epsilon_arr)):
-            if not np.all(np.isfinite(arr)):
-                raise SolverError(f"{self.name}: {label} must be finite, got {arr[~np.isfinite(arr)][:3]}")
-        ctx = Context(
-            phi=float(phi_arr) if scalar else phi_arr,
-            xp=SCALAR if scalar else NUMPY,
-            mask=mask,
-            scene=self.path or self.name,
-            find_intervals=self._intervals,
-        )
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            self.plan.run(ctx)
+        if phi_arr.ndim != 1:
+            raise SolverError(f"{self.name}: phi must be a float or a 1-D array, got shape {phi_arr.shape}")
+        w = _per_sample(omega, phi_arr.shape, "omega", self.name)
+        e = _per_sample(epsilon, phi_arr.shape, "epsilon", self.name)
+        _check_finite(phi_arr, "phi", self.name)
+        try:
+            return self._solve_blocks(phi_arr, w, e, mask)
+        except AssemblyError as exc:
+            if mask:
+                raise
+            # report every failing angle of the sweep, not only those of the first block
+            bad = ~self._solve_blocks(phi_arr, w, e, True).valid
+            raise AssemblyError(
+                group=exc.group,
+                phi=phi_arr[bad].tolist(),
+                intervals=exc.intervals,
+                reason=exc.reason,
+                scene=exc.scene,
+            ) from None
+
+    def _solve_blocks(self, phi: np.ndarray, omega: Any, epsilon: Any, mask: bool) -> Kinematics:
+        n = phi.shape[0]
+        motions = {p: empty_motion(n, self.dim) for p in self.output_points}
+        motions.update({j: empty_motion(n, None) for j in self.output_joints})
+        conditioning: dict[str, np.ndarray] = {}
+        valid = np.ones(n, bool) if mask else None
+        planar = self.dim == 2
+        for lo in range(0, max(n, 1), CHUNK):
+            rows = slice(lo, min(lo + CHUNK, n))
+            ctx = Context(
+                phi=phi[rows], xp=NUMPY, mask=mask, scene=self.path or self.name, find_intervals=self._intervals
+            )
+            with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+                self.plan.run(ctx)
+                w = omega if np.ndim(omega) == 0 else omega[rows]
+                e = epsilon if np.ndim(epsilon) == 0 else epsilon[rows]
+                for p in self.output_points:
+                    fill_motion(motions[p], rows, ctx.values[p], w, e, planar=planar)
+                for j in self.output_joints:
+                    fill_motion(motions[j], rows, ctx.values[j], w, e, planar=False)
+            for name, c in ctx.conditioning.items():
+                conditioning.setdefault(name, np.empty(n))[rows] = c
+            if valid is not None:
+                valid[rows] = ~np.broadcast_to(ctx.invalid, (rows.stop - rows.start,))
         return Kinematics(
-            phi=phi_arr,
-            omega=omega_arr,
-            epsilon=epsilon_arr,
-            values=ctx.values,
+            phi=phi,
+            omega=np.broadcast_to(omega, phi.shape),
+            epsilon=np.broadcast_to(epsilon, phi.shape),
+            motions=motions,
+            points=self.output_points,
+            joints=self.output_joints,
+            conditioning=conditioning,
+            valid=valid,
+        )
+
+    def _solve_scalar(self, phi: float, omega: float, epsilon: float, mask: bool) -> Kinematics:
+        for label, v in (("phi", phi), ("omega", omega), ("epsilon", epsilon)):
+            if not math.isfinite(v):
+                raise SolverError(f"{self.name}: {label} must be finite, got {v}")
+        ctx = Context(phi=phi, xp=SCALAR, mask=mask, scene=self.path or self.name, find_intervals=self._intervals)
+        self.plan.run(ctx)
+        planar = self.dim == 2
+        vals = ctx.values
+        motions = {p: scalar_motion(vals[p], omega, epsilon, planar=planar) for p in self.output_points}
+        motions.update({j: scalar_motion(vals[j], omega, epsilon, planar=False) for j in self.output_joints})
+        return Kinematics(
+            phi=np.array(phi),
+            omega=np.array(omega),
+            epsilon=np.array(epsilon),
+            motions=motions,
             points=self.output_points,
             joints=self.output_joints,
             conditioning=ctx.conditioning,
-            valid=None if not mask else ~np.asarray(ctx.invalid, bool),
-            scalar=scalar,
+            valid=np.array(not ctx.invalid) if mask else None,
         )
 
     def assemblable(self, phi: float) -> bool:
         """Whether every group of the plan can be assembled at the single angle ``phi``."""
         ctx = Context(phi=float(phi), xp=SCALAR, mask=True)
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        try:
             self.plan.run(ctx)
+        except (ZeroDivisionError, ValueError):
+            return False
         return not ctx.invalid
 
     def _intervals(self, group: str) -> list[tuple[float, float]]:
@@ -201,9 +265,27 @@ class Scene:
         return f"Scene({self.name!r}, points={self.output_points}, joints={self.output_joints})"
 
 
+def _per_sample(value: Any, shape: tuple[int, ...], label: str, scene: str) -> Any:
+    """A finite scalar stays a float; an array must broadcast to φ's shape."""
+    if np.ndim(value) == 0:
+        v = float(value)
+        if not math.isfinite(v):
+            raise SolverError(f"{scene}: {label} must be finite, got {v}")
+        return v
+    try:
+        arr = np.broadcast_to(np.asarray(value, dtype=float), shape)
+    except ValueError as exc:
+        raise SolverError(f"{scene}: {label} of shape {np.shape(value)} does not match phi's {shape}") from exc
+    _check_finite(arr, label, scene)
+    return arr
+
+
+def _check_finite(arr: np.ndarray, label: str, scene: str) -> None:
+    if not np.isfinite(arr).all():
+        raise SolverError(f"{scene}: {label} must be finite, got {arr[~np.isfinite(arr)][:3].tolist()}")
+
+
 def _xyz(value: Any) -> np.ndarray:
     if isinstance(value, complex):
         return np.array([value.real, value.imag])
     return np.asarray(value, dtype=float)
-
-

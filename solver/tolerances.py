@@ -8,7 +8,16 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["EPS", "ASSEMBLY_SLACK", "SINGULAR", "NEAR_SINGULAR"]
+__all__ = [
+    "EPS",
+    "ASSEMBLY_SLACK",
+    "SINGULAR",
+    "NEAR_SINGULAR",
+    "LIMIT_STEP",
+    "LIMIT_AGREEMENT",
+    "GRASHOF_EQUAL",
+    "ROOT_ITERATIONS",
+]
 
 #: Machine epsilon of float64.
 EPS: float = float(np.finfo(np.float64).eps)
@@ -22,3 +31,18 @@ SINGULAR: float = 1e6 * EPS
 
 #: Conditioning below this is reported as "near singular".
 NEAR_SINGULAR: float = 1e-3
+
+#: Step (rad) of the symmetric Richardson extrapolation that gives the analogs' limit at a
+#: singular sample from the exact analogs at φ ± δ, ±2δ, ±4δ (error ~ δ⁶, rounding ~ EPS/δ).
+LIMIT_STEP: float = 1e-3
+
+#: The left and right limits of the analogs at a singular sample must agree to this, relative to
+#: their size, for the limit to exist; otherwise the analogs there are undefined (NaN, flagged).
+LIMIT_AGREEMENT: float = 1e-6
+
+#: s + l and p + q of a four-bar closer than this (relative to the longest link) are equal: a
+#: change-point (Grashof-neutral) four-bar.
+GRASHOF_EQUAL: float = 64 * EPS
+
+#: Bisection steps that refine a root in φ ∈ [0, 2π] to the last bit (2π/2⁶⁰ < EPS).
+ROOT_ITERATIONS: int = 80

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from .attached import Attached
 from .base import Context, Group
 from .crank import Crank
@@ -26,6 +28,4 @@ __all__ = [
 ]
 
 #: The group types a scene's ``groups:`` list may name, by their ``type:`` key.
-GROUP_TYPES: dict[str, type] = {
-    cls.kind: cls for cls in (Crank, Attached, Slotted, RRR, RRP, SphericalCrankSlider)
-}
+GROUP_TYPES: dict[str, Any] = {cls.kind: cls for cls in (Crank, Attached, Slotted, RRR, RRP, SphericalCrankSlider)}

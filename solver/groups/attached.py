@@ -20,16 +20,14 @@ from dataclasses import dataclass
 from typing import Any
 
 from .._backend import Backend
-from ..jet import Jet, direction, sub, turning
 from .._fields import Entry, Units
+from ..jet import Jet, direction, sub, turning
 from .base import Context, Group
 
 __all__ = ["Attached", "points_on_link"]
 
 
-def points_on_link(
-    base: Jet, r: Jet, offsets: tuple[complex, ...], xp: Backend
-) -> tuple[list[Jet], Any]:
+def points_on_link(base: Jet, r: Jet, offsets: tuple[complex, ...], xp: Backend) -> tuple[list[Jet], Any]:
     """Jets of ``base + c·r/|r|`` for each complex offset ``c = L·e^{jα}``; also ``|r|``."""
     d = direction(r, xp)
     theta1 = d.w.imag if hasattr(d.w, "imag") else 0.0

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable, ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -17,6 +18,7 @@ __all__ = ["Group", "Context", "at_most_one"]
 def at_most_one(x: Any) -> Any:
     """``min(x, 1)`` for a scalar or elementwise for an array."""
     return min(x, 1.0) if isinstance(x, float) else np.minimum(x, 1.0)
+
 
 Num = Any
 
@@ -38,6 +40,9 @@ class Context:
     invalid: Num = False
     scene: str | None = None
     find_intervals: Callable[[str], list[tuple[float, float]]] | None = None
+    #: The Scene being solved, for the analyses that need its whole plan: a continuous branch's
+    #: change points and the analogs' limit at a singular sample (solver.singular).
+    owner: Any = None
 
     def intervals_of(self, group: str) -> list[tuple[float, float]]:
         """The φ intervals in which ``group`` cannot be assembled, where the plan can tell."""
@@ -109,3 +114,6 @@ class Group:
     def solve(self, ctx: Context) -> None:
         raise NotImplementedError
 
+    def restricted(self, wanted: set[str]) -> Group:
+        """This group computing only what ``wanted`` needs of it (itself where it cannot narrow)."""
+        return self

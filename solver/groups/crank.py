@@ -17,8 +17,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from ..jet import Jet
 from .._fields import Entry, Units
+from ..jet import Jet
 from .base import Context, Group
 
 __all__ = ["Crank"]

@@ -22,13 +22,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from .._backend import abs2, cross, dot
+from .._fields import Entry, Units
 from ..jet import Jet
 from ..tolerances import ASSEMBLY_SLACK
-from .._fields import Entry, Units
 from .base import Context, Group
 
 __all__ = ["RRP"]
@@ -57,15 +57,18 @@ class RRP(Group):
     def links(self) -> tuple[tuple[str, ...], ...]:
         return ((self.end, self.point),)
 
+    def restricted(self, wanted: set[str]) -> RRP:
+        return self if self.joint is None or self.joint in wanted else replace(self, joint=None)
+
     def solve(self, ctx: Context) -> None:
         xp, vals = ctx.xp, ctx.values
         ja = vals[self.end]
-        e, l = self.direction, self.length
+        e, length = self.direction, self.length
         w = ja.value - self.origin
         t = dot(e, w)
         n = cross(e, w)
-        h2 = l * l - n * n
-        ctx.require(self, h2 >= -ASSEMBLY_SLACK * l * l)
+        h2 = length * length - n * n
+        ctx.require(self, h2 >= -ASSEMBLY_SLACK * length * length)
         ep = self.mode * xp.sqrt(h2 * (h2 > 0.0))  # e·p
         s = t + ep
         b = self.origin + s * e
@@ -76,7 +79,7 @@ class RRP(Group):
         vals[self.point] = Jet(b, b1, s2 * e)
         if self.joint is not None:
             vals[self.joint] = Jet(s, s1, s2)
-        ctx.conditioning[self.name] = abs(ep) / l
+        ctx.conditioning[self.name] = abs(ep) / length
 
     @classmethod
     def from_entry(cls, e: Entry, units: Units, fixed: Mapping[str, Any]) -> RRP:

@@ -24,17 +24,21 @@ from dataclasses import dataclass
 from typing import Any
 
 from .._backend import abs2, cross, dot
+from .._fields import Entry, Units
 from ..jet import Jet
 from ..tolerances import ASSEMBLY_SLACK
-from .._fields import Entry, Units
 from .base import Context, Group
 
 __all__ = ["RRR", "solve_linear"]
 
 
-def solve_linear(p: Any, q: Any, det: Any, s1: Any, s2: Any) -> Any:
-    """The planar vector X with X·p = s₁ and X·q = s₂, given det = p × q."""
-    return 1j * (s2 * p - s1 * q) / det
+def solve_linear(p: Any, q: Any, jdet: Any, s1: Any, s2: Any) -> Any:
+    """The planar vector X with X·p = s₁ and X·q = s₂, given ``jdet = j/(p × q)``."""
+    if isinstance(s2, float) and s2 == 0.0:
+        return -s1 * q * jdet
+    if isinstance(s1, float) and s1 == 0.0:
+        return s2 * p * jdet
+    return (s2 * p - s1 * q) * jdet
 
 
 @dataclass(frozen=True)
@@ -70,10 +74,11 @@ class RRR(Group):
         b = a_ + d * (a - 1j * self.mode * h)
         p, q = b - a_, b - c_
         det = cross(p, q)
-        b1 = solve_linear(p, q, det, dot(ja.d1, p), dot(jc.d1, q))
+        jdet = 1j / det
+        b1 = solve_linear(p, q, jdet, dot(ja.d1, p), dot(jc.d1, q))
         s1 = dot(ja.d2, p) - abs2(b1 - ja.d1)
         s2 = dot(jc.d2, q) - abs2(b1 - jc.d1)
-        b2 = solve_linear(p, q, det, s1, s2)
+        b2 = solve_linear(p, q, jdet, s1, s2)
         vals[self.point] = Jet(b, b1, b2)
         ctx.conditioning[self.name] = abs(det) / (l1 * l2)
 

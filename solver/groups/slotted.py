@@ -17,12 +17,12 @@ Conditioning: ρ / ρ_max, the slide relative to the largest distance named on t
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
+from .._fields import Entry, Units
 from ..jet import sub
 from .attached import points_on_link
-from .._fields import Entry, Units
 from .base import Context, Group, at_most_one
 
 __all__ = ["Slotted"]
@@ -45,14 +45,16 @@ class Slotted(Group):
         far = max(self.points, key=lambda p: abs(p[1]))[0]
         return ((self.pivot, self.through, far),)
 
+    def restricted(self, wanted: set[str]) -> Slotted:
+        keep = tuple(p for p in self.points if p[0] in wanted)
+        return self if len(keep) == len(self.points) or not keep else replace(self, points=keep)
+
     def solve(self, ctx: Context) -> None:
         vals = ctx.values
         r = sub(vals[self.through], vals[self.pivot])
         z = r.value
         ctx.require(self, z.real * z.real + z.imag * z.imag > 0.0, reason="has its eyelet on the pivot")
-        jets, rho = points_on_link(
-            vals[self.pivot], r, tuple(complex(d) for _, d in self.points), ctx.xp
-        )
+        jets, rho = points_on_link(vals[self.pivot], r, tuple(complex(d) for _, d in self.points), ctx.xp)
         for (name, _), jet in zip(self.points, jets):
             vals[name] = jet
         scale = max(abs(d) for _, d in self.points)

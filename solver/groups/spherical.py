@@ -30,8 +30,8 @@ from typing import Any
 
 import numpy as np
 
-from ..jet import Jet
 from .._fields import Entry, Units
+from ..jet import Jet
 from .base import Context, Group
 
 __all__ = ["SphericalCrankSlider"]
@@ -82,9 +82,7 @@ class SphericalCrankSlider(Group):
         tangent = np.stack([zero, cp, -sp], axis=-1)
         p1 = np.expand_dims(psi1, -1)
         p2 = np.expand_dims(psi2, -1)
-        ctx.values[self.point] = Jet(
-            o + r * radial, r * p1 * tangent, r * (p2 * tangent - p1 * p1 * radial)
-        )
+        ctx.values[self.point] = Jet(o + r * radial, r * p1 * tangent, r * (p2 * tangent - p1 * p1 * radial))
         ctx.conditioning[self.name] = 1.0 + zero
 
     @classmethod
