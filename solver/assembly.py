@@ -1,55 +1,141 @@
-"""Where a mechanism cannot be assembled: φ intervals per group.
+"""Where a mechanism cannot be assembled: exact φ intervals per group.
 
-A first version: the intervals are located on a fine grid of one turn and refined by bisection
-on the closed-form scalar path to the last bit, so each end is exact to rounding.
+Closed form where the geometry allows, root-finding on the closed-form residual otherwise; never
+by sampling which angles fail.
+
+* RRR dyad driven by a crank about O against a fixed pivot C (a four-bar): with v = C − O,
+  g = |v|, θ = arg v and r the crank, D² = |C − A(φ)|² = g² + r² − 2gr·cos(φ − θ), and the
+  dyad closes iff (l₁ − l₂)² ≤ D² ≤ (l₁ + l₂)², i.e.
+  ``(g² + r² − (l₁+l₂)²)/(2gr) ≤ cos(φ − θ) ≤ (g² + r² − (l₁−l₂)²)/(2gr)``: each violated
+  bound is one interval, its ends ``θ ± arccos(bound)``.
+* Any other RRR or RRP group: its residual R(φ) (≥ 0 where it closes; the group's
+  ``assembly_residual``, with an exact dR/dφ) is evaluated on a grid of one turn together with
+  every extreme of R (zeros of dR/dφ, bisected to the last bit), so a dip narrower than the grid
+  is still seen; each sign change of R is then bisected to the last bit.
+
+An interval is ``(lo, hi)`` with ``0 ≤ lo < 2π`` and ``lo < hi < lo + 2π``: one that contains
+φ = 0 has ``hi > 2π`` (e.g. ``(5.8, 6.9)``). Only the group's own failures are reported, at the
+angles where the groups before it can be assembled.
 """
 
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+from .singular import bisect_roots, probe, sign_changes, turn_grid, upstream_plan
+from .tolerances import ASSEMBLY_SLACK
 
 if TYPE_CHECKING:
     from .scene import Scene
 
-__all__ = ["unassemblable_intervals"]
+__all__ = ["unassemblable_intervals", "gaps", "crank_and_pivot"]
 
-_GRID = 4096
+TWO_PI = 2.0 * math.pi
+_CACHE: dict[Any, list[tuple[float, float]]] = {}
 
 
 def unassemblable_intervals(scene: Scene, group: str) -> list[tuple[float, float]]:
-    """Open intervals of φ in [0, 2π) where ``group`` (or a group before it) fails."""
-    probe = scene.with_outputs(points=scene.point_names, joints=())
-
-    def ok(phi: float) -> bool:
-        return probe.assemblable(phi)
-
-    grid = np.linspace(0.0, 2 * math.pi, _GRID + 1)
-    good = [ok(float(p)) for p in grid]
-    intervals: list[tuple[float, float]] = []
-    start: float | None = None if good[0] else 0.0
-    for i in range(1, len(grid)):
-        if good[i - 1] and not good[i]:
-            start = _edge(ok, float(grid[i - 1]), float(grid[i]))
-        elif not good[i - 1] and good[i]:
-            intervals.append((start if start is not None else 0.0, _edge(ok, float(grid[i - 1]), float(grid[i]))))
-            start = None
-    if start is not None:
-        intervals.append((start, 2 * math.pi))
-    return intervals
+    """Open intervals of φ (one turn) where ``group`` cannot be assembled."""
+    g = _group(scene, group)
+    if g is None or not hasattr(g, "assembly_residual"):
+        return []
+    key = (g, scene.plan.groups, tuple(sorted((k, str(v)) for k, v in scene.plan.fixed.items())))
+    if key not in _CACHE:
+        closed = _four_bar_intervals(scene, g)
+        _CACHE[key] = closed if closed is not None else _residual_intervals(scene, g)
+    return list(_CACHE[key])
 
 
-def _edge(ok, lo: float, hi: float) -> float:  # type: ignore[no-untyped-def]
-    """Bisect the boundary between ``lo`` and ``hi`` (ok differs at the ends) to rounding."""
-    ok_lo = ok(lo)
-    for _ in range(80):
-        mid = 0.5 * (lo + hi)
-        if mid in (lo, hi):
-            break
-        if ok(mid) == ok_lo:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+def gaps(scene: Scene) -> dict[str, list[tuple[float, float]]]:
+    """Every group of the scene's plan that has unassemblable intervals, with them."""
+    out = {}
+    for g in scene.plan.groups:
+        iv = unassemblable_intervals(scene, g.name)
+        if iv:
+            out[g.name] = iv
+    return out
+
+
+def _group(scene: Scene, name: str) -> Any:
+    return next((g for g in scene.plan.groups if g.name == name), None)
+
+
+def crank_and_pivot(scene: Scene, group: Any) -> tuple[Any, complex, complex] | None:
+    """For an RRR dyad between a crank's point and a fixed pivot: (crank, O, C); else None."""
+    if getattr(group, "kind", "") != "rrr":
+        return None
+    fixed = scene.plan.fixed
+    for a, c in (group.ends, group.ends[::-1]):
+        crank = next((g for g in scene.plan.groups if g.kind == "crank" and g.point == a), None)
+        if crank is not None and c in fixed and crank.center in fixed:
+            return crank, complex(fixed[crank.center]), complex(fixed[c])
+    return None
+
+
+def _four_bar_intervals(scene: Scene, group: Any) -> list[tuple[float, float]] | None:
+    found = crank_and_pivot(scene, group)
+    if found is None:
+        return None
+    crank, o, c = found
+    v = c - o
+    g, r, theta = abs(v), crank.length, math.atan2(v.imag, v.real)
+    if g == 0.0:
+        return None  # D = r for every φ: assemblable everywhere or nowhere; the residual decides
+    l1, l2 = group.lengths
+    base = g * g + r * r
+    out: list[tuple[float, float]] = []
+    hi_bound = (base - (l1 - l2) ** 2) / (2.0 * g * r)  # cos(φ − θ) ≤ this
+    lo_bound = (base - (l1 + l2) ** 2) / (2.0 * g * r)  # cos(φ − θ) ≥ this
+    if hi_bound < -1.0 or lo_bound > 1.0:
+        return [(0.0, TWO_PI)]
+    if hi_bound < 1.0:
+        half = math.acos(hi_bound)
+        out.append(_interval(theta - half, theta + half))
+    if lo_bound > -1.0:
+        half = math.acos(lo_bound)
+        out.append(_interval(theta + half, theta + TWO_PI - half))
+    return sorted(out)
+
+
+def _interval(lo: float, hi: float) -> tuple[float, float]:
+    shift = math.floor(lo / TWO_PI) * TWO_PI
+    return lo - shift, hi - shift
+
+
+def _residual_intervals(scene: Scene, group: Any) -> list[tuple[float, float]]:
+    plan = upstream_plan(scene, group.requires())
+    scale: list[float] = [1.0]
+
+    def residual(phi: np.ndarray, *, slope: bool = False) -> np.ndarray:
+        ctx = probe(scene, phi, plan)
+        r, r1, s = group.assembly_residual(ctx.values)
+        scale[0] = s
+        out = np.array(np.broadcast_to(r1 if slope else r, phi.shape), float)
+        out[np.broadcast_to(np.asarray(ctx.invalid, bool), phi.shape)] = np.nan
+        return out
+
+    grid = turn_grid()
+    slope = residual(grid, slope=True)
+    idx = sign_changes(slope)
+    extremes = bisect_roots(lambda p: residual(p, slope=True), grid[idx], grid[idx + 1])
+    phi = np.unique(np.concatenate([grid, extremes]))
+    value = residual(phi)
+    bad = value < -ASSEMBLY_SLACK * scale[0]
+    if not bad.any():
+        return []
+    if bad.all():
+        return [(0.0, TWO_PI)]
+    # ends: between consecutive candidates where the verdict changes, bisect R's sign
+    change = np.flatnonzero(bad[:-1] != bad[1:])
+    ends = bisect_roots(residual, phi[change], phi[change + 1])
+    starts = [float(e) for e, i in zip(ends, change) if bad[i + 1]]
+    stops = [float(e) for e, i in zip(ends, change) if bad[i]]
+    if bad[0]:  # wraps through φ = 0 (grid[0] = 0 and grid[-1] = 2π are the same position)
+        out = list(zip(starts[:-1], stops[1:]))
+        out.append((starts[-1], stops[0] + TWO_PI))
+    else:
+        out = list(zip(starts, stops))
+    return sorted(out)

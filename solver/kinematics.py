@@ -16,7 +16,7 @@ import numpy as np
 from .errors import SolverError
 from .jet import Jet
 
-__all__ = ["Kinematics", "Motion", "empty_motion", "fill_motion", "scalar_motion"]
+__all__ = ["Kinematics", "Motion", "empty_motion", "fill_motion"]
 
 
 class Motion(NamedTuple):
@@ -58,20 +58,6 @@ def fill_motion(out: Motion, rows: slice, jet: Jet, omega: Any, epsilon: Any, *,
     np.multiply(z2, w * w, out=acc)
     if np.ndim(e) or e != 0.0:
         acc += z1 * e
-
-
-def scalar_motion(jet: Jet, omega: float, epsilon: float, *, planar: bool) -> Motion:
-    """Real motion at one φ: (2,) / (3,) arrays for a point, 0-d arrays for a joint."""
-    z0, z1, z2 = jet
-    v = z1 * omega
-    a = z2 * (omega * omega) + z1 * epsilon
-    if planar:
-        z0, v, a = complex(z0), complex(v), complex(a)
-        rows = np.array(((z0.real, z0.imag), (v.real, v.imag), (a.real, a.imag)))
-    else:
-        rows = np.empty((3, *np.shape(z0)))
-        rows[0], rows[1], rows[2] = z0, v, a
-    return Motion(rows[0], rows[1], rows[2])
 
 
 class Kinematics:
@@ -121,3 +107,14 @@ class Kinematics:
         """The worst conditioning over all groups, per sample (1 where no group reports one)."""
         values = list(self.conditioning.values())
         return np.minimum.reduce(values) if values else np.ones(self.phi.shape)
+
+    @property
+    def singular(self) -> np.ndarray:
+        """True at the samples where some group is singular (conditioning < tolerances.SINGULAR).
+
+        Positions are exact there; the analogs are their limit along the branch where it exists,
+        else NaN (see solver.singular).
+        """
+        from .tolerances import SINGULAR
+
+        return self.min_conditioning < SINGULAR

@@ -22,7 +22,7 @@ from ._backend import NUMPY, SCALAR
 from ._loader import SceneData, parse_scene, read_yaml
 from .errors import AssemblyError, SceneError, SolverError
 from .groups import Context
-from .kinematics import Kinematics, empty_motion, fill_motion, scalar_motion
+from .kinematics import Kinematics, Motion, empty_motion, fill_motion
 from .plan import Plan, build_plan, order_groups
 
 __all__ = ["Scene", "Link", "load_scene", "find_scene", "shipped_scenes", "scene_dirs", "CHUNK"]
@@ -201,7 +201,7 @@ class Scene:
         for lo in range(0, max(n, 1), CHUNK):
             rows = slice(lo, min(lo + CHUNK, n))
             ctx = Context(
-                phi=phi[rows], xp=NUMPY, mask=mask, scene=self.path or self.name, find_intervals=self._intervals
+                phi=phi[rows], xp=NUMPY, mask=mask, scene=self.path or self.name, find_intervals=self._intervals, owner=self
             )
             with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
                 self.plan.run(ctx)
@@ -230,12 +230,9 @@ class Scene:
         for label, v in (("phi", phi), ("omega", omega), ("epsilon", epsilon)):
             if not math.isfinite(v):
                 raise SolverError(f"{self.name}: {label} must be finite, got {v}")
-        ctx = Context(phi=phi, xp=SCALAR, mask=mask, scene=self.path or self.name, find_intervals=self._intervals)
+        ctx = Context(phi=phi, xp=SCALAR, mask=mask, scene=self.path or self.name, find_intervals=self._intervals, owner=self)
         self.plan.run(ctx)
-        planar = self.dim == 2
-        vals = ctx.values
-        motions = {p: scalar_motion(vals[p], omega, epsilon, planar=planar) for p in self.output_points}
-        motions.update({j: scalar_motion(vals[j], omega, epsilon, planar=False) for j in self.output_joints})
+        motions = _scalar_motions(ctx.values, self.output_points, self.output_joints, omega, epsilon, self.dim)
         return Kinematics(
             phi=np.array(phi),
             omega=np.array(omega),
@@ -263,6 +260,33 @@ class Scene:
 
     def __repr__(self) -> str:
         return f"Scene({self.name!r}, points={self.output_points}, joints={self.output_joints})"
+
+
+def _scalar_motions(
+    vals: Mapping[str, Any], points: tuple[str, ...], joints: tuple[str, ...], w: float, e: float, dim: int
+) -> dict[str, Any]:
+    """Real motion of every output at one φ, gathered into one array (one numpy call, not 3 per output)."""
+    flat: list[float] = []
+    for p in points:
+        z0, z1, z2 = vals[p]
+        v, a = z1 * w, z2 * (w * w) + z1 * e
+        if dim == 2:
+            flat += (z0.real, z0.imag, v.real, v.imag, a.real, a.imag)
+        else:
+            flat += [*np.broadcast_to(z0, 3), *np.broadcast_to(v, 3), *np.broadcast_to(a, 3)]
+    for j in joints:
+        q0, q1, q2 = vals[j]
+        flat += (q0, q1 * w, q2 * (w * w) + q1 * e)
+    arr = np.array(flat, dtype=float)
+    out: dict[str, Any] = {}
+    i = 0
+    for p in points:
+        out[p] = Motion(arr[i : i + dim], arr[i + dim : i + 2 * dim], arr[i + 2 * dim : i + 3 * dim])
+        i += 3 * dim
+    for j in joints:
+        out[j] = Motion(arr[i], arr[i + 1], arr[i + 2])
+        i += 3
+    return out
 
 
 def _per_sample(value: Any, shape: tuple[int, ...], label: str, scene: str) -> Any:

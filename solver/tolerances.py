@@ -33,12 +33,15 @@ SINGULAR: float = 1e6 * EPS
 NEAR_SINGULAR: float = 1e-3
 
 #: Step (rad) of the symmetric Richardson extrapolation that gives the analogs' limit at a
-#: singular sample from the exact analogs at φ ± δ, ±2δ, ±4δ (error ~ δ⁶, rounding ~ EPS/δ).
-LIMIT_STEP: float = 1e-3
+#: singular sample from the exact analogs at φ ± δ, ±2δ, ±4δ: truncation ~ δ⁶, rounding
+#: ~ EPS/δ² in the acceleration analogs (which divide twice by a conditioning of order δ); 1e-2
+#: balances them at about 1e-11 relative (measured on the parallelogram's change points).
+LIMIT_STEP: float = 1e-2
 
 #: The left and right limits of the analogs at a singular sample must agree to this, relative to
 #: their size, for the limit to exist; otherwise the analogs there are undefined (NaN, flagged).
-LIMIT_AGREEMENT: float = 1e-6
+#: (Each one-sided estimate is a quadratic extrapolation, good to about δ³.)
+LIMIT_AGREEMENT: float = 1e-4
 
 #: s + l and p + q of a four-bar closer than this (relative to the longest link) are equal: a
 #: change-point (Grashof-neutral) four-bar.

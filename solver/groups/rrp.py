@@ -14,8 +14,11 @@ Branch rule
     the guide to AB and leaves its cosine's sign free. M = +1 takes (B − A)·e ≥ 0 (B ahead of
     A's foot along the guide), M = −1 behind it; chosen once, it holds for every position.
 Conditioning
-    |e·p| / l = |cos| of the angle between AB and the guide: 0 where AB is perpendicular to it.
-Assembly fails where |n| > l (A farther from the guide than the link is long).
+    |e·p| / l = |cos| of the angle between AB and the guide: 0 where AB is perpendicular to it
+    (a toggle). There the analogs returned are the limit along the branch where it exists, else
+    NaN, and the sample is flagged (solver.singular).
+Assembly fails where |n| > l (A farther from the guide than the link is long); the φ intervals
+come from ``assembly_residual`` (solver.assembly).
 """
 
 from __future__ import annotations
@@ -28,6 +31,7 @@ from typing import Any
 from .._backend import abs2, cross, dot
 from .._fields import Entry, Units
 from ..jet import Jet
+from ..singular import refine_singular
 from ..tolerances import ASSEMBLY_SLACK
 from .base import Context, Group
 
@@ -67,19 +71,29 @@ class RRP(Group):
         w = ja.value - self.origin
         t = dot(e, w)
         n = cross(e, w)
-        h2 = length * length - n * n
+        h2 = (length - n) * (length + n)  # l² − n², exact to rounding at a toggle
         ctx.require(self, h2 >= -ASSEMBLY_SLACK * length * length)
         ep = self.mode * xp.sqrt(h2 * (h2 > 0.0))  # e·p
         s = t + ep
         b = self.origin + s * e
         p = b - ja.value
+        if not xp.vectorised and ep == 0.0:  # an exact toggle on the scalar path: limit below
+            ep = math.nan
         s1 = dot(ja.d1, p) / ep
         b1 = s1 * e
         s2 = (dot(ja.d2, p) - abs2(b1 - ja.d1)) / ep
         vals[self.point] = Jet(b, b1, s2 * e)
         if self.joint is not None:
             vals[self.joint] = Jet(s, s1, s2)
-        ctx.conditioning[self.name] = abs(ep) / length
+        ctx.conditioning[self.name] = abs(ep) / length if xp.vectorised or ep == ep else 0.0
+        refine_singular(ctx, self, self.provides())
+
+    def assembly_residual(self, vals: Mapping[str, Jet]) -> tuple[Any, Any, float]:
+        """``R = l² − n²`` (≥ 0 where assemblable, n = A's signed distance from the guide), R', scale."""
+        ja = vals[self.end]
+        n = cross(self.direction, ja.value - self.origin)
+        n1 = cross(self.direction, ja.d1)
+        return (self.length - n) * (self.length + n), -2.0 * n * n1, self.length**2
 
     @classmethod
     def from_entry(cls, e: Entry, units: Units, fixed: Mapping[str, Any]) -> RRP:

@@ -3,7 +3,8 @@
 Loop equation
     |B − A| = l₁,  |B − C| = l₂,  with A and C known.
     With d = C − A and D = |d|: B = A + d·(a − j·M·h), where
-    a = (l₁² − l₂² + D²)/(2D²) and h² = l₁²/D² − a²  (the law of cosines of seed 003).
+    a = (l₁² − l₂² + D²)/(2D²) and h² = l₁²/D² − a²  (the law of cosines of seed 003),
+    computed factored: 4D⁴·h² = ((l₁+l₂)² − D²)(D² − (l₁−l₂)²).
 Derivatives (exact): differentiate (B − A)·(B − A) = l₁², (B − C)·(B − C) = l₂².
 Linear system, with p = B − A, q = B − C (real dot products on complex numbers):
     B'·p = A'·p,                    B'·q = C'·q,
@@ -11,14 +12,21 @@ Linear system, with p = B − A, q = B − C (real dot products on complex numbe
     solved by Cramer's rule: for X·p = s₁, X·q = s₂,  X = j·(s₂·p − s₁·q) / (p × q).
 Branch rule (seed 003)
     M = +1 when the joints A → B → C are traversed counter-clockwise (the signed area of the
-    triangle A, B, C is positive), M = −1 clockwise; chosen once, it holds for every position.
+    triangle A, B, C is positive), M = −1 clockwise. With ``through_change_points: keep`` (the
+    default) M holds for every position. With ``through_change_points: continuous`` M is the
+    mode on the arc just after φ = 0 and flips at each change point (a double zero of h², where
+    both assemblies meet), so a parallelogram stays a parallelogram (solver.singular).
 Conditioning
-    |p × q| / (l₁·l₂) = |sin| of the angle between the links: 0 at a toggle (dead centre).
-Assembly fails where h² < 0 (|l₁ − l₂| ≤ D ≤ l₁ + l₂ violated).
+    |p × q| / (l₁·l₂) = |sin| of the angle between the links (the transmission angle in a
+    four-bar): 0 at a toggle. There the system is singular; the analogs returned are the limit
+    along the branch where it exists, else NaN, and the sample is flagged (solver.singular).
+Assembly fails where h² < 0 (|l₁ − l₂| ≤ D ≤ l₁ + l₂ violated); the φ intervals come from
+``assembly_residual`` (solver.assembly).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -26,6 +34,7 @@ from typing import Any
 from .._backend import abs2, cross, dot
 from .._fields import Entry, Units
 from ..jet import Jet
+from ..singular import branch_sign, change_points, refine_singular
 from ..tolerances import ASSEMBLY_SLACK
 from .base import Context, Group
 
@@ -47,7 +56,8 @@ class RRR(Group):
     ends: tuple[str, str]  # A, C
     point: str  # B
     lengths: tuple[float, float]  # |AB|, |CB|
-    mode: int  # M = ±1
+    mode: int  # M = ±1 (with continuous: M on the arc just after φ = 0)
+    continuous: bool = False  # through_change_points: continuous
 
     def requires(self) -> tuple[str, ...]:
         return self.ends
@@ -67,20 +77,41 @@ class RRR(Group):
         dd = abs2(d)
         ctx.require(self, dd > 0.0, reason="has its two ends on one point")
         a = (l1 * l1 - l2 * l2 + dd) / (2.0 * dd)
-        h2 = l1 * l1 / dd - a * a
+        # h²·4D⁴ = ((l₁+l₂)² − D²)(D² − (l₁−l₂)²): the factored form is exactly 0 at a toggle
+        # whenever D² rounds to the toggle's value (no cancellation in l₁²/D² − a²).
+        h2n = ((l1 + l2) ** 2 - dd) * (dd - (l1 - l2) ** 2)
         # rounding at a toggle can leave h² a few ulps below zero: clamp that, report the rest.
-        ctx.require(self, h2 >= -ASSEMBLY_SLACK * (l1 * l1 + l2 * l2) / dd)
-        h = xp.sqrt(h2 * (h2 > 0.0))
-        b = a_ + d * (a - 1j * self.mode * h)
+        ctx.require(self, h2n >= -4.0 * ASSEMBLY_SLACK * (l1 * l1 + l2 * l2) * dd)
+        h = xp.sqrt(h2n * (h2n > 0.0)) / (2.0 * dd)
+        mode = self.mode if not self.continuous else self.mode * branch_sign(ctx.phi, self.flips(ctx))
+        b = a_ + d * (a - 1j * mode * h)
         p, q = b - a_, b - c_
         det = cross(p, q)
-        jdet = 1j / det
+        if xp.vectorised or det != 0.0:
+            jdet = 1j / det
+        else:  # an exact toggle on the scalar path: the limit is taken below
+            jdet = complex(math.nan, math.nan)
         b1 = solve_linear(p, q, jdet, dot(ja.d1, p), dot(jc.d1, q))
         s1 = dot(ja.d2, p) - abs2(b1 - ja.d1)
         s2 = dot(jc.d2, q) - abs2(b1 - jc.d1)
         b2 = solve_linear(p, q, jdet, s1, s2)
         vals[self.point] = Jet(b, b1, b2)
         ctx.conditioning[self.name] = abs(det) / (l1 * l2)
+        refine_singular(ctx, self, (self.point,))
+
+    def flips(self, ctx: Context) -> tuple[float, ...]:
+        """The change points where a continuous branch flips M (none without the owning scene)."""
+        return () if ctx.owner is None else change_points(ctx.owner, self)
+
+    def assembly_residual(self, vals: Mapping[str, Jet]) -> tuple[Any, Any, float]:
+        """``R = ((l₁+l₂)² − D²)(D² − (l₁−l₂)²)`` (≥ 0 where assemblable), ``dR/dφ``, R's scale."""
+        l1, l2 = self.lengths
+        ja, jc = vals[self.ends[0]], vals[self.ends[1]]
+        d, d1 = jc.value - ja.value, jc.d1 - ja.d1
+        dd = abs2(d)
+        dd1 = 2.0 * dot(d, d1)
+        f1, f2 = (l1 + l2) ** 2 - dd, dd - (l1 - l2) ** 2
+        return f1 * f2, dd1 * (f1 - f2), (l1 + l2) ** 4
 
     @classmethod
     def from_entry(cls, e: Entry, units: Units, fixed: Mapping[str, Any]) -> RRR:
@@ -96,4 +127,16 @@ class RRR(Group):
             point=e.name("point"),
             lengths=(sub.length("AB", units), sub.length("CB", units)),
             mode=e.mode(),
+            continuous=_through(e),
         )
+
+
+def _through(e: Entry) -> bool:
+    value = e.raw("through_change_points", "keep")
+    if value not in ("keep", "continuous"):
+        raise e.error(
+            f"must be 'keep' (M holds at every position, seed 003) or 'continuous' (M flips at "
+            f"change points so that the analogs stay continuous), got {value!r}",
+            "through_change_points",
+        )
+    return value == "continuous"
