@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 import os
 import sys
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -121,7 +121,7 @@ class Scene:
 
     @cached_property
     def point_names(self) -> tuple[str, ...]:
-        joints = set(self.joint_names)
+        joints = set(self.joint_names) | {n for g in self.ordered for n in g.hidden()}
         provided = [n for g in self.ordered for n in g.provides() if n not in joints]
         return tuple(dict.fromkeys([*self._data.fixed, *provided]))
 
@@ -201,7 +201,12 @@ class Scene:
         for lo in range(0, max(n, 1), CHUNK):
             rows = slice(lo, min(lo + CHUNK, n))
             ctx = Context(
-                phi=phi[rows], xp=NUMPY, mask=mask, scene=self.path or self.name, find_intervals=self._intervals, owner=self
+                phi=phi[rows],
+                xp=NUMPY,
+                mask=mask,
+                scene=self.path or self.name,
+                find_intervals=self._intervals,
+                owner=self,
             )
             with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
                 self.plan.run(ctx)
@@ -230,7 +235,9 @@ class Scene:
         for label, v in (("phi", phi), ("omega", omega), ("epsilon", epsilon)):
             if not math.isfinite(v):
                 raise SolverError(f"{self.name}: {label} must be finite, got {v}")
-        ctx = Context(phi=phi, xp=SCALAR, mask=mask, scene=self.path or self.name, find_intervals=self._intervals, owner=self)
+        ctx = Context(
+            phi=phi, xp=SCALAR, mask=mask, scene=self.path or self.name, find_intervals=self._intervals, owner=self
+        )
         self.plan.run(ctx)
         motions = _scalar_motions(ctx.values, self.output_points, self.output_joints, omega, epsilon, self.dim)
         return Kinematics(
