@@ -50,8 +50,9 @@ def fill_motion(out: Motion, rows: slice, jet: Jet, omega: Any, epsilon: Any, *,
     """
     z0, z1, z2 = jet
     w, e = omega, epsilon
-    if not planar and out.position.ndim == 2 and np.ndim(omega):
-        w, e = omega[:, None], epsilon[:, None]
+    if not planar and out.position.ndim == 2:  # spatial points: ω, ε per row
+        w = omega[:, None] if np.ndim(omega) else omega
+        e = epsilon[:, None] if np.ndim(epsilon) else epsilon
     pos, vel, acc = (x.view(np.complex128)[rows, 0] for x in out) if planar else (x[rows] for x in out)
     pos[...] = z0
     np.multiply(z1, w, out=vel)

@@ -93,3 +93,14 @@ def test_non_finite_inputs_are_rejected_with_the_offending_name() -> None:
         scene.solve(0.0, omega=np.inf)
     with pytest.raises(solver.SolverError, match="phi must be a float or a 1-D array"):
         scene.solve(np.zeros((2, 2)))
+
+
+@pytest.mark.parametrize("name", ["spherical_converter", "four_bar"])
+def test_omega_and_epsilon_may_mix_arrays_and_floats(name: str) -> None:
+    scene = solver.load_scene(name)
+    phi = np.linspace(0.0, 1.0, 5)
+    both = scene.solve(phi, omega=np.full(5, 1.5), epsilon=np.full(5, 0.3))
+    for omega, epsilon in ((np.full(5, 1.5), 0.3), (1.5, np.full(5, 0.3)), (1.5, 0.3)):
+        k = scene.solve(phi, omega=omega, epsilon=epsilon)
+        p = scene.output_points[0]
+        np.testing.assert_array_equal(k.point(p).acceleration, both.point(p).acceleration)

@@ -1,0 +1,385 @@
+"""A scene's mechanism opened into a spanning tree of bodies: the structure a URDF describes.
+
+Every structural group adds its bodies and the joints that hang them on the tree; a group that
+closes a loop leaves one joint out of the tree (the *cut*) and records a point on each side of it:
+
+=========================  =====================================  ==============================
+group                      bodies (tree joint from the parent)    cut (side a / side b)
+=========================  =====================================  ==============================
+crank O→A                  ``<g>`` (revolute about O)             none (no loop)
+attached P                 none: P is fixed on the body that      none
+                           carries its base and direction
+rrr A–B–C                  ``<g>_AB`` (revolute about A),         pin B: ``<g>_AB`` / ``<g>_CB``
+                           ``<g>_CB`` (revolute about C)
+rrp A–B on a guide         ``<g>`` rod AB (revolute about A),     pin B: rod / slider
+                           ``<g>_slider`` (prismatic on guide)
+slotted A through B        ``<g>`` (revolute about A),            pin B: eyelet / the body that
+                           ``<g>_eyelet`` (prismatic along it)    carries B (the drum)
+spherical_crank_slider     ``<g>_shaft`` (about y), ``<g>_ring``  pin K: ring / cage
+                           (about the groove normal), ``<g>_cage``
+                           (about −x)
+=========================  =====================================  ==============================
+
+Why these cuts: each loop is cut at the one pin whose both sides are bodies the group itself
+adds, so every body stays on the tree (and moves in RViz) and each tree joint's coordinate is
+a plain angle or slide read off the solved points. Planar bodies have their frame origin at
+their pivot and their x axis along a named pair of points; angles are counter-clockwise
+positive in (−π, π], except the driving crank's, which follows φ unwrapped.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any
+
+from solver.errors import SceneError
+from solver.groups import RRP, RRR, Attached, Crank, JointExpression, Slotted, SphericalCrankSlider
+
+__all__ = [
+    "BASE_LINK",
+    "Body",
+    "Cut",
+    "TreeJoint",
+    "TreeModel",
+    "build_model",
+    "exportable_model",
+    "SUPPORTED_GROUPS",
+]
+
+BASE_LINK = "base_link"
+
+#: Group kinds the URDF export understands.
+SUPPORTED_GROUPS = ("crank", "attached", "rrr", "rrp", "slotted", "spherical_crank_slider", "joint")
+
+Vec3 = tuple[float, float, float]
+
+
+@dataclass
+class Body:
+    """A rigid body. Planar: frame origin at point ``origin``, x axis along ``axis`` (a pair of
+    point names, or a constant complex direction); ``local`` maps its points to frame coordinates.
+    ``role`` names the drawing: ``base``, ``bar``, ``drum``, ``slider``, ``eyelet``, ``shaft``,
+    ``ring``, ``cage``."""
+
+    name: str
+    role: str
+    origin: str | None = None
+    axis: tuple[str, str] | complex | None = None
+    local: dict[str, Vec3] = field(default_factory=dict)
+    #: Bars to draw, as pairs of point names of ``local``.
+    bars: list[tuple[str, str]] = field(default_factory=list)
+    #: Pins to draw (point names of ``local``).
+    pins: list[str] = field(default_factory=list)
+    #: Free-form sizes for the drawing (e.g. ``radius`` of a drum, ``alpha`` of a ring).
+    size: dict[str, float] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class TreeJoint:
+    """A joint of the tree. ``type`` is the URDF type (``continuous`` for a pin, ``prismatic``);
+    ``xyz``/``rpy`` the joint frame in the parent's frame, ``axis`` in the joint frame.
+    ``rule`` says how its coordinate is computed (see :mod:`.states`); ``data`` holds the names
+    and constants the rule reads."""
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    xyz: Vec3
+    rpy: Vec3
+    axis: Vec3
+    rule: str
+    data: tuple[object, ...] = ()
+
+
+@dataclass(frozen=True)
+class Cut:
+    """A joint left out of the tree: a point on each side, in that side's frame."""
+
+    name: str
+    kind: str  # "pin"
+    point: str
+    side_a: str
+    local_a: Vec3
+    side_b: str
+    local_b: Vec3
+    why: str
+
+
+@dataclass
+class TreeModel:
+    """Bodies, tree joints (parents before children) and cuts of one scene."""
+
+    scene_name: str
+    dim: int
+    input_joint: str
+    bodies: dict[str, Body]
+    joints: list[TreeJoint]
+    cuts: list[Cut]
+    owner: dict[str, str]
+
+    @cached_property
+    def joint_names(self) -> tuple[str, ...]:
+        return tuple(j.name for j in self.joints)
+
+
+def _c(v: Vec3) -> complex:
+    return complex(v[0], v[1])
+
+
+def _v(z: complex) -> Vec3:
+    return (float(z.real), float(z.imag), 0.0)
+
+
+class _Builder:
+    def __init__(self, scene: object) -> None:
+        self.scene = scene
+        self.file = getattr(scene, "path", None) or getattr(scene, "name", None)
+        base = Body(BASE_LINK, "base")
+        for name, value in scene.fixed_points.items():  # type: ignore[attr-defined]
+            xyz = [float(x) for x in value] + [0.0] * (3 - len(value))
+            base.local[name] = (xyz[0], xyz[1], xyz[2])
+        self.bodies: dict[str, Body] = {BASE_LINK: base}
+        self.owner: dict[str, str] = {n: BASE_LINK for n in base.local}
+        self.joints: list[TreeJoint] = []
+        self.cuts: list[Cut] = []
+        self.slotted_through = {
+            g.through for g in scene.ordered if isinstance(g, Slotted)  # type: ignore[attr-defined]
+        }
+
+    def error(self, message: str, group: object | None = None) -> SceneError:
+        entry = f"{getattr(group, 'kind', '')} '{getattr(group, 'name', '')}'" if group else None
+        return SceneError(f"URDF export: {message}", file=self.file, entry=entry)
+
+    def add_body(self, body: Body, group: object) -> Body:
+        if body.name in self.bodies:
+            raise self.error(f"two bodies would be named '{body.name}'", group)
+        self.bodies[body.name] = body
+        return body
+
+    def holder(self, point: str, group: object) -> Body:
+        name = self.owner.get(point)
+        if name is None:
+            raise self.error(f"point '{point}' is on no body solved before this group", group)
+        return self.bodies[name]
+
+    def pin(self, parent: Body, child: Body, at: str, *, unwrap: str | None = None) -> None:
+        """A planar revolute joint about point ``at`` (the child's frame origin)."""
+        self.joints.append(
+            TreeJoint(
+                name=f"{child.name}_joint",
+                type="continuous",
+                parent=parent.name,
+                child=child.name,
+                xyz=parent.local[at],
+                rpy=(0.0, 0.0, 0.0),
+                axis=(0.0, 0.0, 1.0),
+                rule="planar_pin",
+                data=(unwrap,),
+            )
+        )
+        child.pins.append(at)
+
+    # -- groups ------------------------------------------------------------------------------
+    def crank(self, g: Crank) -> None:
+        role = "drum" if g.point in self.slotted_through else "bar"
+        body = self.add_body(
+            Body(g.name, role, g.center, (g.center, g.point),
+                 {g.center: (0.0, 0.0, 0.0), g.point: (g.length, 0.0, 0.0)}),
+            g,
+        )
+        body.bars.append((g.center, g.point))
+        if role == "drum":
+            body.size["radius"] = g.length
+        self.pin(self.holder(g.center, g), body, g.center, unwrap=g.joint)
+        self.owner[g.point] = body.name
+
+    def rrr(self, g: RRR) -> None:
+        (a, c), b = g.ends, g.point
+        l1, l2 = g.lengths
+        sides = []
+        for end, length in ((a, l1), (c, l2)):
+            parent = self.holder(end, g)
+            body = self.add_body(
+                Body(f"{g.name}_{end}{b}", "bar", end, (end, b), {end: (0.0, 0.0, 0.0), b: (length, 0.0, 0.0)}), g
+            )
+            body.bars.append((end, b))
+            self.pin(parent, body, end)
+            sides.append(body)
+        self.owner[b] = sides[0].name
+        sides[0].pins.append(b)
+        self.cuts.append(
+            Cut(f"{g.name}_{b}", "pin", b, sides[0].name, sides[0].local[b], sides[1].name, sides[1].local[b],
+                f"pin {b} joins the two bars of RRR dyad '{g.name}'; cutting it keeps both on the tree")
+        )
+
+    def rrp(self, g: RRP) -> None:
+        a, b = g.end, g.point
+        parent = self.holder(a, g)
+        rod = self.add_body(Body(g.name, "bar", a, (a, b), {a: (0.0, 0.0, 0.0), b: (g.length, 0.0, 0.0)}), g)
+        rod.bars.append((a, b))
+        self.pin(parent, rod, a)
+        slider = self.add_body(Body(f"{g.name}_slider", "slider", b, complex(g.direction), {b: (0.0, 0.0, 0.0)}), g)
+        slider.size["guide_angle"] = math.atan2(g.direction.imag, g.direction.real)
+        self.joints.append(
+            TreeJoint(
+                name=f"{slider.name}_joint",
+                type="prismatic",
+                parent=BASE_LINK,
+                child=slider.name,
+                xyz=_v(g.origin),
+                rpy=(0.0, 0.0, slider.size["guide_angle"]),
+                axis=(1.0, 0.0, 0.0),
+                rule="planar_slide",
+                data=(_v(g.origin), slider.size["guide_angle"]),
+            )
+        )
+        self.owner[b] = rod.name
+        rod.pins.append(b)
+        self.cuts.append(
+            Cut(f"{g.name}_{b}", "pin", b, rod.name, rod.local[b], slider.name, (0.0, 0.0, 0.0),
+                f"pin {b} joins rod and slider of RRP dyad '{g.name}'; cutting it keeps both on the tree")
+        )
+
+    def slotted(self, g: Slotted) -> None:
+        a, b = g.pivot, g.through
+        parent = self.holder(a, g)
+        carrier = self.holder(b, g)
+        local = {a: (0.0, 0.0, 0.0), **{p: (d, 0.0, 0.0) for p, d in g.points}}
+        link = self.add_body(Body(g.name, "bar", a, (a, b), local), g)
+        far = max(g.points, key=lambda p: abs(p[1]))[0]
+        link.bars.append((a, far))
+        self.pin(parent, link, a)
+        eyelet = self.add_body(Body(f"{g.name}_eyelet", "eyelet", b, (a, b), {b: (0.0, 0.0, 0.0)}), g)
+        self.joints.append(
+            TreeJoint(
+                name=f"{eyelet.name}_joint",
+                type="prismatic",
+                parent=link.name,
+                child=eyelet.name,
+                xyz=(0.0, 0.0, 0.0),
+                rpy=(0.0, 0.0, 0.0),
+                axis=(1.0, 0.0, 0.0),
+                rule="planar_slide",
+                data=((0.0, 0.0, 0.0), 0.0),
+            )
+        )
+        for p, _ in g.points:
+            self.owner[p] = link.name
+        eyelet.pins.append(b)
+        self.cuts.append(
+            Cut(f"{g.name}_{b}", "pin", b, eyelet.name, (0.0, 0.0, 0.0), carrier.name, carrier.local[b],
+                f"eyelet pin {b} joins the eyelet sliding on '{g.name}' to '{carrier.name}'; cutting it "
+                "keeps the slotted link, the eyelet and the body that carries B on the tree")
+        )
+
+    def attached(self, g: Attached) -> None:
+        need = (g.base, *g.along)
+        candidates = [self.bodies[self.owner[g.base]]] if g.base in self.owner else []
+        candidates += list(self.bodies.values())
+        body = next((bd for bd in candidates if all(n in bd.local for n in need)), None)
+        if body is None:
+            raise self.error(
+                f"point '{g.point}' is attached to {list(need)}, which lie on no single rigid body", g
+            )
+        x, r, q = (_c(body.local[n]) for n in need)
+        d = q - r
+        body.local[g.point] = _v(x + g.distance * complex(math.cos(g.angle), math.sin(g.angle)) * d / abs(d))
+        body.bars.append((g.base, g.point))
+        self.owner[g.point] = body.name
+
+    def spherical(self, g: SphericalCrankSlider) -> None:
+        centre = self.holder(g.center, g)
+        if centre.name != BASE_LINK:
+            raise self.error(f"the centre '{g.center}' must be a fixed point", g)
+        o = centre.local[g.center]
+        r = g.radius
+        tip = (0.0, 0.0, r)
+        shaft = self.add_body(Body(f"{g.name}_shaft", "shaft", size={"radius": r}), g)
+        ring = self.add_body(Body(f"{g.name}_ring", "ring", size={"radius": r, "alpha": g.alpha}), g)
+        cage = self.add_body(Body(f"{g.name}_cage", "cage", local={g.point: tip}, size={"radius": r}), g)
+        ring.local[g.point] = tip
+        normal = (math.cos(g.alpha), math.sin(g.alpha), 0.0)
+        zero = (0.0, 0.0, 0.0)
+        self.joints += [
+            TreeJoint(f"{shaft.name}_joint", "continuous", BASE_LINK, shaft.name, o, zero, (0.0, 1.0, 0.0),
+                      "joint_value", (g.shaft,)),
+            TreeJoint(f"{ring.name}_joint", "continuous", shaft.name, ring.name, zero, zero, normal,
+                      "spherical_ring", (g.shaft, g.cage, g.alpha)),
+            TreeJoint(f"{cage.name}_joint", "continuous", BASE_LINK, cage.name, o, zero, (-1.0, 0.0, 0.0),
+                      "joint_value", (g.cage,)),
+        ]
+        self.owner[g.point] = cage.name
+        self.cuts.append(
+            Cut(f"{g.name}_{g.point}", "pin", g.point, ring.name, tip, cage.name, tip,
+                f"pin {g.point} joins the bearing ring and the cage of '{g.name}' (the spherical four-bar "
+                "shaft–ring–cage–frame); cutting it keeps all three moving bodies on the tree")
+        )
+
+
+def build_model(scene: object) -> TreeModel:
+    """The spanning tree of ``scene``'s mechanism (a :class:`solver.Scene`).
+
+    Raises :class:`solver.SceneError` for a group kind the export does not know, or names that
+    would clash in the URDF or in ``joint_states``.
+    """
+    b = _Builder(scene)
+    handlers: dict[type, Callable[[Any], None]] = {
+        Crank: b.crank,
+        RRR: b.rrr,
+        RRP: b.rrp,
+        Slotted: b.slotted,
+        Attached: b.attached,
+        SphericalCrankSlider: b.spherical,
+    }
+    for g in scene.ordered:  # type: ignore[attr-defined]
+        if isinstance(g, JointExpression):
+            continue
+        handler = handlers.get(type(g))
+        if handler is None:
+            raise b.error(
+                f"group kind '{getattr(g, 'kind', type(g).__name__)}' has no URDF export; "
+                f"supported: {', '.join(SUPPORTED_GROUPS)}",
+                g,
+            )
+        handler(g)
+    model = TreeModel(
+        scene_name=str(scene.name),  # type: ignore[attr-defined]
+        dim=int(scene.dim),  # type: ignore[attr-defined]
+        input_joint=str(scene.input_joint),  # type: ignore[attr-defined]
+        bodies=b.bodies,
+        joints=b.joints,
+        cuts=b.cuts,
+        owner=b.owner,
+    )
+    _check_names(model, tuple(scene.joint_names), b)  # type: ignore[attr-defined]
+    return model
+
+
+def exportable_model(scene: object) -> TreeModel | None:
+    """:func:`build_model`, or ``None`` for a scene made of groups the export does not know
+    (e.g. vector contours): for publishers that add the tree joints where there are any."""
+    try:
+        return build_model(scene)
+    except SceneError as exc:
+        if "has no URDF export" in str(exc):
+            return None
+        raise
+
+
+def _check_names(model: TreeModel, scene_joints: tuple[str, ...], b: _Builder) -> None:
+    links = list(model.bodies)
+    for cut in model.cuts:
+        links += [f"{cut.name}_a", f"{cut.name}_b"]
+    dup = sorted({n for n in links if links.count(n) > 1})
+    if dup:
+        raise b.error(f"URDF link names would clash: {', '.join(dup)}")
+    clash = sorted(set(model.joint_names) & set(scene_joints))
+    if clash:
+        raise b.error(
+            f"tree joint names {', '.join(clash)} are also scene joints; rename those scene joints "
+            "(joint_states carries both)"
+        )
