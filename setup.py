@@ -48,7 +48,7 @@ setup(
             "yourdfpy>=0.0.56",
             "colcon-common-extensions",
         ],
-        "bench": ["matplotlib>=3.8", "pylinkage==1.3.0"],
+        "bench": ["matplotlib>=3.8", "pylinkage==1.3.0", "numba>=0.60"],
     },
     zip_safe=True,
     maintainer="linkage_ros developers",
