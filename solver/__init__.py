@@ -9,6 +9,7 @@ from __future__ import annotations
 from .errors import AssemblyError, SceneError, SolverError
 from .kinematics import Kinematics, Motion
 from .scene import Link, Scene, find_scene, load_scene, shipped_scenes
+from . import vectors as _vectors  # registers the vector-loop scene section (seed 004)
 
 __all__ = [
     "AssemblyError",

@@ -69,7 +69,7 @@ def crank_and_pivot(scene: Scene, group: Any) -> tuple[Any, complex, complex] | 
         return None
     fixed = scene.plan.fixed
     for a, c in (group.ends, group.ends[::-1]):
-        crank = next((g for g in scene.plan.groups if g.kind == "crank" and g.point == a), None)
+        crank: Any = next((g for g in scene.plan.groups if g.kind == "crank" and getattr(g, "point", None) == a), None)
         if crank is not None and c in fixed and crank.center in fixed:
             return crank, complex(fixed[crank.center]), complex(fixed[c])
     return None
@@ -90,11 +90,14 @@ def _four_bar_intervals(scene: Scene, group: Any) -> list[tuple[float, float]] |
     hi_bound = (base - (l1 - l2) ** 2) / (2.0 * g * r)  # cos(φ − θ) ≤ this
     lo_bound = (base - (l1 + l2) ** 2) / (2.0 * g * r)  # cos(φ − θ) ≥ this
     if hi_bound < -1.0 or lo_bound > 1.0:
-        return [(0.0, TWO_PI)]
-    if hi_bound < 1.0:
+        return [(0.0, TWO_PI)]  # D never reaches the band: the dyad closes nowhere
+    # a bound within rounding of ±1 is a touch (a change point), not a gap: the solver clamps
+    # such a residual (tolerances.ASSEMBLY_SLACK), so the gap must be judged on the same scale
+    slack = ASSEMBLY_SLACK * (l1 + l2) ** 2
+    if hi_bound < 1.0 and (l1 - l2) ** 2 - (g - r) ** 2 > slack:
         half = math.acos(hi_bound)
         out.append(_interval(theta - half, theta + half))
-    if lo_bound > -1.0:
+    if lo_bound > -1.0 and (g + r) ** 2 - (l1 + l2) ** 2 > slack:
         half = math.acos(lo_bound)
         out.append(_interval(theta + half, theta + TWO_PI - half))
     return sorted(out)

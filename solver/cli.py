@@ -10,7 +10,8 @@ from typing import TextIO
 
 import numpy as np
 
-from .errors import SolverError
+from . import assembly, classify
+from .errors import SolverError, format_intervals
 from .kinematics import Kinematics
 from .scene import Scene, load_scene
 
@@ -115,7 +116,51 @@ def summary(scene: Scene, k: Kinematics, *, deg: bool = True) -> str:
             f"    max |dq| = {abs(dq[iv]):.6g} at φ = {at(iv)}; max |ddq| = {abs(ddq[ia]):.6g} at φ = {at(ia)}"
         )
     _ = unit
+    lines.extend(stability_lines(scene, k))
     return "\n".join(lines)
+
+
+def _degrees(values: Sequence[float]) -> str:
+    return ", ".join(f"{math.degrees(v):.4f}°" for v in values)
+
+
+def stability_lines(scene: Scene, k: Kinematics) -> list[str]:
+    """Singular positions, dead centres, transmission angles, Grashof class and gaps (issue 4).
+
+    Every angle is computed over the whole turn in closed form or by bisection to rounding
+    (solver.classify), not read off the sampled sweep.
+    """
+    lines: list[str] = []
+    singular: list[str] = []
+    for g in scene.plan.groups:
+        for kind, where in classify.toggles(scene, g).items():
+            what = {
+                "change points": "change points (both assemblies meet; conditioning 0)",
+                "range edges": "toggles at the edges of the unassemblable range (conditioning 0)",
+            }[kind]
+            singular.append(f"    {g.name}: {what} at φ = {_degrees(where)}")
+    for j in scene.output_joints:
+        if j == scene.input_joint:
+            continue
+        stops = classify.dead_centres(scene, j)
+        if stops:
+            singular.append(f"    {j}: dead centre (dq/dφ = 0) at φ = {_degrees(stops)}")
+    flagged = int(np.count_nonzero(k.singular & k.valid))
+    lines.append(f"  singular positions over the turn ({flagged} of the samples singular):")
+    lines.extend(singular or ["    none"])
+    for g in scene.plan.groups:
+        mu = classify.transmission_range(scene, g)
+        if mu is not None:
+            lines.append(
+                f"  transmission angle of {g.name} (between AB and CB): "
+                f"{math.degrees(mu[0]):.4f}° … {math.degrees(mu[1]):.4f}°"
+            )
+        grashof = classify.grashof(scene, g)
+        if grashof is not None:
+            lines.append(f"  four-bar {g.name}: {grashof}")
+    for name, intervals in assembly.gaps(scene).items():
+        lines.append(f"  gap: {name} cannot be assembled for φ in {format_intervals(intervals)}")
+    return lines
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -130,6 +175,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             phi = np.linspace(0.0, 2 * math.pi, args.phi_count, endpoint=False)
         k = scene.solve(phi, omega=args.omega, epsilon=args.epsilon, mask=args.mask)
         if args.csv:
+            if args.mask:
+                for name, intervals in assembly.gaps(scene).items():
+                    text = format_intervals(intervals)
+                    print(f"linkage-solve: gap: {name} cannot be assembled for φ in {text}", file=sys.stderr)
             if args.csv == "-":
                 write_csv(scene, k, sys.stdout)
             else:

@@ -6,15 +6,24 @@ solution. Positions stay exact there — they come from the closed form, not fro
 
 What the analogs are at a singular sample
     The two-sided limit of the exact analogs along the branch, where it exists: the analogs are
-    evaluated exactly at φ₀ ± δ, ±2δ, ±4δ (δ = :data:`~solver.tolerances.LIMIT_STEP`), where the
-    group is regular, and the symmetric means are Richardson-extrapolated to δ → 0 (truncation
-    of order δ⁶, rounding of order EPS/δ²: about 1e-11 relative). This is the case at a change point
+    evaluated exactly at φ₀ ± h, ±2h, ±4h, ±8h (h = δ, 2δ or 4δ, δ = :data:`~solver.tolerances.LIMIT_STEP`,
+    the smallest whose nodes are conditioned at least :data:`~solver.tolerances.LIMIT_NODE`), and
+    the symmetric means are Richardson-extrapolated to h → 0 (truncation of order h⁸; about
+    1e-10 relative, measured). This is the case at a change point
     passed on a continuous branch (a parallelogram at φ = 0 and π), and at a rocker-driven dyad
     that the input moves only tangentially.
     Where the left and right limits differ (a kink: the branch is kept through a change point
     without following it) or do not exist (the edge of an unassemblable range, where the analogs
     grow without bound), the analogs are NaN. Either way the sample is flagged:
     ``Kinematics.singular`` is True there, so no NaN is silent.
+
+Near a singular position
+    The linear system's rounding error grows as EPS/c in the velocity and EPS/c² in the
+    acceleration analogs (c the conditioning). Below :data:`~solver.tolerances.REFINE_BELOW`
+    the analogs are therefore taken from the same limit construction where it exists (on a
+    continuous branch the nodes φ₀ ± kδ lie well away from the singular point), and left as the
+    system gives them where it does not (beside the edge of an unassemblable range, where they
+    are large but finite, or beside a kink).
 
 Change points
     An RRR dyad with ``through_change_points: continuous`` changes its assembly mode M where
@@ -36,7 +45,15 @@ import numpy as np
 
 from ._backend import NUMPY, dot
 from .jet import Jet
-from .tolerances import ASSEMBLY_SLACK, LIMIT_AGREEMENT, LIMIT_STEP, ROOT_ITERATIONS, SINGULAR
+from .tolerances import (
+    ASSEMBLY_SLACK,
+    LIMIT_AGREEMENT,
+    LIMIT_NODE,
+    LIMIT_STEP,
+    REFINE_BELOW,
+    ROOT_ITERATIONS,
+    SINGULAR,
+)
 
 if TYPE_CHECKING:
     from .groups.base import Context, Group
@@ -57,6 +74,9 @@ __all__ = [
 #: Samples of one turn used to bracket roots (then refined by bisection to rounding).
 GRID = 4096
 
+#: Nodes per side of the limit's extrapolation, and the steps tried (δ, 2δ, 4δ).
+_NODES = 4
+_LEVELS = 3
 _refining: contextvars.ContextVar[bool] = contextvars.ContextVar("refining", default=False)
 _CHANGE_POINTS: dict[Any, tuple[float, ...]] = {}
 
@@ -99,59 +119,79 @@ def refine_singular(ctx: Context, group: Group, names: Sequence[str]) -> None:
     cond = ctx.conditioning.get(group.name)
     if cond is None:
         return
-    bad = np.asarray(cond < SINGULAR)
+    bad = np.asarray(cond < REFINE_BELOW)
     if not bad.any():
         return
     scalar = not ctx.xp.vectorised
     phi = np.atleast_1d(np.asarray(ctx.phi, float))
     bad_idx = np.flatnonzero(np.broadcast_to(bad, phi.shape))
     phi0 = phi[bad_idx]
+    # singular samples get the limit or NaN; merely ill-conditioned ones the limit where it exists
+    strict = np.broadcast_to(np.asarray(cond < SINGULAR), phi.shape)[bad_idx]
     n = phi.shape[0]
     limits: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     if ctx.owner is not None and not _refining.get():
-        steps = LIMIT_STEP * np.array([1.0, 2.0, 4.0])
-        grid = phi0[:, None] + np.concatenate([steps, -steps])[None, :]  # (m, 6)
-        pctx = probe(ctx.owner, grid.ravel())
-        ok = ~np.broadcast_to(np.asarray(pctx.invalid, bool), grid.ravel().shape).reshape(grid.shape)
-        ok = ok.all(axis=1)
+        # nodes φ₀ ± δ·2^i, i = 0..5; level k uses the nodes 2^k·{1, 2, 4, 8}·δ, the first level
+        # whose nodes are all assemblable and conditioned at least LIMIT_NODE wins
+        mult = 2.0 ** np.arange(_NODES + _LEVELS - 1)
+        half = len(mult)
+        grid = phi0[:, None] + LIMIT_STEP * np.concatenate([mult, -mult])[None, :]
+        flat = grid.ravel()
+        pctx = probe(ctx.owner, flat)
+        ok = ~np.broadcast_to(np.asarray(pctx.invalid, bool), flat.shape)
+        node_cond = np.broadcast_to(np.asarray(pctx.conditioning.get(group.name, 1.0), float), flat.shape)
+        ok = (ok & (node_cond >= LIMIT_NODE)).reshape(grid.shape)
         for name in names:
             jet = pctx.values[name]
-            limits[name] = tuple(  # type: ignore[assignment]
-                _limit(np.asarray(np.broadcast_to(d, grid.ravel().shape + np.shape(d)[1:])), grid.shape, ok)
-                for d in (jet.d1, jet.d2)
-            )
+            pair: list[np.ndarray] = []
+            for raw in (jet.d1, jet.d2):
+                tail = np.shape(raw)[1:]
+                d = np.asarray(np.broadcast_to(raw, flat.shape + tail)).reshape(grid.shape + tail)
+                best = np.full((len(phi0), *tail), np.nan)
+                for k in range(_LEVELS):
+                    cols = [k + i for i in range(_NODES)] + [half + k + i for i in range(_NODES)]
+                    level = _limit(d[:, cols], np.asarray(ok[:, cols].all(axis=1)), 2.0**k)
+                    best = np.where(np.isnan(best), level, best)
+                pair.append(best)
+            limits[name] = (pair[0], pair[1])
     for name in names:
         jet = ctx.values[name]
-        if scalar:
-            d1, d2 = limits[name] if name in limits else (np.array([np.nan]), np.array([np.nan]))
-            cast = complex if isinstance(jet.value, complex) else float
-            ctx.values[name] = Jet(jet.value, cast(d1[0]), cast(d2[0]))
-            continue
         tail = np.shape(jet.value)[1:]
         dtype = complex if np.iscomplexobj(np.asarray(jet.value)) else float
-        new = []
+        new: list[Any] = []
         for k, d in enumerate((jet.d1, jet.d2)):
             arr = np.array(np.broadcast_to(np.asarray(d, dtype), (n, *tail)))
-            arr[bad_idx] = limits[name][k] if name in limits else np.nan
+            limit = limits[name][k] if name in limits else np.full((len(bad_idx), *tail), np.nan, dtype)
+            found = np.isfinite(limit).reshape(len(bad_idx), -1).all(axis=1)
+            take = (found | strict).reshape((-1,) + (1,) * len(tail))
+            arr[bad_idx] = np.where(take, limit, arr[bad_idx])
             new.append(arr)
+        if scalar:
+            cast = complex if isinstance(jet.value, complex) else float
+            new = [cast(x[0]) for x in new]
         ctx.values[name] = Jet(jet.value, new[0], new[1])
 
 
-def _limit(d: np.ndarray, shape: tuple[int, int], ok: np.ndarray) -> np.ndarray:
-    """Two-sided limit at δ → 0 from samples at +δ, +2δ, +4δ, −δ, −2δ, −4δ (NaN where none)."""
-    d = d.reshape(shape + d.shape[1:])
-    plus, minus = d[:, :3], d[:, 3:]
-    sym = 0.5 * (plus + minus)
-    r1 = (4.0 * sym[:, 0] - sym[:, 1]) / 3.0
-    r2 = (4.0 * sym[:, 1] - sym[:, 2]) / 3.0
-    two_sided = (16.0 * r1 - r2) / 15.0
+def _limit(d: np.ndarray, ok: np.ndarray, level: float) -> np.ndarray:
+    """Two-sided limit at 0 from samples at ±h, ±2h, ±4h, ±8h (h = level·δ): NaN where none.
+
+    The left and right one-sided (quadratic) extrapolations must agree to LIMIT_AGREEMENT·level³
+    of the analogs' size: they differ by O(1) at a kink and by O(h³) on an analytic branch.
+    """
+    plus, minus = d[:, :_NODES], d[:, _NODES:]
+    # Richardson on the symmetric means (even in h): eliminate h², h⁴, h⁶ with the steps 1, 2, 4, 8
+    table = [0.5 * (plus[:, i] + minus[:, i]) for i in range(_NODES)]
+    for j in range(1, _NODES):
+        f = 4.0**j
+        table = [(f * table[i] - table[i + 1]) / (f - 1.0) for i in range(len(table) - 1)]
+    two_sided = table[0]
     # one-sided quadratic extrapolation from the nodes 1, 2, 4 (Lagrange weights at 0)
     w = np.array([8.0 / 3.0, -2.0, 1.0 / 3.0]).reshape((1, 3) + (1,) * (d.ndim - 2))
-    right, left = (plus * w).sum(axis=1), (minus * w).sum(axis=1)
+    right, left = (plus[:, :3] * w).sum(axis=1), (minus[:, :3] * w).sum(axis=1)
     size = np.abs(d).max(axis=1)  # the analogs' magnitude near φ₀, per sample (and axis)
     if size.ndim > 1:
         size = size.max(axis=tuple(range(1, size.ndim)), keepdims=True)
-    agree = np.abs(right - left) <= LIMIT_AGREEMENT * size
+    agree = np.abs(right - left) <= LIMIT_AGREEMENT * level**3 * size
     if agree.ndim > 1:
         agree = agree.all(axis=tuple(range(1, agree.ndim)))
     good = ok & agree & np.isfinite(two_sided).reshape(two_sided.shape[0], -1).all(axis=1)

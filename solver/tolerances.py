@@ -17,6 +17,9 @@ __all__ = [
     "LIMIT_AGREEMENT",
     "GRASHOF_EQUAL",
     "ROOT_ITERATIONS",
+    "STATIONARY",
+    "REFINE_BELOW",
+    "LIMIT_NODE",
 ]
 
 #: Machine epsilon of float64.
@@ -40,8 +43,9 @@ LIMIT_STEP: float = 1e-2
 
 #: The left and right limits of the analogs at a singular sample must agree to this, relative to
 #: their size, for the limit to exist; otherwise the analogs there are undefined (NaN, flagged).
-#: (Each one-sided estimate is a quadratic extrapolation, good to about δ³.)
-LIMIT_AGREEMENT: float = 1e-4
+#: (Each one-sided estimate is a quadratic extrapolation, good to about δ³; the bound grows as
+#: (h/δ)³ when a larger step h is used.) At a kink the two differ by O(1).
+LIMIT_AGREEMENT: float = 1e-3
 
 #: s + l and p + q of a four-bar closer than this (relative to the longest link) are equal: a
 #: change-point (Grashof-neutral) four-bar.
@@ -49,3 +53,20 @@ GRASHOF_EQUAL: float = 64 * EPS
 
 #: Bisection steps that refine a root in φ ∈ [0, 2π] to the last bit (2π/2⁶⁰ < EPS).
 ROOT_ITERATIONS: int = 80
+
+#: A joint whose velocity analog stays below this over the whole turn (rad/rad or m/rad) does not
+#: move (a parallelogram's coupler angle): it has no dead centres, only rounding noise.
+STATIONARY: float = 1e6 * EPS
+
+#: Below this conditioning c the analogs are taken from their limit along the branch (when it
+#: exists) rather than from the group's linear system, whose rounding error grows as EPS/c for
+#: the velocity and EPS/c² for the acceleration analogs (measured on the parallelogram: 1e-7
+#: relative at c = 1e-3, 1e-2 at c = 1e-5); the limit (see LIMIT_STEP) is good to about 1e-11
+#: relative on either side of a change point.
+REFINE_BELOW: float = 1e-2
+
+#: The nodes of that limit must be conditioned at least this well (the system's acceleration
+#: analogs are good to about 4e-11 relative there); otherwise a step of 2δ, then 4δ, is tried.
+#: Measured on the parallelogram over 1e-12 ≤ |φ − φ_change| ≤ 0.3: velocity and acceleration
+#: analogs within 4e-10 relative of the exact B' = A', B'' = A''.
+LIMIT_NODE: float = 1e-2

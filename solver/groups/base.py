@@ -97,6 +97,10 @@ class Group:
         """Which of the provided names are joint coordinates (the rest are points)."""
         return ()
 
+    def hidden(self) -> tuple[str, ...]:
+        """Provided names that are neither points nor joints: internal values (the vector model's parameters)."""
+        return ()
+
     def input_joint(self) -> str | None:
         """The joint whose coordinate is φ, for the driving group."""
         return None

@@ -11,7 +11,10 @@ Linear system
     none: explicit.
 Branch rule
     none. B must not coincide with A (the link's direction is undefined there: AssemblyError).
-Conditioning: ρ / ρ_max, the slide relative to the largest distance named on the link.
+Conditioning: ρ / ρ_max, the slide relative to the largest distance named on the link. Below
+tolerances.SINGULAR the eyelet all but passes through the pivot: the link's direction turns by
+about π within a tiny change of φ, the analogs have no limit there and are NaN, flagged
+(solver.singular); exactly on the pivot it is an AssemblyError.
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ from typing import Any
 
 from .._fields import Entry, Units
 from ..jet import sub
+from ..singular import refine_singular
 from .attached import points_on_link
 from .base import Context, Group, at_most_one
 
@@ -59,6 +63,7 @@ class Slotted(Group):
             vals[name] = jet
         scale = max(abs(d) for _, d in self.points)
         ctx.conditioning[self.name] = at_most_one(rho / scale)
+        refine_singular(ctx, self, self.provides())
 
     @classmethod
     def from_entry(cls, e: Entry, units: Units, fixed: Mapping[str, Any]) -> Slotted:
