@@ -1,0 +1,381 @@
+"""From a time to a solved frame: the motion law, the solver and the unassemblable policy.
+
+``Engine(scene, motion).frame(t)`` solves one crank angle; ``frames(times)`` solves whole runs
+vectorised. Every point and joint of the scene is solved (drawing the links needs all of them);
+``published_points`` names the points whose kinematics are published as topics and whose paths
+over one cycle are drawn.
+
+Where the mechanism cannot be assembled, the engine never returns NaN. With
+``on_unassemblable="stop"`` the input stops at the last valid tick (a hold segment of the motion:
+φ frozen, ω = ε = 0) and every frame reports status ``"unassemblable"`` with the φ interval until
+the motion is changed. With ``"reverse"`` the drive reverses where φ crosses the boundary of the
+interval (or, when the interval is not known, at the last valid tick); the frame of the reversal
+reports ``"unassemblable"``, the frames after it are ordinary.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+import solver
+from solver.errors import AssemblyError, SceneError, format_intervals
+from solver.tolerances import NEAR_SINGULAR
+
+from .motion import SEGMENT_HOLD, Motion
+
+__all__ = [
+    "ON_UNASSEMBLABLE",
+    "STATUS_NEAR_SINGULAR",
+    "STATUS_OK",
+    "STATUS_UNASSEMBLABLE",
+    "Engine",
+    "Frame",
+    "JointState",
+    "PointState",
+]
+
+STATUS_OK = "ok"
+STATUS_NEAR_SINGULAR = "near_singular"
+STATUS_UNASSEMBLABLE = "unassemblable"
+
+#: Accepted values of ``on_unassemblable``.
+ON_UNASSEMBLABLE = ("stop", "reverse")
+
+TWO_PI = 2.0 * math.pi
+#: Samples of the input angle over one cycle for the drawn paths (1° apart, closed).
+PATH_SAMPLES = 361
+#: Ticks solved together by :meth:`Engine.frames`.
+CHUNK = 4096
+
+
+@dataclass(frozen=True)
+class PointState:
+    """Position, velocity and acceleration of one point, each of shape ``(dim,)`` (m, m/s, m/s²)."""
+
+    position: NDArray[np.float64]
+    velocity: NDArray[np.float64]
+    acceleration: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class JointState:
+    """Position (rad or m), velocity and acceleration of one joint."""
+
+    position: float
+    velocity: float
+    acceleration: float
+
+
+@dataclass(frozen=True)
+class Frame:
+    """The mechanism at one instant ``t`` (s of run time)."""
+
+    t: float
+    phi: float
+    omega: float
+    epsilon: float
+    points: Mapping[str, PointState]
+    joints: Mapping[str, JointState]
+    status: str
+    conditioning: float
+    message: str
+
+
+class Engine:
+    """Maps run time to solved frames of one scene under one :class:`~linkage_ros.motion.Motion`.
+
+    ``scene`` is a :class:`solver.Scene` or anything :func:`solver.load_scene` accepts (a path or
+    a shipped name). ``points`` selects the published points (default: the scene's outputs).
+    ``near_singular_below`` is the conditioning under which a frame is ``"near_singular"``.
+    Raises :class:`solver.AssemblyError` when the motion's start angle cannot be assembled and
+    :class:`solver.SceneError` for unknown point names.
+    """
+
+    def __init__(
+        self,
+        scene: Any,
+        motion: Motion,
+        *,
+        points: Sequence[str] | None = None,
+        on_unassemblable: str = "stop",
+        near_singular_below: float = NEAR_SINGULAR,
+        path_samples: int = PATH_SAMPLES,
+    ) -> None:
+        if not hasattr(scene, "with_outputs"):
+            scene = solver.load_scene(scene)
+        if on_unassemblable not in ON_UNASSEMBLABLE:
+            raise ValueError(
+                f"on_unassemblable must be one of {', '.join(ON_UNASSEMBLABLE)}; "
+                f"got {on_unassemblable!r}"
+            )
+        self.scene = scene
+        self.motion = motion
+        self.on_unassemblable = on_unassemblable
+        self.near_singular_below = float(near_singular_below)
+        chosen = tuple(scene.output_points) if points is None else tuple(points)
+        unknown = [p for p in chosen if p not in scene.point_names]
+        if unknown:
+            raise SceneError(
+                f"unknown point(s) {', '.join(unknown)}; the scene defines "
+                f"{', '.join(scene.point_names)}",
+                file=str(getattr(scene, "path", "") or scene.name),
+                entry="points",
+            )
+        self.published_points: tuple[str, ...] = chosen
+        self.point_names: tuple[str, ...] = tuple(scene.point_names)
+        self.joint_names: tuple[str, ...] = tuple(scene.joint_names)
+        self._full = scene.with_outputs(points=self.point_names, joints=self.joint_names)
+        start = motion.segments[0]
+        self._event_message = ""
+        first = self._tick(start.t0, start.phi0, start.omega0, start.epsilon)
+        if not isinstance(first, Frame):
+            raise first
+        self._last_valid_t = start.t0
+        self.paths: dict[str, NDArray[np.float64]] = self._paths(start.phi0, path_samples)
+
+    # ------------------------------------------------------------------ one tick
+    def frame(self, t: float) -> Frame:
+        """The frame at run time ``t`` (s). Adds a hold or reverse segment where needed."""
+        t = float(t)
+        phi, omega, eps = self.motion.state(t)
+        result = self._tick(t, phi, omega, eps)
+        if isinstance(result, Frame):
+            if result.status != STATUS_UNASSEMBLABLE and t >= self._last_valid_t:
+                self._last_valid_t = t
+            return result
+        return self._unassemblable(t, phi, omega, result)
+
+    def _tick(self, t: float, phi: float, omega: float, eps: float) -> Frame | AssemblyError:
+        """One solve at a scalar φ: the frame, or the reason it has none."""
+        try:
+            k = self._full.solve(phi, omega=omega, epsilon=eps)
+        except AssemblyError as error:
+            return error
+        holding = self.motion.segment_at(t).tag == SEGMENT_HOLD
+        frame = self._make_frame(t, phi, omega, eps, k, None, holding=holding)
+        total = _finite_sum(frame)
+        if not math.isfinite(total):
+            return _non_finite(phi)
+        return frame
+
+    def _unassemblable(self, t: float, phi: float, omega: float, error: AssemblyError) -> Frame:
+        interval = _interval_containing(error.intervals, phi)
+        where = (
+            f"φ in {format_intervals([interval])}" if interval is not None else f"φ = {phi:.6g} rad"
+        )
+        reason = f"group '{error.group}' {error.reason} for {where}"
+        t_last = min(self._last_valid_t, t)
+        if self.on_unassemblable == "reverse":
+            candidates: list[float] = []
+            if interval is not None:
+                boundary = _boundary(interval, phi, omega)
+                t_cross = self.motion.crossing(boundary, t_last, t)
+                if t_cross is not None:
+                    candidates.append(t_cross)
+            candidates.append(t_last)
+            before = self.motion.snapshot()
+            for t_rev in candidates:
+                self.motion.restore(before)
+                self.motion.reverse(t_rev)
+                p, w, e = self.motion.state(t)
+                result = self._tick(t, p, w, e)
+                if isinstance(result, Frame):
+                    self._event_message = f"{reason}; reversed at t = {t_rev:.6f} s"
+                    self._last_valid_t = t
+                    return _with_status(result, STATUS_UNASSEMBLABLE, self._event_message)
+            self.motion.restore(before)
+        # stop (or a reversal that found no valid state): hold at the last valid tick.
+        self.motion.hold(t_last)
+        p, w, e = self.motion.state(t)
+        self._event_message = f"{reason}; stopped at φ = {p:.6f} rad"
+        result = self._tick(t, p, w, e)
+        if not isinstance(result, Frame):  # pragma: no cover - the held angle solved before
+            raise result
+        return result
+
+    # ------------------------------------------------------------------ whole runs
+    def frames(self, times: ArrayLike) -> Iterator[Frame]:
+        """Frames at ``times`` (ascending, s), solved ``CHUNK`` ticks at a time.
+
+        A generator: consume it in order and do not interleave :meth:`frame` calls.
+        """
+        all_times = np.asarray(times, dtype=np.float64).reshape(-1)
+        for start in range(0, all_times.size, CHUNK):
+            chunk = all_times[start : start + CHUNK]
+            phi, omega, eps = self.motion.states(chunk)
+            k = self._solve_chunk(phi, omega, eps)
+            if k is None:
+                for t in chunk:
+                    yield self.frame(float(t))
+                continue
+            tags = [self.motion.segment_at(t).tag for t in chunk.tolist()]
+            for i, t in enumerate(chunk.tolist()):
+                holding = tags[i] == SEGMENT_HOLD
+                if not holding:
+                    self._last_valid_t = t
+                yield self._make_frame(
+                    t, float(phi[i]), float(omega[i]), float(eps[i]), k, i, holding=holding
+                )
+
+    # ------------------------------------------------------------------ helpers
+    def _solve_chunk(self, phi: NDArray[np.float64], omega: Any, eps: Any) -> Any:
+        """Kinematics of every point and joint at many angles, or None if any is not valid."""
+        try:
+            k = self._full.solve(phi, omega=omega, epsilon=eps)
+        except AssemblyError:
+            return None
+        for name in self.point_names:
+            if not all(np.isfinite(x).all() for x in k.point(name)):
+                return None
+        for name in self.joint_names:
+            if not all(np.isfinite(x).all() for x in k.joint(name)):
+                return None
+        return k
+
+    def _make_frame(
+        self,
+        t: float,
+        phi: float,
+        omega: float,
+        eps: float,
+        k: Any,
+        i: int | None,
+        *,
+        holding: bool,
+    ) -> Frame:
+        """The frame of sample ``i`` of ``k`` (``None``: a scalar solve)."""
+        if i is None:
+            points = {}
+            for name in self.point_names:
+                ps = k.point(name)
+                points[name] = PointState(ps.position, ps.velocity, ps.acceleration)
+            joints = {}
+            for name in self.joint_names:
+                js = k.joint(name)
+                joints[name] = JointState(
+                    float(js.position), float(js.velocity), float(js.acceleration)
+                )
+        else:
+            points = {}
+            for name in self.point_names:
+                ps = k.point(name)
+                points[name] = PointState(ps.position[i], ps.velocity[i], ps.acceleration[i])
+            joints = {}
+            for name in self.joint_names:
+                js = k.joint(name)
+                joints[name] = JointState(
+                    float(js.position[i]), float(js.velocity[i]), float(js.acceleration[i])
+                )
+        conditioning = 1.0
+        worst = ""
+        for group, values in k.conditioning.items():
+            value = float(values if i is None else values[i])
+            if value < conditioning:
+                conditioning, worst = value, group
+        if holding:
+            status, message = STATUS_UNASSEMBLABLE, self._event_message
+        elif conditioning < self.near_singular_below:
+            status = STATUS_NEAR_SINGULAR
+            message = f"group '{worst}' near singular: conditioning {conditioning:.3g}"
+        else:
+            status, message = STATUS_OK, ""
+        return Frame(
+            t=t,
+            phi=phi,
+            omega=omega,
+            epsilon=eps,
+            points=MappingProxyType(points),
+            joints=MappingProxyType(joints),
+            status=status,
+            conditioning=conditioning,
+            message=message,
+        )
+
+    def _paths(self, phi0: float, samples: int) -> dict[str, NDArray[np.float64]]:
+        """Each published point over one turn of the input from ``phi0``; only the assemblable
+        run of angles that contains ``phi0`` (the one the mechanism can reach)."""
+        plan = self.scene.with_outputs(points=self.published_points, joints=())
+        grid = phi0 + np.linspace(0.0, TWO_PI, samples)
+        k = plan.solve(grid, omega=1.0, epsilon=0.0, mask=True)
+        valid = np.asarray(k.valid, dtype=bool).copy()
+        positions = {p: np.asarray(k.point(p).position, dtype=np.float64) for p in self.published_points}
+        for p in self.published_points:
+            valid &= np.isfinite(positions[p]).all(axis=1)
+        order = _reachable_run(valid)
+        return {p: np.ascontiguousarray(positions[p][order]) for p in self.published_points}
+
+
+def _reachable_run(valid: NDArray[np.bool_]) -> NDArray[np.intp]:
+    """Indices of the run of valid samples that contains sample 0, wrapping around the turn."""
+    n = valid.size
+    if valid.all():
+        return np.arange(n)
+    if not valid[0]:
+        return np.arange(0)
+    end = int(np.argmin(valid))  # first invalid sample
+    # Samples n-1 and 0 are the same angle (the grid is closed): continue backwards from n-2.
+    begin = n - 1
+    while begin - 1 >= 0 and valid[begin - 1] and begin - 1 >= end:
+        begin -= 1
+    if begin <= n - 2 and valid[n - 2]:
+        return np.concatenate([np.arange(begin, n - 1), np.arange(0, end)])
+    return np.arange(0, end)
+
+
+def _interval_containing(
+    intervals: Sequence[tuple[float, float]], phi: float
+) -> tuple[float, float] | None:
+    """The interval (rad, within one turn) that contains φ modulo 2π, shifted next to φ."""
+    for lo, hi in intervals:
+        shift = math.floor((phi - lo) / TWO_PI) * TWO_PI
+        if lo + shift <= phi <= hi + shift:
+            return (lo + shift, hi + shift)
+    return None
+
+
+def _boundary(interval: tuple[float, float], phi: float, omega: float) -> float:
+    """The end of ``interval`` that the input crossed to get to ``phi`` moving at ``omega``."""
+    lo, hi = interval
+    if omega > 0.0:
+        return lo
+    if omega < 0.0:
+        return hi
+    return lo if phi - lo < hi - phi else hi
+
+
+def _non_finite(phi: float) -> AssemblyError:
+    return AssemblyError(
+        group="(all)", phi=[phi], reason="gives non-finite values (a singular position)"
+    )
+
+
+def _finite_sum(frame: Frame) -> float:
+    """A sum of every number of the frame: finite exactly when all of them are (barring overflow,
+    which is as unusable)."""
+    total = 0.0
+    for ps in frame.points.values():
+        total += sum(ps.position.tolist()) + sum(ps.velocity.tolist()) + sum(ps.acceleration.tolist())
+    for js in frame.joints.values():
+        total += js.position + js.velocity + js.acceleration
+    return total
+
+
+def _with_status(frame: Frame, status: str, message: str) -> Frame:
+    return Frame(
+        t=frame.t,
+        phi=frame.phi,
+        omega=frame.omega,
+        epsilon=frame.epsilon,
+        points=frame.points,
+        joints=frame.joints,
+        status=status,
+        conditioning=frame.conditioning,
+        message=message,
+    )

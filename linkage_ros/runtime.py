@@ -1,0 +1,341 @@
+"""What mechanism_node does, without rclpy: its parameters, their checks, and the tick.
+
+The node (:mod:`linkage_ros.node`) is a thin shell: it declares :data:`PARAMETERS`, forwards
+parameter changes to :meth:`Runtime.update` and timer ticks to :meth:`Runtime.tick`, and
+publishes what comes back. Everything here is plain Python and tested without ROS.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+import solver
+from solver.errors import SolverError
+
+from .engine import ON_UNASSEMBLABLE, STATUS_UNASSEMBLABLE, Engine, Frame
+from .messages import MessageBuilder, MessageTypes, topic_types
+from .motion import Motion
+
+__all__ = [
+    "PARAMETERS",
+    "ParameterSpec",
+    "Recorder",
+    "RecorderFactory",
+    "Runtime",
+    "validate_parameter",
+]
+
+NS_PER_S = 1_000_000_000
+#: Largest |ω| (rad/s), |ε| (rad/s²) and rate (Hz) the node accepts.
+MAX_OMEGA = 1.0e4
+MAX_EPSILON = 1.0e6
+MAX_RATE_HZ = 1.0e4
+MIN_RATE_HZ = 1.0e-3
+
+_FRAME_ID = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_./-]*\Z")
+_POINT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+
+
+@dataclass(frozen=True)
+class ParameterSpec:
+    """One node parameter: ``kind`` is ``"string"``, ``"double"`` or ``"string_array"``;
+    ``float_range`` is ``(from, to)`` for a FloatingPointRange."""
+
+    name: str
+    kind: str
+    default: Any
+    description: str
+    float_range: tuple[float, float] | None = None
+    constraints: str = ""
+
+
+PARAMETERS: tuple[ParameterSpec, ...] = (
+    ParameterSpec(
+        "scene", "string", "harvester_finger",
+        "Scene file (YAML), or the name of a shipped scene (four_bar, harvester_finger, ...).",
+        constraints="an existing file or a shipped scene name",
+    ),
+    ParameterSpec(
+        "omega", "double", 1.0,
+        "Angular velocity of the input joint, rad/s. A change starts a new motion segment "
+        "(phi continuous).",
+        float_range=(-MAX_OMEGA, MAX_OMEGA),
+    ),
+    ParameterSpec(
+        "epsilon", "double", 0.0,
+        "Angular acceleration of the input joint, rad/s^2. A change starts a new motion segment "
+        "(phi and omega continuous).",
+        float_range=(-MAX_EPSILON, MAX_EPSILON),
+    ),
+    ParameterSpec(
+        "phi0", "double", 0.0,
+        "Input angle at the first tick, rad. A change restarts the motion there.",
+        constraints="finite; the mechanism must be assemblable there",
+    ),
+    ParameterSpec(
+        "rate_hz", "double", 100.0, "Publishing rate, Hz.",
+        float_range=(MIN_RATE_HZ, MAX_RATE_HZ),
+    ),
+    ParameterSpec(
+        "frame_id", "string", "world", "frame_id of every message header.",
+        constraints="non-empty; letters, digits, _ . / -",
+    ),
+    ParameterSpec(
+        "points", "string_array", None,
+        "Points whose kinematics are published (points/<P>/...); default: the scene's outputs. "
+        "Left at the outputs, it follows a change of scene.",
+        constraints="names of points of the scene",
+    ),
+    ParameterSpec(
+        "on_unassemblable", "string", "stop",
+        "What the input does where the mechanism cannot be assembled: stop (hold the last valid "
+        "state) or reverse (reverse the drive at the boundary).",
+        constraints="stop or reverse",
+    ),
+    ParameterSpec(
+        "record_mcap", "string", "",
+        "MCAP file to record every published message to (rosbag2 profile); empty: off.",
+    ),
+)
+
+_SPECS = {spec.name: spec for spec in PARAMETERS}
+
+
+def _finite_number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def validate_parameter(name: str, value: Any) -> str | None:
+    """Why ``value`` is not acceptable for parameter ``name``, or None if it is.
+
+    Parameters that are not the node's own (``use_sim_time``, ...) are always accepted.
+    """
+    spec = _SPECS.get(name)
+    if spec is None:
+        return None
+    if spec.kind == "double":
+        if not _finite_number(value):
+            return f"{name} must be a finite number, got {value!r}"
+        if name == "rate_hz" and value <= 0:
+            return f"rate_hz must be > 0, got {value!r}"
+        if spec.float_range is not None:
+            lo, hi = spec.float_range
+            if not lo <= value <= hi:
+                return f"{name} must lie in [{lo:g}, {hi:g}], got {value!r}"
+        return None
+    if spec.kind == "string_array":
+        if isinstance(value, str) or not all(isinstance(v, str) for v in value):
+            return f"{name} must be a list of strings, got {value!r}"
+        bad = [v for v in value if v and not _POINT.match(v)]
+        if bad:
+            return f"{name}: {', '.join(map(repr, bad))} cannot be part of a topic name"
+        return None
+    if not isinstance(value, str):
+        return f"{name} must be a string, got {value!r}"
+    if name == "scene":
+        if not value:
+            return "scene must name a scene file or a shipped scene"
+        try:
+            solver.find_scene(value)
+        except SolverError as error:
+            return f"unknown scene {value!r}: {error}"
+    elif name == "frame_id":
+        if not _FRAME_ID.match(value):
+            return f"frame_id must be non-empty (letters, digits, _ . / -), got {value!r}"
+    elif name == "on_unassemblable" and value not in ON_UNASSEMBLABLE:
+        return f"on_unassemblable must be one of {', '.join(ON_UNASSEMBLABLE)}, got {value!r}"
+    return None
+
+
+class Recorder(Protocol):
+    """What the runtime needs of a recorder (``linkage_ros.record.mcap.Recorder`` fits)."""
+
+    def write(self, stamp_ns: int, messages: Sequence[tuple[str, Any]]) -> None: ...
+
+    def close(self) -> None: ...
+
+
+#: ``factory(path, topics)`` opens a recorder for ``[(topic, type name)]``.
+RecorderFactory = Callable[[str, Sequence[tuple[str, str]]], Recorder]
+
+
+def _points_of(value: Any) -> tuple[str, ...]:
+    return tuple(p for p in (value or ()) if p)
+
+
+class Runtime:
+    """The node's state: settings, engine, message builder, run clock and optional recorder.
+
+    ``values``: parameter values by name (defaults from :data:`PARAMETERS` fill the gaps).
+    ``types``: message classes (rclpy's in the node, rosbags' in tests).
+    ``recorder_factory``: opens the MCAP recorder when ``record_mcap`` is set.
+    Raises :class:`solver.SolverError` (or ValueError) for unusable start values.
+    """
+
+    def __init__(
+        self,
+        values: Mapping[str, Any],
+        types: Mapping[str, Any] | MessageTypes,
+        *,
+        recorder_factory: RecorderFactory | None = None,
+    ) -> None:
+        settings = {spec.name: spec.default for spec in PARAMETERS}
+        settings.update({k: v for k, v in values.items() if k in _SPECS and v is not None})
+        for name, value in settings.items():
+            if value is None:
+                continue
+            reason = validate_parameter(name, value)
+            if reason:
+                raise ValueError(reason)
+        self.types = types if isinstance(types, MessageTypes) else MessageTypes(types)
+        self._recorder_factory = recorder_factory
+        self.settings = settings
+        self.start_ns: int | None = None
+        self._last_ns: int | None = None
+        self.last_frame: Frame | None = None
+        self._last_event = ""
+        self.events: list[str] = []
+        self.engine = self._engine(settings, t0=0.0)
+        self.settings["points"] = list(self.engine.published_points)
+        self.builder = MessageBuilder(self.engine, self.types, frame_id=settings["frame_id"])
+        self.recorder: Recorder | None = None
+        if settings["record_mcap"]:
+            self.recorder = self._open_recorder(settings["record_mcap"], self.topics)
+
+    # ------------------------------------------------------------------ queries
+    @property
+    def topics(self) -> list[tuple[str, str]]:
+        """``[(relative topic, type name)]`` published now."""
+        return topic_types(self.engine)
+
+    @property
+    def period_s(self) -> float:
+        return 1.0 / float(self.settings["rate_hz"])
+
+    def run_time(self, now_ns: int) -> float:
+        """Seconds since the first tick (0 before it)."""
+        if self.start_ns is None:
+            return 0.0
+        return (int(now_ns) - self.start_ns) / NS_PER_S
+
+    # ------------------------------------------------------------------ the tick
+    def tick(self, now_ns: int) -> list[tuple[str, Any]]:
+        """Solve the frame at clock time ``now_ns`` and build its messages (stamp = ``now_ns``).
+
+        A clock at zero (simulated time before the first /clock message) gives no messages.
+        A clock that jumps backwards restarts the run at ``phi0``.
+        """
+        now_ns = int(now_ns)
+        if now_ns <= 0:
+            return []
+        if self.start_ns is None:
+            self.start_ns = now_ns
+        elif self._last_ns is not None and now_ns < self._last_ns:
+            self.events.append("clock jumped backwards: restarting the run at phi0")
+            self.start_ns = now_ns
+            self.engine = self._engine(self.settings, t0=0.0)
+            self.builder = MessageBuilder(self.engine, self.types, frame_id=self.settings["frame_id"])
+        self._last_ns = now_ns
+        frame = self.engine.frame(self.run_time(now_ns))
+        self.last_frame = frame
+        if frame.status == STATUS_UNASSEMBLABLE and frame.message != self._last_event:
+            self.events.append(frame.message)
+        self._last_event = frame.message if frame.status == STATUS_UNASSEMBLABLE else ""
+        messages = self.builder.build(frame, now_ns)
+        if self.recorder is not None:
+            self.recorder.write(now_ns, messages)
+        return messages
+
+    def take_events(self) -> list[str]:
+        """Unassemblable (and clock) events since the last call, each reported once."""
+        events, self.events = self.events, []
+        return events
+
+    # ------------------------------------------------------------------ parameter changes
+    def update(self, changes: Mapping[str, Any], now_ns: int) -> str | None:
+        """Apply parameter changes atomically; the reason they are rejected, or None.
+
+        ``omega`` / ``epsilon`` start a new motion segment at the current run time; ``scene``,
+        ``points`` and ``phi0`` rebuild the engine (``scene`` and ``phi0`` restart the motion at
+        ``phi0``); ``record_mcap`` closes the current recorder and opens the new one.
+        """
+        ours = {k: v for k, v in changes.items() if k in _SPECS}
+        for name, value in ours.items():
+            reason = validate_parameter(name, value)
+            if reason:
+                return reason
+        if not ours:
+            return None
+        new = {**self.settings, **ours}
+        t = self.run_time(now_ns)
+        changed = {k for k, v in ours.items() if v != self.settings[k]}
+        engine = self.engine
+        if changed & {"scene", "points", "phi0"}:
+            if "scene" in changed and "points" not in ours and (
+                _points_of(self.settings["points"]) == tuple(self.engine.scene.output_points)
+            ):
+                new["points"] = []  # follow the new scene's outputs
+            try:
+                engine = self._engine(new, t0=t, keep_motion=not changed & {"scene", "phi0"})
+            except (SolverError, ValueError) as error:
+                return str(error)
+            new["points"] = list(engine.published_points)
+        recorder = self.recorder
+        if "record_mcap" in changed and new["record_mcap"]:
+            try:
+                recorder = self._open_recorder(new["record_mcap"], topic_types(engine))
+            except (OSError, ValueError, ImportError) as error:
+                return f"cannot record to {new['record_mcap']!r}: {error}"
+        # Nothing can fail from here on.
+        if engine.motion is self.engine.motion:
+            motion = engine.motion
+            if "omega" in changed:
+                motion.set_omega(t, float(new["omega"]), epsilon=float(new["epsilon"]))
+            elif "epsilon" in changed:
+                motion.set_epsilon(t, float(new["epsilon"]))
+        engine.on_unassemblable = new["on_unassemblable"]
+        if engine is not self.engine or "frame_id" in changed:
+            self.builder = MessageBuilder(engine, self.types, frame_id=new["frame_id"])
+        if recorder is not self.recorder or (not new["record_mcap"] and self.recorder):
+            if self.recorder is not None:
+                self.recorder.close()
+            self.recorder = recorder if new["record_mcap"] else None
+        elif self.recorder is not None and engine is not self.engine:
+            add = getattr(self.recorder, "add_topic", None)
+            if add is not None:
+                for topic, typename in topic_types(engine):
+                    add(topic, typename)
+        self.engine = engine
+        self.settings = new
+        return None
+
+    def close(self) -> None:
+        """Close the recorder, if any."""
+        if self.recorder is not None:
+            self.recorder.close()
+            self.recorder = None
+
+    # ------------------------------------------------------------------ helpers
+    def _engine(self, settings: Mapping[str, Any], *, t0: float, keep_motion: bool = False) -> Engine:
+        points = _points_of(settings.get("points")) or None
+        if keep_motion:
+            motion = self.engine.motion
+            scene: Any = self.engine.scene
+        else:
+            motion = Motion(
+                phi0=float(settings["phi0"]),
+                omega=float(settings["omega"]),
+                epsilon=float(settings["epsilon"]),
+                t0=t0,
+            )
+            scene = solver.load_scene(settings["scene"])
+        return Engine(scene, motion, points=points, on_unassemblable=settings["on_unassemblable"])
+
+    def _open_recorder(self, path: str, topics: Sequence[tuple[str, str]]) -> Recorder:
+        if self._recorder_factory is None:
+            raise ValueError("this node has no MCAP recorder")
+        return self._recorder_factory(path, topics)

@@ -1,0 +1,128 @@
+"""The node's logic without rclpy: parameter checks, atomic updates, the run clock, recording."""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+from typing import Any
+
+import pytest
+from rosbags.typesys import Stores, get_typestore
+
+from linkage_ros.runtime import PARAMETERS, Runtime, validate_parameter
+
+STORE = get_typestore(Stores.ROS2_JAZZY)
+NS = 1_000_000_000
+T0 = 1_700_000_000 * NS
+TOL = 1e-12
+ROCKING = Path(__file__).parent / "data" / "rocking_four_bar.yaml"
+
+
+@pytest.mark.parametrize(
+    ("name", "value", "reason"),
+    [
+        ("rate_hz", 0.0, "rate_hz must be > 0"),
+        ("rate_hz", -5.0, "rate_hz must be > 0"),
+        ("omega", math.nan, "omega must be a finite number"),
+        ("epsilon", -math.inf, "epsilon must be a finite number"),
+        ("phi0", True, "phi0 must be a finite number"),
+        ("omega", 1e9, r"omega must lie in \[-10000, 10000\]"),
+        ("scene", "no_such_mechanism", "unknown scene 'no_such_mechanism'"),
+        ("scene", "", "scene must name a scene file"),
+        ("frame_id", "", "frame_id must be non-empty"),
+        ("frame_id", "has space", "frame_id must be non-empty"),
+        ("on_unassemblable", "bounce", "on_unassemblable must be one of stop, reverse"),
+        ("points", "B", "points must be a list of strings"),
+        ("points", ["B", "1x"], "cannot be part of a topic name"),
+        ("record_mcap", 3, "record_mcap must be a string"),
+    ],
+)
+def test_invalid_parameter_values_come_with_a_reason(name: str, value: Any, reason: str) -> None:
+    message = validate_parameter(name, value)
+    assert message is not None
+    assert re.search(reason, message), message
+
+
+@pytest.mark.parametrize(
+    ("name", "value"),
+    [("rate_hz", 1000.0), ("omega", -3), ("scene", "four_bar"), ("frame_id", "odom"),
+     ("points", []), ("on_unassemblable", "reverse"), ("record_mcap", ""), ("use_sim_time", True)],
+)
+def test_valid_parameter_values_pass(name: str, value: Any) -> None:
+    assert validate_parameter(name, value) is None
+
+
+def test_every_parameter_default_is_valid() -> None:
+    for spec in PARAMETERS:
+        if spec.default is not None:
+            assert validate_parameter(spec.name, spec.default) is None, spec.name
+
+
+def test_a_rejected_update_changes_nothing() -> None:
+    runtime = Runtime({"omega": 1.0}, STORE.types)
+    runtime.tick(T0)
+    engine, builder, settings = runtime.engine, runtime.builder, dict(runtime.settings)
+    segments = engine.motion.segments
+    reason = runtime.update({"omega": 5.0, "points": ["B", "nowhere"]}, T0 + NS)
+    assert reason is not None and "nowhere" in reason
+    assert runtime.engine is engine and runtime.builder is builder
+    assert runtime.settings == settings and engine.motion.segments == segments
+
+
+def test_ticks_run_on_the_clock_from_the_first_tick() -> None:
+    runtime = Runtime({"phi0": 0.5, "omega": 2.0}, STORE.types)
+    assert runtime.tick(0) == []  # simulated time before the first /clock message
+    runtime.tick(T0)
+    runtime.tick(T0 + 5 * NS // 4)
+    frame = runtime.last_frame
+    assert frame is not None
+    assert frame.t == 1.25 and frame.phi == pytest.approx(0.5 + 2.5, abs=TOL)
+
+
+def test_a_clock_jumping_backwards_restarts_the_run() -> None:
+    runtime = Runtime({"phi0": 0.5, "omega": 2.0}, STORE.types)
+    runtime.tick(T0)
+    runtime.tick(T0 + NS)
+    runtime.tick(T0 + NS // 2)
+    assert runtime.last_frame is not None and runtime.last_frame.phi == 0.5
+    assert runtime.take_events() == ["clock jumped backwards: restarting the run at phi0"]
+
+
+def test_unassemblable_events_are_reported_once() -> None:
+    runtime = Runtime({"scene": str(ROCKING), "omega": 1.0}, STORE.types)
+    events = []
+    for k in range(400):
+        runtime.tick(T0 + k * NS // 100)
+        events += runtime.take_events()
+    assert len(events) == 1 and "stopped" in events[0]
+
+
+def test_the_recorder_gets_every_message_of_every_tick(tmp_path: Path) -> None:
+    written: list[tuple[int, list[str]]] = []
+    closed: list[bool] = []
+
+    class Stub:
+        def __init__(self, path: str, topics: Any) -> None:
+            self.topics = list(topics)
+
+        def write(self, stamp_ns: int, messages: Any) -> None:
+            written.append((stamp_ns, [t for t, _ in messages]))
+
+        def close(self) -> None:
+            closed.append(True)
+
+    runtime = Runtime({"record_mcap": str(tmp_path / "a.mcap")}, STORE.types, recorder_factory=Stub)
+    runtime.tick(T0)
+    runtime.tick(T0 + NS // 100)
+    assert [s for s, _ in written] == [T0, T0 + NS // 100]
+    assert written[0][1] == [t for t, _ in runtime.topics]
+    runtime.close()
+    assert closed == [True]
+
+
+def test_recording_without_a_recorder_is_refused_with_a_reason(tmp_path: Path) -> None:
+    runtime = Runtime({}, STORE.types)
+    reason = runtime.update({"record_mcap": str(tmp_path / "a.mcap")}, T0)
+    assert reason is not None and "no MCAP recorder" in reason
+    assert runtime.settings["record_mcap"] == ""
