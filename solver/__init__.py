@@ -6,10 +6,10 @@ Pure numpy + PyYAML. ``scene = load_scene(path)``; ``k = scene.solve(phi, omega=
 
 from __future__ import annotations
 
+from . import vectors as _vectors  # noqa: F401  (registers the vector-loop scene section, seed 004)
 from .errors import AssemblyError, SceneError, SolverError
 from .kinematics import Kinematics, Motion
 from .scene import Link, Scene, find_scene, load_scene, shipped_scenes
-from . import vectors as _vectors  # registers the vector-loop scene section (seed 004)
 
 __all__ = [
     "AssemblyError",

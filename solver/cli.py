@@ -94,7 +94,7 @@ def summary(scene: Scene, k: Kinematics, *, deg: bool = True) -> str:
     e = k.epsilon.flat[0] if k.epsilon.size else 0.0
     lines = [f"scene {scene.name}: {len(phi)} positions, ω = {w:g} rad/s, ε = {e:g} rad/s²"]
     if scene.provenance:
-        lines.append(f"  ({scene.provenance.split('.')[0]}.)")
+        lines.append(f"  ({scene.provenance.split('. ')[0].rstrip('.')}.)")  # its first sentence
     for p in scene.output_points:
         m = k.point(p)
         pos, vel, acc = (x[k.valid] for x in m)
@@ -179,6 +179,15 @@ def main(argv: Sequence[str] | None = None) -> int:
                 for name, intervals in assembly.gaps(scene).items():
                     text = format_intervals(intervals)
                     print(f"linkage-solve: gap: {name} cannot be assembled for φ in {text}", file=sys.stderr)
+            flagged = k.phi[np.asarray(k.singular & k.valid)]
+            if flagged.size:
+                shown = ", ".join(f"{math.degrees(p):.4f}°" for p in flagged[:8])
+                more = f" and {flagged.size - 8} more" if flagged.size > 8 else ""
+                print(
+                    f"linkage-solve: note: singular position at φ = {shown}{more}: analogs there are the "
+                    "limit along the branch, or nan where none exists (see docs/stability.md)",
+                    file=sys.stderr,
+                )
             if args.csv == "-":
                 write_csv(scene, k, sys.stdout)
             else:

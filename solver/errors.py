@@ -35,8 +35,10 @@ def format_intervals(intervals: Sequence[tuple[float, float]]) -> str:
 class AssemblyError(SolverError):
     """A group cannot be assembled at some crank angles.
 
-    ``intervals`` lists the open intervals of φ (rad, within one turn ``[0, 2π)``, or the sweep's
-    own range) where it cannot be assembled; ``phi`` holds the requested angles that fall inside.
+    ``intervals`` lists the open intervals of φ (rad) where it cannot be assembled, exact to
+    rounding (closed form or root-finding, solver.assembly): ``(lo, hi)`` with ``0 ≤ lo < 2π``
+    and ``lo < hi < lo + 2π`` (one through φ = 0 ends past 2π); the pattern repeats every turn.
+    ``phi`` holds the requested angles that fall inside.
     """
 
     def __init__(

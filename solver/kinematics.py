@@ -83,8 +83,8 @@ class Kinematics:
         self.joints = joints
         self._motions = motions
         self._conditioning = conditioning
-        #: False where a sample could not be assembled (only with ``mask=True``).
-        self.valid = np.ones(phi.shape, bool) if valid is None else valid
+        self._valid = valid
+        self._conditioning_arrays: dict[str, Any] | None = None
 
     def point(self, name: str) -> Motion:
         """Position, velocity and acceleration of point ``name``: (N, 2) or (N, 3) arrays."""
@@ -99,9 +99,29 @@ class Kinematics:
         return self._motions[name]
 
     @property
-    def conditioning(self) -> dict[str, np.ndarray]:
+    def valid(self) -> np.ndarray:
+        """False where a sample could not be assembled (only with ``mask=True``; else all True)."""
+        if self._valid is None:
+            self._valid = np.ones(self.phi.shape, bool)
+        return self._valid
+
+    @property
+    def conditioning(self) -> dict[str, Any]:
         """Per group, its dimensionless conditioning per sample: 1 well conditioned, 0 singular."""
-        return {k: np.broadcast_to(np.asarray(v, float), self.phi.shape) for k, v in self._conditioning.items()}
+        if self._conditioning_arrays is None and self.phi.ndim == 0:
+            self._conditioning_arrays = {k: np.float64(v) for k, v in self._conditioning.items()}
+        if self._conditioning_arrays is None:
+            shape = self.phi.shape
+            self._conditioning_arrays = {
+                k: np.broadcast_to(np.asarray(v, float), shape) for k, v in self._conditioning.items()
+            }
+        return self._conditioning_arrays
+
+    @property
+    def worst_conditioning(self) -> float:
+        """The smallest conditioning figure of any group at any sample (1.0 when none reports one)."""
+        values = [float(np.min(v)) if np.ndim(v) else float(v) for v in self._conditioning.values()]
+        return min(values, default=1.0)
 
     @property
     def min_conditioning(self) -> np.ndarray:

@@ -168,7 +168,7 @@ class Scene:
         returns (dim,) points and 0-d joints; an array takes the vectorised path, in blocks of
         ``CHUNK`` samples so that the temporaries stay in cache.
         """
-        if np.ndim(phi) == 0 and np.ndim(omega) == 0 and np.ndim(epsilon) == 0:
+        if _is_scalar(phi) and _is_scalar(omega) and _is_scalar(epsilon):
             return self._solve_scalar(float(phi), float(omega), float(epsilon), mask)
         phi_arr = np.asarray(phi, dtype=float)
         if phi_arr.ndim != 1:
@@ -294,6 +294,13 @@ def _scalar_motions(
         out[j] = Motion(arr[i], arr[i + 1], arr[i + 2])
         i += 3
     return out
+
+
+_SCALARS = (float, int, np.floating, np.integer)
+
+
+def _is_scalar(x: Any) -> bool:
+    return isinstance(x, _SCALARS) or (isinstance(x, np.ndarray) and x.ndim == 0)
 
 
 def _per_sample(value: Any, shape: tuple[int, ...], label: str, scene: str) -> Any:
