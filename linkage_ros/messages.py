@@ -30,6 +30,7 @@ import numpy as np
 
 from .engine import STATUS_NEAR_SINGULAR, STATUS_OK, Engine, Frame
 from .msgtypes import TYPE_NAMES, MessageTypes
+from .urdf import exportable_model, frame_tree_joint_states
 
 __all__ = [
     "FIXED_TOPIC_TYPES",
@@ -92,11 +93,7 @@ def point_topics(point: str) -> tuple[str, str, str]:
 def topic_types(engine_or_points: Engine | Sequence[str]) -> list[tuple[str, str]]:
     """Every ``(topic, type name)`` published for an engine (or a list of published points),
     in the order :func:`build_messages` returns them."""
-    points = (
-        engine_or_points.published_points
-        if isinstance(engine_or_points, Engine)
-        else tuple(engine_or_points)
-    )
+    points = engine_or_points.published_points if isinstance(engine_or_points, Engine) else tuple(engine_or_points)
     out = [
         (JOINT_STATES, FIXED_TOPIC_TYPES[JOINT_STATES]),
         (JOINT_KINEMATICS, FIXED_TOPIC_TYPES[JOINT_KINEMATICS]),
@@ -151,9 +148,7 @@ class MessageBuilder:
         self._fixed = {name: np.asarray(v, dtype=np.float64) for name, v in scene.fixed_points.items()}
         self._moving = tuple(p for p in engine.point_names if p not in self._fixed)
         self._segments = [
-            (a, b)
-            for link in scene.links
-            for a, b in zip(tuple(link.points)[:-1], tuple(link.points)[1:])
+            (a, b) for link in scene.links for a, b in zip(tuple(link.points)[:-1], tuple(link.points)[1:])
         ]
         size = _characteristic_length(engine, self._fixed)
         self.line_width = size / 150.0
@@ -175,20 +170,19 @@ class MessageBuilder:
         self._DiagnosticArray = c["diagnostic_msgs/msg/DiagnosticArray"]
         self._DiagnosticStatus = c["diagnostic_msgs/msg/DiagnosticStatus"]
         self._KeyValue = c["diagnostic_msgs/msg/KeyValue"]
-        self._path_points = [
-            [self._point(xyz) for xyz in engine.paths[p]] for p in engine.published_points
-        ]
+        self._path_points = [[self._point(xyz) for xyz in engine.paths[p]] for p in engine.published_points]
         self._fixed_point_by_name = {name: self._point(v) for name, v in self._fixed.items()}
         self._fixed_points = list(self._fixed_point_by_name.values())
         self._joint_names = tuple(engine.joint_names)
+        # the URDF tree's joints (linkage-urdf) ride along on joint_states, so that
+        # robot_state_publisher moves the closed chain; None for scenes without a URDF export
+        self._tree = exportable_model(scene)
         self._zero_duration = self._Duration(sec=0, nanosec=0)
         self._empty = types.float64s(())
         self._styles()
 
     # ------------------------------------------------------------------ public
-    def build(
-        self, frame: Frame, stamp: int, *, include_paths: bool | None = None
-    ) -> list[tuple[str, Any]]:
+    def build(self, frame: Frame, stamp: int, *, include_paths: bool | None = None) -> list[tuple[str, Any]]:
         """``[(topic, message)]`` of ``frame``, stamped ``stamp`` (integer ns), in the order of
         :attr:`topics`.
 
@@ -260,9 +254,21 @@ class MessageBuilder:
             ]
         )
         names = list(self._joint_names)
-        state = self._JointState(
-            header=header, name=names, position=positions, velocity=velocities, effort=self._empty
-        )
+        if self._tree is None:
+            state = self._JointState(
+                header=header, name=names, position=positions, velocity=velocities, effort=self._empty
+            )
+        else:
+            tree = frame_tree_joint_states(self._tree, frame)
+            tree_q, tree_dq = self.types.float64_rows(
+                [
+                    [*(j.position for j in joints), *tree.position],
+                    [*(j.velocity for j in joints), *tree.velocity],
+                ]
+            )
+            state = self._JointState(
+                header=header, name=[*names, *tree.names], position=tree_q, velocity=tree_dq, effort=self._empty
+            )
         point = self._JointTrajectoryPoint(
             positions=positions,
             velocities=velocities,
@@ -312,9 +318,7 @@ class MessageBuilder:
         self._joint_style = self._marker_style("joints", 0, M.SPHERE_LIST, _JOINT_COLOUR, d)
         self._fixed_style = self._marker_style("fixed_pivots", 0, M.CUBE_LIST, _FIXED_COLOUR, 1.5 * d)
         self._path_styles = [
-            self._marker_style(
-                "paths", i, M.LINE_STRIP, _PATH_COLOURS[i % len(_PATH_COLOURS)], 0.5 * w
-            )
+            self._marker_style("paths", i, M.LINE_STRIP, _PATH_COLOURS[i % len(_PATH_COLOURS)], 0.5 * w)
             for i in range(len(self._path_points))
         ]
 

@@ -23,6 +23,7 @@ from linkage_ros.messages import (
     topic_types,
 )
 from linkage_ros.motion import Motion
+from linkage_ros.urdf import exportable_model, frame_tree_joint_states
 
 STAMP = 1_700_000_123_456_789_012
 FRAME_ID = "mechanism"
@@ -44,9 +45,7 @@ def round_trip(messages: list[tuple[str, object]]) -> dict[str, object]:
 
 
 def test_every_topic_is_built_in_the_declared_order(harvester: Engine) -> None:
-    messages = build_messages(
-        harvester.frame(1.0), STORE.types, frame_id=FRAME_ID, stamp=STAMP, engine=harvester
-    )
+    messages = build_messages(harvester.frame(1.0), STORE.types, frame_id=FRAME_ID, stamp=STAMP, engine=harvester)
     declared = topic_types(harvester)
     assert [t for t, _ in messages] == [t for t, _ in declared]
     assert [type(m).__msgtype__ for _, m in messages] == [ty for _, ty in declared]  # type: ignore[attr-defined]
@@ -56,14 +55,14 @@ def test_every_topic_is_built_in_the_declared_order(harvester: Engine) -> None:
 
 def test_cdr_round_trip_keeps_names_and_values(harvester: Engine) -> None:
     frame = harvester.frame(1.0)
-    back = round_trip(
-        build_messages(frame, STORE.types, frame_id=FRAME_ID, stamp=STAMP, engine=harvester)
-    )
+    back = round_trip(build_messages(frame, STORE.types, frame_id=FRAME_ID, stamp=STAMP, engine=harvester))
     joints = list(harvester.scene.joint_names)
+    tree = frame_tree_joint_states(exportable_model(harvester.scene), frame)
     js = back["joint_states"]
-    assert js.name == joints  # type: ignore[attr-defined]
-    np.testing.assert_array_equal(js.position, [frame.joints[j].position for j in joints])  # type: ignore[attr-defined]
-    np.testing.assert_array_equal(js.velocity, [frame.joints[j].velocity for j in joints])  # type: ignore[attr-defined]
+    # the scene's joints, then the URDF tree's joints for robot_state_publisher (issue 8)
+    assert js.name == joints + list(tree.names)  # type: ignore[attr-defined]
+    np.testing.assert_array_equal(js.position, [*(frame.joints[j].position for j in joints), *tree.position])  # type: ignore[attr-defined]
+    np.testing.assert_array_equal(js.velocity, [*(frame.joints[j].velocity for j in joints), *tree.velocity])  # type: ignore[attr-defined]
     assert len(js.effort) == 0  # type: ignore[attr-defined]
     jk = back["joint_kinematics"]
     assert jk.joint_names == joints and len(jk.points) == 1  # type: ignore[attr-defined]
@@ -108,9 +107,7 @@ def test_stamps_split_into_seconds_and_nanoseconds() -> None:
 
 def test_markers_draw_links_joints_fixed_pivots_and_paths(harvester: Engine) -> None:
     frame = harvester.frame(0.5)
-    back = round_trip(
-        build_messages(frame, STORE.types, frame_id=FRAME_ID, stamp=STAMP, engine=harvester)
-    )
+    back = round_trip(build_messages(frame, STORE.types, frame_id=FRAME_ID, stamp=STAMP, engine=harvester))
     M = STORE.types["visualization_msgs/msg/Marker"]
     markers = {(m.ns, m.id): m for m in back["markers"].markers}  # type: ignore[attr-defined]
     assert set(markers) == {("links", 0), ("joints", 0), ("fixed_pivots", 0), *(("paths", i) for i in range(3))}
@@ -182,7 +179,8 @@ def test_the_same_builder_serves_rclpy_style_classes(harvester: Engine) -> None:
     messages = dict(build_messages(frame, types, frame_id=FRAME_ID, stamp=STAMP, engine=harvester))
     js = messages["joint_states"]
     assert isinstance(js.position, array.array) and js.position.typecode == "d"
-    assert list(js.position) == [frame.joints[j].position for j in harvester.scene.joint_names]
+    n = len(harvester.scene.joint_names)
+    assert list(js.position)[:n] == [frame.joints[j].position for j in harvester.scene.joint_names]
     status = messages["diagnostics"].status[0]
     assert status.level == b"\x00"  # rclpy's byte fields are bytes
 

@@ -146,7 +146,7 @@ def test_a_scene_change_republishes_and_the_points_follow_the_outputs(ros: dict[
     node.clock.ns += NS // 100
     node.fire_timer()  # the followed points reach the parameter on the next tick
     assert node.get_parameter("points").value == ["A", "B"]
-    assert last(node, "joint_states").name == ["crank", "coupler", "rocker"]
+    assert last(node, "joint_states").name[:3] == ["crank", "coupler", "rocker"]
 
 
 def test_choosing_points_changes_the_point_topics(ros: dict[str, Any]) -> None:
