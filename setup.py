@@ -46,6 +46,7 @@ setup(
             "mypy>=1.10",
             "types-PyYAML",
             "yourdfpy>=0.0.56",
+            "pillow",
             "colcon-common-extensions",
         ],
         "bench": ["matplotlib>=3.8", "pylinkage==1.3.0", "numba>=0.60"],

@@ -1,0 +1,393 @@
+"""The rerun view of a run: the moving mechanism beside time-series plots.
+
+Everything is logged on the ``sim_time`` timeline (run time, s) as whole-run columns
+(``send_columns``); what does not move (fixed pivots, the path of each published point over a
+cycle, the legend) is logged static. The data come in as a :class:`RunData` of arrays, built
+either from the engine's frames (:func:`RunBuilder`) or from the messages of a recorded MCAP
+file (:mod:`linkage_ros.record.replay`), so both give the same view.
+
+Entity layout::
+
+    mechanism/links/<link>          LineStrips2D/3D per tick
+    mechanism/points                Points2D/3D per tick, labelled with the point names
+    mechanism/fixed                 static, larger, labelled
+    mechanism/paths/<P>             static path of each published point over one cycle
+    mechanism/velocity/<P>          Arrows per tick, v · scale (scale in the legend and label)
+    mechanism/acceleration/<P>      Arrows per tick, a · scale
+    mechanism/legend                static TextDocument: the arrow scales, the scene
+    plots/input/{phi,omega,epsilon} Scalars
+    plots/joints/<kind>/<J>         Scalars, kind = position | velocity | acceleration
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "APPLICATION_ID",
+    "TIMELINE",
+    "RunBuilder",
+    "RunData",
+    "arrow_scale",
+    "blueprint",
+    "log_run",
+    "write_rrd",
+]
+
+APPLICATION_ID = "linkage_ros"
+TIMELINE = "sim_time"
+ARROW_FRACTION = 0.25
+"""A long velocity (acceleration) arrow is about this fraction of the mechanism's extent."""
+ARROW_PERCENTILE = 95.0
+NICE_STEPS = (1.0, 2.0, 5.0)
+PLOT_MARGIN = 0.05
+"""Fraction of the data range added above and below in each plot."""
+# Sizes relative to the link radius, itself a fraction of the drawing's extent.
+LINK_RADIUS = 0.004
+POINT_SIZE, PIVOT_SIZE, PATH_WIDTH, ARROW_WIDTH = 1.4, 1.7, 0.35, 0.5
+DRAW_ORDER = {"paths": 5.0, "links": 10.0, "arrows": 20.0, "points": 30.0}
+"""2-D stacking: arrows above the links they start on, joints on top."""
+EYE_OFFSET = (0.5, -0.7, 0.45)
+"""3-D camera position from the middle of the drawing, in units of its extent."""
+
+LINK_COLOR = (70, 130, 200)
+POINT_COLOR = (235, 235, 235)
+FIXED_COLOR = (230, 90, 60)
+PATH_COLOR = (150, 150, 150)
+VELOCITY_COLOR = (60, 200, 90)
+ACCELERATION_COLOR = (230, 170, 40)
+SERIES_PALETTE = (
+    (228, 26, 28), (55, 126, 184), (77, 175, 74), (152, 78, 163), (255, 127, 0),
+    (200, 200, 50), (166, 86, 40), (247, 129, 191), (120, 120, 120),
+)
+
+Array = NDArray[np.float64]
+
+
+@dataclass
+class RunData:
+    """A whole run as arrays over its N ticks."""
+
+    scene: str
+    dim: int
+    t: Array  # (N,) s
+    phi: Array  # (N,) rad
+    omega: Array  # (N,) rad/s
+    epsilon: Array  # (N,) rad/s²
+    positions: dict[str, Array]  # every moving point: (N, dim) m
+    velocities: dict[str, Array]  # published points: (N, dim) m/s
+    accelerations: dict[str, Array]  # published points: (N, dim) m/s²
+    joints: dict[str, tuple[Array, Array, Array]]  # (N,) position, velocity, acceleration
+    links: list[tuple[str, tuple[str, ...]]]
+    fixed: dict[str, Array]  # (dim,)
+    paths: dict[str, Array] = field(default_factory=dict)  # (M, dim)
+    input_joint: str = ""
+    note: str = ""
+
+    @property
+    def n(self) -> int:
+        return int(self.t.size)
+
+    def extent(self) -> float:
+        """Diagonal of the box holding every point of the run (m); 1 when degenerate."""
+        chunks = [p.reshape(-1, self.dim) for p in self.positions.values()]
+        chunks += [np.asarray(p).reshape(-1, self.dim) for p in self.fixed.values()]
+        chunks += [p.reshape(-1, self.dim) for p in self.paths.values()]
+        allp = np.concatenate(chunks) if chunks else np.zeros((1, self.dim))
+        allp = allp[np.isfinite(allp).all(axis=1)]
+        size = float(np.linalg.norm(allp.max(axis=0) - allp.min(axis=0))) if allp.size else 0.0
+        return size if size > 0 else 1.0
+
+
+class RunBuilder:
+    """Collects engine frames tick by tick into a :class:`RunData` (preallocated arrays)."""
+
+    def __init__(self, engine: Any, n: int) -> None:
+        scene = engine.scene
+        self.engine = engine
+        self.n = n
+        self.k = 0
+        dim = int(scene.dim)
+        self.dim = dim
+        self.t = np.empty(n)
+        self.phi = np.empty(n)
+        self.omega = np.empty(n)
+        self.epsilon = np.empty(n)
+        fixed = set(scene.fixed_points)
+        self.pos = {p: np.empty((n, dim)) for p in engine.point_names if p not in fixed}
+        self.vel = {p: np.empty((n, dim)) for p in engine.published_points}
+        self.acc = {p: np.empty((n, dim)) for p in engine.published_points}
+        self.jnt = {j: (np.empty(n), np.empty(n), np.empty(n)) for j in engine.joint_names}
+
+    def add(self, frame: Any) -> None:
+        k = self.k
+        self.t[k], self.phi[k], self.omega[k], self.epsilon[k] = (
+            frame.t, frame.phi, frame.omega, frame.epsilon)
+        for name, arr in self.pos.items():
+            arr[k] = frame.points[name].position
+        for name, arr in self.vel.items():
+            arr[k] = frame.points[name].velocity
+            self.acc[name][k] = frame.points[name].acceleration
+        for name, (p, v, a) in self.jnt.items():
+            js = frame.joints[name]
+            p[k], v[k], a[k] = js.position, js.velocity, js.acceleration
+        self.k += 1
+
+    def build(self) -> RunData:
+        k = self.k
+        scene = self.engine.scene
+        return RunData(
+            scene=str(scene.name), dim=self.dim, t=self.t[:k], phi=self.phi[:k],
+            omega=self.omega[:k], epsilon=self.epsilon[:k],
+            positions={p: a[:k] for p, a in self.pos.items()},
+            velocities={p: a[:k] for p, a in self.vel.items()},
+            accelerations={p: a[:k] for p, a in self.acc.items()},
+            joints={j: (p[:k], v[:k], a[:k]) for j, (p, v, a) in self.jnt.items()},
+            links=[(str(link.name), tuple(link.points)) for link in scene.links],
+            fixed={p: np.asarray(x, dtype=float) for p, x in scene.fixed_points.items()},
+            paths={p: np.asarray(x, dtype=float) for p, x in self.engine.paths.items()},
+            input_joint=str(getattr(scene, "input_joint", "")),
+        )
+
+
+def arrow_scale(vectors: Mapping[str, Array], extent: float) -> float:
+    """A round scale (1, 2 or 5 × 10^k, in s or s²) that draws a long vector — the
+    ``ARROW_PERCENTILE``-th percentile of the lengths, so that a few spikes near a singular
+    position do not shrink every other arrow — at about ``ARROW_FRACTION`` of ``extent``;
+    1 when every vector is zero."""
+    lengths = [np.linalg.norm(v, axis=1) for v in vectors.values() if v.size]
+    finite = np.concatenate(lengths) if lengths else np.zeros(0)
+    finite = finite[np.isfinite(finite)]
+    longest = float(np.percentile(finite, ARROW_PERCENTILE)) if finite.size else 0.0
+    if longest <= 0.0:
+        return 1.0
+    raw = ARROW_FRACTION * extent / longest
+    exp = math.floor(math.log10(raw))
+    mant = raw / 10.0**exp
+    step = max(s for s in NICE_STEPS if s <= mant * (1 + 1e-12))
+    return step * 10.0**exp
+
+
+def _fmt(x: float) -> str:
+    return f"{x:g}"
+
+
+def _range(*series: Array) -> tuple[float, float]:
+    """Y range of a plot: every finite value, with a 5 % margin (explicit, so the plots do not
+    depend on how much data the viewer had loaded when it fitted them)."""
+    parts = [np.asarray(s, dtype=float).reshape(-1) for s in series] or [np.zeros(1)]
+    values = np.concatenate(parts)
+    values = values[np.isfinite(values)]
+    lo, hi = (float(values.min()), float(values.max())) if values.size else (0.0, 0.0)
+    pad = PLOT_MARGIN * (hi - lo) if hi > lo else max(1.0, abs(hi))
+    return lo - pad, hi + pad
+
+
+def _plot(origin: str, name: str, *series: Array) -> Any:
+    import rerun.blueprint as rrb
+
+    return rrb.TimeSeriesView(origin=origin, name=name,
+                              axis_y=rrb.ScalarAxis(range=_range(*series)))
+
+
+def blueprint(data: RunData) -> Any:
+    """Mechanism view (2-D, or 3-D for spatial scenes) and its legend beside the plots."""
+    import rerun.blueprint as rrb
+
+    name = f"{data.scene} — mechanism"
+    view: Any
+    if data.dim == 3:
+        view = rrb.Spatial3DView(origin="mechanism", name=name, eye_controls=_eye(data))
+    else:
+        view = rrb.Spatial2DView(origin="mechanism", name=name)
+    mechanism = rrb.Vertical(
+        view, rrb.TextDocumentView(origin="mechanism/legend", name="legend"),
+        row_shares=[5, 1])
+    kinds = ("position", "velocity", "acceleration")
+    titles = ("joint positions (rad | m)", "joint velocities (rad/s | m/s)",
+              "joint accelerations (rad/s² | m/s²)")
+    plots = rrb.Vertical(
+        _plot("plots/input/phi", "input φ (rad)", data.phi),
+        rrb.TimeSeriesView(origin="plots/input", contents=["plots/input/omega",
+                                                           "plots/input/epsilon"],
+                           name="input ω (rad/s), ε (rad/s²)",
+                           axis_y=rrb.ScalarAxis(range=_range(data.omega, data.epsilon))),
+        *(_plot(f"plots/joints/{kind}", title, *(j[i] for j in data.joints.values()))
+          for i, (kind, title) in enumerate(zip(kinds, titles))),
+    )
+    return rrb.Blueprint(
+        rrb.Horizontal(mechanism, plots, column_shares=[3, 2]),
+        rrb.TimePanel(state="collapsed"),
+        collapse_panels=True,
+    )
+
+
+def _eye(data: RunData) -> Any:
+    """A 3-D camera looking at the middle of the drawing from above one corner, z up."""
+    import rerun.blueprint as rrb
+
+    pts = np.concatenate([np.zeros((0, 3))] + [p.reshape(-1, 3) for p in data.positions.values()]
+                         + [np.asarray(p, dtype=float).reshape(-1, 3)
+                            for p in data.fixed.values()])
+    if not pts.size:
+        return None
+    centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
+    eye = centre + data.extent() * np.array(EYE_OFFSET)
+    return rrb.EyeControls3D(position=eye, look_target=centre, eye_up=(0.0, 0.0, 1.0))
+
+
+def _archetypes(dim: int) -> tuple[Any, Any, Any]:
+    import rerun as rr
+
+    if dim == 3:
+        return rr.Points3D, rr.LineStrips3D, rr.Arrows3D
+    return rr.Points2D, rr.LineStrips2D, rr.Arrows2D
+
+
+def log_run(rec: Any, data: RunData) -> dict[str, float]:
+    """Log ``data`` into the recording stream ``rec``; returns the arrow scales used."""
+    import rerun as rr
+
+    points_t, strips_t, arrows_t = _archetypes(data.dim)
+    n = data.n
+
+    def order(layer: str) -> dict[str, float]:
+        return {"draw_order": DRAW_ORDER[layer]} if data.dim == 2 else {}
+
+    times = rr.TimeColumn(TIMELINE, duration=data.t)
+    extent = data.extent()
+    radius = LINK_RADIUS * extent
+    v_scale = arrow_scale(data.velocities, extent)
+    a_scale = arrow_scale(data.accelerations, extent)
+
+    # -- static: fixed pivots, paths, legend ---------------------------------------------------
+    if data.fixed:
+        rec.log("mechanism/fixed", points_t(
+            np.array(list(data.fixed.values())).reshape(-1, data.dim),
+            labels=list(data.fixed), radii=PIVOT_SIZE * radius, colors=FIXED_COLOR,
+            show_labels=True, **order("points")), static=True)
+    for name, path in data.paths.items():
+        if len(path) >= 2:
+            rec.log(f"mechanism/paths/{name}", strips_t(
+                [path], radii=PATH_WIDTH * radius, colors=PATH_COLOR, **order("paths")),
+                static=True)
+    legend = (
+        f"**{data.scene}**: velocity arrows (green) **v × {_fmt(v_scale)} s**, "
+        f"acceleration arrows (orange) **a × {_fmt(a_scale)} s²** (m/s, m/s² drawn as m); "
+        f"grey: path of each published point over one cycle; red: fixed pivots. "
+        f"{n} ticks, t = {_fmt(float(data.t[0]) if n else 0.0)} … "
+        f"{_fmt(float(data.t[-1]) if n else 0.0)} s.\n"
+    )
+    if data.note:
+        legend += f"\n{data.note}\n"
+    rec.log("mechanism/legend", rr.TextDocument(legend, media_type="text/markdown"), static=True)
+    if n == 0:
+        return {"velocity": v_scale, "acceleration": a_scale}
+
+    # -- per tick: links, moving points, arrows --------------------------------------------
+    for link, names in data.links:
+        strip = np.stack([_position(data, p) for p in names], axis=1)  # (N, k, dim)
+        rec.log(f"mechanism/links/{link}", strips_t.from_fields(
+            radii=radius, colors=LINK_COLOR, labels=[link], show_labels=False, **order("links")),
+            static=True)
+        rec.send_columns(f"mechanism/links/{link}", indexes=[times],
+                         columns=strips_t.columns(strips=strip))
+    moving = [p for p in data.positions if p not in data.fixed]
+    if moving:
+        stacked = np.stack([data.positions[p] for p in moving], axis=1).reshape(-1, data.dim)
+        rec.log("mechanism/points", points_t.from_fields(
+            labels=moving, radii=POINT_SIZE * radius, colors=POINT_COLOR, show_labels=True,
+            **order("points")), static=True)
+        rec.send_columns("mechanism/points", indexes=[times],
+                         columns=points_t.columns(positions=stacked).partition([len(moving)] * n))
+    for kind, vectors, scale, color in (
+        ("velocity", data.velocities, v_scale, VELOCITY_COLOR),
+        ("acceleration", data.accelerations, a_scale, ACCELERATION_COLOR),
+    ):
+        unit = "s" if kind == "velocity" else "s²"
+        for name, vec in vectors.items():
+            entity = f"mechanism/{kind}/{name}"
+            label = f"{'v' if kind == 'velocity' else 'a'}_{name} × {_fmt(scale)} {unit}"
+            rec.log(entity, arrows_t.from_fields(radii=ARROW_WIDTH * radius, colors=color,
+                                                 labels=[label], show_labels=False,
+                                                 **order("arrows")), static=True)
+            rec.send_columns(entity, indexes=[times], columns=arrows_t.columns(
+                origins=data.positions[name], vectors=vec * scale))
+
+    # -- time series -----------------------------------------------------------------------
+    for i, (name, values, unit) in enumerate((
+            ("phi", data.phi, "rad"), ("omega", data.omega, "rad/s"),
+            ("epsilon", data.epsilon, "rad/s²"))):
+        _series(rec, f"plots/input/{name}", f"{_greek(name)} ({unit})", times, values, i)
+    for i, (joint, (p, v, a)) in enumerate(data.joints.items()):
+        for kind, values in (("position", p), ("velocity", v), ("acceleration", a)):
+            _series(rec, f"plots/joints/{kind}/{joint}", joint, times, values, i)
+    return {"velocity": v_scale, "acceleration": a_scale}
+
+
+def _greek(name: str) -> str:
+    return {"phi": "φ", "omega": "ω", "epsilon": "ε"}.get(name, name)
+
+
+def _series(rec: Any, path: str, label: str, times: Any, values: Array, index: int) -> None:
+    import rerun as rr
+
+    color = SERIES_PALETTE[index % len(SERIES_PALETTE)]
+    rec.log(path, rr.SeriesLines(names=label, widths=1.5, colors=color), static=True)
+    rec.send_columns(path, indexes=[times], columns=rr.Scalars.columns(scalars=values))
+
+
+def _position(data: RunData, name: str) -> Array:
+    if name in data.positions:
+        return data.positions[name]
+    return np.broadcast_to(np.asarray(data.fixed[name], dtype=float), (data.n, data.dim))
+
+
+def _viewer() -> str | None:
+    """The ``rerun`` viewer next to this Python (a venv's bin), else None: PATH is searched."""
+    import shutil
+    import sys
+
+    here = os.path.join(os.path.dirname(sys.executable), "rerun")
+    return here if os.access(here, os.X_OK) else shutil.which("rerun")
+
+
+def write_rrd(data: RunData, path: str | os.PathLike[str] | None = None, *,
+              spawn: bool = False, recording_id: str | None = None) -> dict[str, float]:
+    """Write the view of ``data`` to ``path`` (.rrd, with its blueprint) and/or show it in a
+    spawned viewer. Returns the arrow scales. Raises RuntimeError when no viewer can be spawned
+    (the file is written all the same)."""
+    import rerun as rr
+    from rerun.sinks import spawn as spawn_viewer
+
+    if path is None and not spawn:
+        raise ValueError("write_rrd needs a path or spawn=True")
+    rec = rr.RecordingStream(APPLICATION_ID, recording_id=recording_id)
+    bp = blueprint(data)
+    sinks: list[Any] = []
+    if path is not None:
+        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        sinks.append(rr.FileSink(str(path)))
+    failure = ""
+    if spawn:
+        try:
+            spawn_viewer(connect=False, executable_path=_viewer(), recording=rec)
+            sinks.append(rr.GrpcSink())
+        except RuntimeError as exc:
+            failure = str(exc).strip().splitlines()[0]
+    if sinks:
+        rec.set_sinks(*sinks, default_blueprint=bp)
+        rec.send_recording_name(f"{data.scene}")
+        scales = log_run(rec, data)
+        rec.flush()
+        rec.disconnect()
+    if failure:
+        raise RuntimeError(f"cannot start the rerun viewer: {failure}")
+    return scales

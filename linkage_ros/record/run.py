@@ -1,0 +1,266 @@
+"""The standalone run behind ``linkage-run``: the node's engine on simulated time, no ROS.
+
+Ticks at ``t = k / rate`` (k = 0, 1, …; the first at φ0) are solved in blocks by
+:meth:`Engine.frames`; every tick's messages (the node's topics, types and stamps: stamp = t)
+go to the MCAP recorder, the arrays to the rerun view at the end. A SIGINT stops the run at the
+next tick and both files are finished cleanly.
+"""
+
+from __future__ import annotations
+
+import math
+import signal
+import sys
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, TextIO
+
+import numpy as np
+
+from .rerun import RunBuilder, RunData
+
+__all__ = ["RunOptions", "RunResult", "duration_for_cycles", "run_standalone", "summary_lines"]
+
+NS_PER_S = 1_000_000_000
+TWO_PI = 2.0 * math.pi
+BLOCK = 4096
+PROGRESS_MIN_TICKS = 2000
+"""Runs shorter than this show no progress bar."""
+
+
+@dataclass
+class RunOptions:
+    scene: str
+    duration: float
+    rate: float = 100.0
+    omega: float = TWO_PI
+    epsilon: float = 0.0
+    phi0: float = 0.0
+    mcap: Path | None = None
+    rrd: Path | None = None
+    spawn: bool = False
+    points: Sequence[str] | None = None
+    on_unassemblable: str = "stop"
+    frame_id: str = "world"
+    namespace: str = "/"
+    chunk_interval_s: float = 1.0
+    fast: bool = True
+
+
+@dataclass
+class RunResult:
+    data: RunData
+    ticks: int
+    messages: int
+    interrupted: bool
+    seconds: dict[str, float] = field(default_factory=dict)
+    arrow_scales: dict[str, float] = field(default_factory=dict)
+    templated: list[str] = field(default_factory=list)
+    """Topics serialised from templates (the others were built per tick)."""
+    statuses: dict[str, int] = field(default_factory=dict)
+
+
+def duration_for_cycles(cycles: float, omega: float, epsilon: float) -> float:
+    """Time for the input to turn ``cycles`` turns from rest angle φ0 (|Δφ| = 2π·cycles)."""
+    goal = TWO_PI * cycles
+    if epsilon == 0.0:
+        if omega == 0.0:
+            raise ValueError("with omega = 0 and epsilon = 0 the input never turns; "
+                             "give --duration instead of --cycles")
+        return goal / abs(omega)
+    roots = []
+    for target in (goal, -goal):  # ½ε t² + ω t − target = 0
+        disc = omega * omega + 2.0 * epsilon * target
+        if disc >= 0.0:
+            sq = math.sqrt(disc)
+            roots += [r for r in ((-omega + sq) / epsilon, (-omega - sq) / epsilon) if r > 0.0]
+    return min(roots)
+
+
+class _Progress:
+    def __init__(self, total: int, stream: TextIO, enabled: bool) -> None:
+        self.total, self.stream, self.enabled = total, stream, enabled
+        self.start = time.monotonic()
+
+    def update(self, done: int) -> None:
+        if not self.enabled:
+            return
+        frac = done / max(self.total, 1)
+        bar = "#" * int(30 * frac)
+        rate = done / max(time.monotonic() - self.start, 1e-9)
+        self.stream.write(f"\r[{bar:<30}] {100 * frac:5.1f}%  {done}/{self.total} ticks  "
+                          f"{rate:,.0f} ticks/s")
+        self.stream.flush()
+
+    def close(self) -> None:
+        if self.enabled:
+            self.stream.write("\n")
+            self.stream.flush()
+
+
+class _StopOnSigint:
+    """First SIGINT: finish the current tick, then stop; a second one interrupts at once."""
+
+    def __init__(self) -> None:
+        self.stop = False
+        self._old: Any = None
+
+    def __enter__(self) -> _StopOnSigint:
+        try:
+            self._old = signal.signal(signal.SIGINT, self._handle)
+        except ValueError:  # not the main thread: no handler, Ctrl-C behaves as usual
+            self._old = None
+        return self
+
+    def _handle(self, signum: int, frame: Any) -> None:
+        self.stop = True
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+
+    def __exit__(self, *exc: object) -> None:
+        if self._old is not None:
+            signal.signal(signal.SIGINT, self._old)
+
+
+def _typestore() -> Any:
+    from rosbags.typesys import Stores, get_typestore
+
+    return get_typestore(Stores.ROS2_JAZZY)
+
+
+def run_standalone(opts: RunOptions, *, progress: TextIO | None = None) -> RunResult:
+    """Run, record and view; returns the arrays, counts and timings."""
+    from linkage_ros.engine import Engine
+    from linkage_ros.messages import MessageBuilder, topic_types
+    from linkage_ros.motion import Motion
+
+    from .fast import TemplateSerializer, stack_block
+    from .mcap import Recorder
+    from .replay import METADATA_NAME, scene_metadata
+
+    if not (math.isfinite(opts.rate) and opts.rate > 0):
+        raise ValueError(f"rate must be a finite number > 0, got {opts.rate!r}")
+    if not (math.isfinite(opts.duration) and opts.duration >= 0):
+        raise ValueError(f"duration must be a finite number >= 0, got {opts.duration!r}")
+    clock = time.perf_counter()
+    seconds: dict[str, float] = {}
+    motion = Motion(phi0=opts.phi0, omega=opts.omega, epsilon=opts.epsilon)
+    engine = Engine(opts.scene, motion, points=opts.points, on_unassemblable=opts.on_unassemblable)
+    n = int(math.floor(opts.duration * opts.rate * (1 + 1e-12))) + 1
+    times = np.arange(n, dtype=np.float64) / opts.rate
+    stamps = np.rint(times * NS_PER_S).astype(np.int64)
+    ts = _typestore()
+    builder = MessageBuilder(engine, ts.types, frame_id=opts.frame_id)
+    topics = topic_types(engine)
+    recorder = None
+    if opts.mcap is not None:
+        recorder = Recorder(
+            opts.mcap, topics, typestore=ts, namespace=opts.namespace,
+            chunk_interval_s=opts.chunk_interval_s,
+            metadata={METADATA_NAME: scene_metadata(
+                engine, frame_id=opts.frame_id, rate_hz=opts.rate, omega=opts.omega,
+                epsilon=opts.epsilon, phi0=opts.phi0)})
+    fast = TemplateSerializer(builder, ts.serialize_cdr) if (recorder and opts.fast) else None
+    rb = RunBuilder(engine, n)
+    statuses: dict[str, int] = {}
+    bar = _Progress(n, progress or sys.stderr,
+                    enabled=progress is not None and n >= PROGRESS_MIN_TICKS)
+    interrupted = False
+    frames = engine.frames(times)
+    try:
+        with _StopOnSigint() as sigint:
+            for start in range(0, n, BLOCK):
+                block_frames = []
+                for _ in range(min(BLOCK, n - start)):
+                    if sigint.stop:
+                        break
+                    frame = next(frames)
+                    rb.add(frame)
+                    block_frames.append(frame)
+                    statuses[frame.status] = statuses.get(frame.status, 0) + 1
+                stop = start + len(block_frames)
+                if recorder is not None and block_frames:
+                    if fast is not None:  # first tick of every block, rendered both ways
+                        bad = fast.verify(block_frames[0], int(stamps[start]),
+                                          stack_block(stamps, rb, start, start + 1))
+                        if bad:
+                            fast.demote(bad)
+                    _record_block(recorder, builder, fast, ts, topics, block_frames,
+                                  stamps, rb, start, stop, sigint)
+                bar.update(rb.k)
+                if sigint.stop:
+                    interrupted = True
+                    break
+    finally:
+        bar.close()
+        if recorder is not None:
+            recorder.close()
+    seconds["solve+mcap"] = time.perf_counter() - clock
+    data = rb.build()
+    scales: dict[str, float] = {}
+    if opts.rrd is not None or opts.spawn:
+        clock2 = time.perf_counter()
+        from .rerun import write_rrd
+
+        scales = write_rrd(data, opts.rrd, spawn=opts.spawn)
+        seconds["rerun"] = time.perf_counter() - clock2
+    seconds["total"] = time.perf_counter() - clock
+    return RunResult(data, rb.k, recorder.message_count if recorder else 0, interrupted,
+                     seconds, scales, list(fast.topics) if fast is not None else [], statuses)
+
+
+def _record_block(recorder: Any, builder: Any, fast: Any, ts: Any,
+                  topics: list[tuple[str, str]], frames: list[Any], stamps: np.ndarray,
+                  rb: RunBuilder, start: int, stop: int, sigint: _StopOnSigint) -> None:
+    from .fast import stack_block
+
+    types = dict(topics)
+    rendered = ({t: fast.render(t, stack_block(stamps, rb, start, stop)) for t in fast.topics}
+                if fast is not None else {})
+    for i, frame in enumerate(frames):
+        stamp = int(stamps[start + i])
+        if fast is not None and not builder.wants_paths(frame.t):
+            generic = dict(builder.build_topics(frame, stamp, fast.generic, include_paths=False))
+            out = [(t, rendered[t][i] if t in rendered else
+                    bytes(ts.serialize_cdr(generic[t], types[t]))) for t, _ in topics]
+        else:
+            out = [(t, bytes(ts.serialize_cdr(m, types[t])))
+                   for t, m in builder.build(frame, stamp)]
+        recorder.write_serialized(stamp, out)
+
+
+def summary_lines(data: RunData, outputs: Sequence[str], output_joints: Sequence[str]) -> list[str]:
+    """Per output point: range of each coordinate, max |v| and max |a| with t and φ where they
+    occur; per output joint: range, max |velocity| and max |acceleration|."""
+    lines: list[str] = []
+    if data.n == 0:
+        return ["no ticks"]
+    axes = "xyz"[: data.dim]
+
+    def where(i: int) -> str:
+        turn = math.degrees(math.remainder(float(data.phi[i]), TWO_PI))
+        return f"at t = {data.t[i]:.4f} s, φ = {data.phi[i]:.4f} rad ({turn:+.1f}° in the turn)"
+
+    for p in outputs:
+        if p not in data.positions:
+            continue
+        pos = data.positions[p]
+        rng = ", ".join(f"{a} ∈ [{pos[:, j].min() + 0.0:.6g}, {pos[:, j].max() + 0.0:.6g}] m"
+                        for j, a in enumerate(axes))
+        lines.append(f"point {p}: {rng}")
+        if p in data.velocities:
+            v = np.linalg.norm(data.velocities[p], axis=1)
+            a = np.linalg.norm(data.accelerations[p], axis=1)
+            iv, ia = int(np.argmax(v)), int(np.argmax(a))
+            lines.append(f"  max |v| = {v[iv]:.6g} m/s {where(iv)}")
+            lines.append(f"  max |a| = {a[ia]:.6g} m/s² {where(ia)}")
+    for j in output_joints:
+        if j not in data.joints:
+            continue
+        jp, jv, ja = data.joints[j]
+        iv, ia = int(np.argmax(np.abs(jv))), int(np.argmax(np.abs(ja)))
+        lines.append(f"joint {j}: position ∈ [{jp.min() + 0.0:.6g}, {jp.max() + 0.0:.6g}]")
+        lines.append(f"  max |velocity| = {abs(jv[iv]):.6g} {where(iv)}")
+        lines.append(f"  max |acceleration| = {abs(ja[ia]):.6g} {where(ia)}")
+    return lines
