@@ -7,6 +7,6 @@ test:
 bench:
 	./dev bench
 setup:
-	./dev setup record,test
+	./dev setup record,view,test
 lint:
 	.venv/bin/ruff check solver linkage_ros tests bench && .venv/bin/mypy

@@ -37,7 +37,9 @@ setup(
     python_requires=">=3.10",
     install_requires=["setuptools", "numpy>=1.26", "PyYAML>=6"],
     extras_require={
-        "record": ["rosbags>=0.10", "mcap>=1.2", "mcap-ros2-support>=0.5", "rerun-sdk>=0.41,<0.42"],
+        # MCAP recording works with numpy 1.26 (ROS 2 Jazzy's); the rerun view needs numpy >= 2
+        "record": ["rosbags>=0.10", "mcap>=1.2", "mcap-ros2-support>=0.5"],
+        "view": ["rerun-sdk>=0.41,<0.42"],
         "test": [
             "pytest>=8",
             "hypothesis>=6.100",

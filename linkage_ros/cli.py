@@ -12,6 +12,7 @@ Each ``*_main`` returns the exit status (0 ok, 1 runtime error, 2 bad input, 130
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import math
 import sys
 import time
@@ -22,6 +23,16 @@ __all__ = ["mcap_main", "run_main", "view_main"]
 
 RUNS_DIR = Path("runs")
 EXIT_OK, EXIT_ERROR, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
+
+
+NO_RERUN = (
+    "rerun-sdk is not installed (pip install 'rerun-sdk>=0.41,<0.42'; it needs numpy >= 2, "
+    "so in a ROS 2 Jazzy environment with the system numpy 1.26 use a venv for viewing)"
+)
+
+
+def _have_rerun() -> bool:
+    return importlib.util.find_spec("rerun") is not None
 
 
 def _err(msg: str) -> None:
@@ -94,6 +105,12 @@ def run_main(argv: Sequence[str] | None = None) -> int:
     stem = f"{scene.name}-{time.strftime('%Y%m%d-%H%M%S')}"
     mcap = None if args.no_mcap else (args.mcap or RUNS_DIR / f"{stem}.mcap")
     rrd = None if args.no_rrd else (args.rrd or RUNS_DIR / f"{stem}.rrd")
+    if (rrd is not None or args.spawn) and not _have_rerun():
+        if args.rrd is not None or args.spawn:
+            _err(NO_RERUN)
+            return EXIT_USAGE
+        print(f"note: {NO_RERUN}; no .rrd written", file=sys.stderr)
+        rrd = None
     points = [p.strip() for p in args.points.split(",") if p.strip()] if args.points else None
     opts = RunOptions(
         scene=args.scene, duration=duration, rate=args.rate, omega=args.omega,
@@ -144,6 +161,9 @@ def view_main(argv: Sequence[str] | None = None) -> int:
                    help="rerun file to write (default: next to the MCAP, .rrd)")
     p.add_argument("--spawn", action="store_true", help="show it in a rerun viewer")
     args = p.parse_args(argv)
+    if not _have_rerun():
+        _err(NO_RERUN)
+        return EXIT_USAGE
     from linkage_ros.record.replay import run_data_from_mcap
     from linkage_ros.record.rerun import write_rrd
 

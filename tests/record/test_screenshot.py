@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-pytest.importorskip("rerun", reason="the record extra (rerun-sdk) is not installed")
+pytest.importorskip("rerun", reason="the view extra (rerun-sdk, needs numpy >= 2) is not installed")
 Image = pytest.importorskip("PIL.Image", reason="Pillow is needed to read the screenshot")
 
 from linkage_ros.record.rerun import FIXED_COLOR, LINK_COLOR, SERIES_PALETTE  # noqa: E402

@@ -12,7 +12,7 @@ import pytest
 
 pytest.importorskip("mcap", reason="the record extra (mcap) is not installed")
 pytest.importorskip("rosbags", reason="the record extra (rosbags) is not installed")
-rr = pytest.importorskip("rerun", reason="the record extra (rerun-sdk) is not installed")
+rr = pytest.importorskip("rerun", reason="the view extra (rerun-sdk, needs numpy >= 2) is not installed")
 
 from rerun.chunk import RrdReader  # noqa: E402
 from rosbags.typesys import Stores, get_typestore  # noqa: E402
