@@ -19,7 +19,7 @@ import math
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -55,17 +55,19 @@ PATH_SAMPLES = 361
 CHUNK = 4096
 
 
-@dataclass(frozen=True)
-class PointState:
-    """Position, velocity and acceleration of one point, each of shape ``(dim,)`` (m, m/s, m/s²)."""
+class PointState(NamedTuple):
+    """Position, velocity and acceleration of one point, each ``dim`` floats (m, m/s, m/s²).
 
-    position: NDArray[np.float64]
-    velocity: NDArray[np.float64]
-    acceleration: NDArray[np.float64]
+    A tuple of Python floats on the per-tick path (:meth:`Engine.frame`, no numpy per tick), a
+    ``(dim,)`` array row in whole runs (:meth:`Engine.frames`); index them, or ``tuple()`` them.
+    """
+
+    position: Sequence[float] | NDArray[np.float64]
+    velocity: Sequence[float] | NDArray[np.float64]
+    acceleration: Sequence[float] | NDArray[np.float64]
 
 
-@dataclass(frozen=True)
-class JointState:
+class JointState(NamedTuple):
     """Position (rad or m), velocity and acceleration of one joint."""
 
     position: float
@@ -73,7 +75,7 @@ class JointState:
     acceleration: float
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Frame:
     """The mechanism at one instant ``t`` (s of run time)."""
 
@@ -252,16 +254,9 @@ class Engine:
     ) -> Frame:
         """The frame of sample ``i`` of ``k`` (``None``: a scalar solve)."""
         if i is None:
-            points = {}
-            for name in self.point_names:
-                ps = k.point(name)
-                points[name] = PointState(ps.position, ps.velocity, ps.acceleration)
-            joints = {}
-            for name in self.joint_names:
-                js = k.joint(name)
-                joints[name] = JointState(
-                    float(js.position), float(js.velocity), float(js.acceleration)
-                )
+            floats = k.floats
+            points = {name: PointState(*floats(name)) for name in self.point_names}
+            joints = {name: JointState(*floats(name)) for name in self.joint_names}
         else:
             points = {}
             for name in self.point_names:
@@ -361,7 +356,7 @@ def _finite_sum(frame: Frame) -> float:
     which is as unusable)."""
     total = 0.0
     for ps in frame.points.values():
-        total += sum(ps.position.tolist()) + sum(ps.velocity.tolist()) + sum(ps.acceleration.tolist())
+        total += sum(ps.position) + sum(ps.velocity) + sum(ps.acceleration)
     for js in frame.joints.values():
         total += js.position + js.velocity + js.acceleration
     return total

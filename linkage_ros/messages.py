@@ -236,11 +236,11 @@ class MessageBuilder:
 
     # ------------------------------------------------------------------ pieces
     def _point(self, xyz: Any) -> Any:
-        c = xyz.tolist() if isinstance(xyz, np.ndarray) else [float(v) for v in xyz]
+        c = _floats(xyz)
         return self._Point(x=c[0], y=c[1], z=c[2] if len(c) > 2 else 0.0)
 
     def _vector(self, xyz: Any) -> Any:
-        c = xyz.tolist() if isinstance(xyz, np.ndarray) else [float(v) for v in xyz]
+        c = _floats(xyz)
         return self._Vector3(x=c[0], y=c[1], z=c[2] if len(c) > 2 else 0.0)
 
     def _joints(self, frame: Frame, header: Any) -> tuple[Any, Any]:
@@ -388,6 +388,13 @@ class _Tick:
                 found = b._point(self.frame.points[name].position)
             self.points[name] = found
         return found
+
+
+def _floats(xyz: Any) -> Sequence[float]:
+    """Python floats of a point: tuples from the per-tick path pass as they are."""
+    if type(xyz) is tuple:
+        return xyz
+    return xyz.tolist() if isinstance(xyz, np.ndarray) else [float(v) for v in xyz]
 
 
 def build_messages(

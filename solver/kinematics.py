@@ -75,13 +75,15 @@ class Kinematics:
         joints: tuple[str, ...],
         conditioning: Mapping[str, Any],
         valid: np.ndarray | None = None,
+        floats: Mapping[str, tuple[Any, Any, Any]] | None = None,
     ) -> None:
         self.phi = phi
         self.omega = omega
         self.epsilon = epsilon
         self.points = points
         self.joints = joints
-        self._motions = motions
+        self._motions = dict(motions)
+        self._floats = floats
         self._conditioning = conditioning
         self._valid = valid
         self._conditioning_arrays: dict[str, Any] | None = None
@@ -90,13 +92,28 @@ class Kinematics:
         """Position, velocity and acceleration of point ``name``: (N, 2) or (N, 3) arrays."""
         if name not in self.points:
             raise SolverError(f"point '{name}' was not requested; requested points: {list(self.points)}")
-        return self._motions[name]
+        return self._motions.get(name) or self._from_floats(name)
 
     def joint(self, name: str) -> Motion:
         """Coordinate, velocity and acceleration of joint ``name`` (rad or m): (N,) arrays."""
         if name not in self.joints:
             raise SolverError(f"joint '{name}' was not requested; requested joints: {list(self.joints)}")
-        return self._motions[name]
+        return self._motions.get(name) or self._from_floats(name)
+
+    def floats(self, name: str) -> tuple[Any, Any, Any]:
+        """For a scalar φ: (position, velocity, acceleration) of a point (tuples of dim floats) or a
+        joint (floats) as plain Python numbers — the per-tick path, which avoids numpy entirely."""
+        if self._floats is None:
+            raise SolverError("floats() is for a solve at a single φ; use point() or joint() for sweeps")
+        if name not in self._floats:
+            raise SolverError(f"'{name}' was not requested; requested: {[*self.points, *self.joints]}")
+        return self._floats[name]
+
+    def _from_floats(self, name: str) -> Motion:
+        assert self._floats is not None
+        m = Motion(*(np.array(x, dtype=float) for x in self._floats[name]))
+        self._motions[name] = m
+        return m
 
     @property
     def valid(self) -> np.ndarray:

@@ -8,11 +8,12 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 from .errors import SceneError
 from .groups import Context, Group
-from .jet import constant
+from .jet import Jet, constant
 
 __all__ = ["Plan", "order_groups", "build_plan"]
 
@@ -56,9 +57,12 @@ class Plan:
     fixed: Mapping[str, Any]  # name → complex (planar) or ndarray (spatial)
     targets: tuple[str, ...]
 
+    @cached_property
+    def fixed_jets(self) -> dict[str, Jet]:
+        return {name: constant(value) for name, value in self.fixed.items()}
+
     def run(self, ctx: Context) -> Context:
-        for name, value in self.fixed.items():
-            ctx.values[name] = constant(value)
+        ctx.values.update(self.fixed_jets)
         for group in self.groups:
             group.solve(ctx)
         return ctx

@@ -22,7 +22,7 @@ from ._backend import NUMPY, SCALAR
 from ._loader import SceneData, parse_scene, read_yaml
 from .errors import AssemblyError, SceneError, SolverError
 from .groups import Context
-from .kinematics import Kinematics, Motion, empty_motion, fill_motion
+from .kinematics import Kinematics, empty_motion, fill_motion
 from .plan import Plan, build_plan, order_groups
 
 __all__ = ["Scene", "Link", "load_scene", "find_scene", "shipped_scenes", "scene_dirs", "CHUNK"]
@@ -93,6 +93,12 @@ class Scene:
         self, data: SceneData, *, points: Iterable[str] | None = None, joints: Iterable[str] | None = None
     ) -> None:
         self._data = data
+        self.name: str = data.name
+        self.path: str | None = data.file
+        self.dim: int = data.dim
+        self.provenance: str = data.provenance
+        self.input_joint: str = data.input_joint
+        self._label = data.file or data.name
         self.ordered = order_groups(data.groups, data.fixed, file=data.file)
         self.output_points = tuple(data.output_points if points is None else points)
         self.output_joints = tuple(data.output_joints if joints is None else joints)
@@ -109,11 +115,6 @@ class Scene:
         self.plan: Plan = build_plan(self.ordered, data.fixed, (*self.output_points, *self.output_joints))
 
     # -- what the scene is -------------------------------------------------------------------
-    name = property(lambda self: self._data.name)
-    path = property(lambda self: self._data.file)
-    dim = property(lambda self: self._data.dim)
-    provenance = property(lambda self: self._data.provenance)
-    input_joint = property(lambda self: self._data.input_joint)
 
     @cached_property
     def joint_names(self) -> tuple[str, ...]:
@@ -204,7 +205,7 @@ class Scene:
                 phi=phi[rows],
                 xp=NUMPY,
                 mask=mask,
-                scene=self.path or self.name,
+                scene=self._label,
                 find_intervals=self._intervals,
                 owner=self,
             )
@@ -232,19 +233,20 @@ class Scene:
         )
 
     def _solve_scalar(self, phi: float, omega: float, epsilon: float, mask: bool) -> Kinematics:
-        for label, v in (("phi", phi), ("omega", omega), ("epsilon", epsilon)):
-            if not math.isfinite(v):
-                raise SolverError(f"{self.name}: {label} must be finite, got {v}")
+        if not (math.isfinite(phi) and math.isfinite(omega) and math.isfinite(epsilon)):
+            for label, v in (("phi", phi), ("omega", omega), ("epsilon", epsilon)):
+                if not math.isfinite(v):
+                    raise SolverError(f"{self.name}: {label} must be finite, got {v}")
         ctx = Context(
-            phi=phi, xp=SCALAR, mask=mask, scene=self.path or self.name, find_intervals=self._intervals, owner=self
+            phi=phi, xp=SCALAR, mask=mask, scene=self._label, find_intervals=self._intervals, owner=self
         )
         self.plan.run(ctx)
-        motions = _scalar_motions(ctx.values, self.output_points, self.output_joints, omega, epsilon, self.dim)
         return Kinematics(
             phi=np.array(phi),
             omega=np.array(omega),
             epsilon=np.array(epsilon),
-            motions=motions,
+            motions={},
+            floats=_scalar_floats(ctx.values, self.output_points, self.output_joints, omega, epsilon, self.dim),
             points=self.output_points,
             joints=self.output_joints,
             conditioning=ctx.conditioning,
@@ -269,30 +271,21 @@ class Scene:
         return f"Scene({self.name!r}, points={self.output_points}, joints={self.output_joints})"
 
 
-def _scalar_motions(
+def _scalar_floats(
     vals: Mapping[str, Any], points: tuple[str, ...], joints: tuple[str, ...], w: float, e: float, dim: int
-) -> dict[str, Any]:
-    """Real motion of every output at one φ, gathered into one array (one numpy call, not 3 per output)."""
-    flat: list[float] = []
+) -> dict[str, tuple[Any, Any, Any]]:
+    """Real motion of every output at one φ as Python floats: no numpy call at all."""
+    out: dict[str, tuple[Any, Any, Any]] = {}
     for p in points:
         z0, z1, z2 = vals[p]
         v, a = z1 * w, z2 * (w * w) + z1 * e
         if dim == 2:
-            flat += (z0.real, z0.imag, v.real, v.imag, a.real, a.imag)
+            out[p] = ((z0.real, z0.imag), (v.real, v.imag), (a.real, a.imag))
         else:
-            flat += [*np.broadcast_to(z0, 3), *np.broadcast_to(v, 3), *np.broadcast_to(a, 3)]
+            out[p] = tuple(tuple(np.broadcast_to(x, 3).tolist()) for x in (z0, v, a))  # type: ignore[assignment]
     for j in joints:
         q0, q1, q2 = vals[j]
-        flat += (q0, q1 * w, q2 * (w * w) + q1 * e)
-    arr = np.array(flat, dtype=float)
-    out: dict[str, Any] = {}
-    i = 0
-    for p in points:
-        out[p] = Motion(arr[i : i + dim], arr[i + dim : i + 2 * dim], arr[i + 2 * dim : i + 3 * dim])
-        i += 3 * dim
-    for j in joints:
-        out[j] = Motion(arr[i], arr[i + 1], arr[i + 2])
-        i += 3
+        out[j] = (float(q0), float(q1 * w), float(q2 * (w * w) + q1 * e))
     return out
 
 

@@ -119,9 +119,14 @@ def refine_singular(ctx: Context, group: Group, names: Sequence[str]) -> None:
     cond = ctx.conditioning.get(group.name)
     if cond is None:
         return
-    bad = np.asarray(cond < REFINE_BELOW)
-    if not bad.any():
-        return
+    if isinstance(cond, float):  # the per-tick scalar path: one comparison, no numpy
+        if not cond < REFINE_BELOW:
+            return
+        bad = np.asarray(True)
+    else:
+        bad = np.asarray(cond < REFINE_BELOW)
+        if not bad.any():
+            return
     scalar = not ctx.xp.vectorised
     phi = np.atleast_1d(np.asarray(ctx.phi, float))
     bad_idx = np.flatnonzero(np.broadcast_to(bad, phi.shape))

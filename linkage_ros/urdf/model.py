@@ -25,6 +25,9 @@ adds, so every body stays on the tree (and moves in RViz) and each tree joint's 
 a plain angle or slide read off the solved points. Planar bodies have their frame origin at
 their pivot and their x axis along a named pair of points; angles are counter-clockwise
 positive in (−π, π], except the driving crank's, which follows φ unwrapped.
+
+Vector-loop scenes (seed 004) have no groups to read bodies from: :mod:`.vectors` reads them off
+the vectors (bodies per angle class, slides for variable lengths, one pin cut per contour).
 """
 
 from __future__ import annotations
@@ -60,21 +63,28 @@ Vec3 = tuple[float, float, float]
 @dataclass
 class Body:
     """A rigid body. Planar: frame origin at point ``origin``, x axis along ``axis`` (a pair of
-    point names, or a constant complex direction); ``local`` maps its points to frame coordinates.
-    ``role`` names the drawing: ``base``, ``bar``, ``drum``, ``slider``, ``eyelet``, ``shaft``,
-    ``ring``, ``cage``."""
+    point names, a constant complex direction, or the name of a scene joint whose position is an
+    absolute angle) turned by ``turn`` rad; ``local`` maps its points to frame coordinates.
+    ``anchor``: a named point of ``local`` from which the origin is located when the origin is not
+    itself a point the solver reports (vector scenes). ``role`` names the drawing: ``base``,
+    ``bar``, ``drum``, ``slider``, ``eyelet``, ``shaft``, ``ring``, ``cage``."""
 
     name: str
     role: str
     origin: str | None = None
-    axis: tuple[str, str] | complex | None = None
+    axis: tuple[str, str] | complex | str | None = None
     local: dict[str, Vec3] = field(default_factory=dict)
     #: Bars to draw, as pairs of point names of ``local``.
     bars: list[tuple[str, str]] = field(default_factory=list)
     #: Pins to draw (point names of ``local``).
     pins: list[str] = field(default_factory=list)
-    #: Free-form sizes for the drawing (e.g. ``radius`` of a drum, ``alpha`` of a ring).
+    #: Free-form sizes for the drawing (e.g. ``radius`` of a drum, ``alpha`` of a ring, ``yaw``
+    #: of a slider's box in the body frame).
     size: dict[str, float] = field(default_factory=dict)
+    #: The body's x axis is the direction of ``axis`` turned by this angle (rad).
+    turn: float = 0.0
+    #: A named point of ``local`` that locates the origin (None: the origin is read directly).
+    anchor: str | None = None
 
 
 @dataclass(frozen=True)
@@ -326,6 +336,10 @@ def build_model(scene: object) -> TreeModel:
     Raises :class:`solver.SceneError` for a group kind the export does not know, or names that
     would clash in the URDF or in ``joint_states``.
     """
+    if any(getattr(g, "kind", "") == "vector_input" for g in scene.ordered):  # type: ignore[attr-defined]
+        from .vectors import build_vector_model
+
+        return build_vector_model(scene)
     b = _Builder(scene)
     handlers: dict[type, Callable[[Any], None]] = {
         Crank: b.crank,
@@ -355,13 +369,14 @@ def build_model(scene: object) -> TreeModel:
         cuts=b.cuts,
         owner=b.owner,
     )
-    _check_names(model, tuple(scene.joint_names), b)  # type: ignore[attr-defined]
+    _check_names(model, tuple(scene.joint_names), b.error)  # type: ignore[attr-defined]
     return model
 
 
 def exportable_model(scene: object) -> TreeModel | None:
-    """:func:`build_model`, or ``None`` for a scene made of groups the export does not know
-    (e.g. vector contours): for publishers that add the tree joints where there are any."""
+    """:func:`build_model`, or ``None`` for a scene the export cannot open (a group kind it does
+    not know, or a vector scene whose outputs do not say enough to read its bodies; the error of
+    :func:`build_model` says why): for publishers that add the tree joints where there are any."""
     try:
         return build_model(scene)
     except SceneError as exc:
@@ -370,16 +385,16 @@ def exportable_model(scene: object) -> TreeModel | None:
         raise
 
 
-def _check_names(model: TreeModel, scene_joints: tuple[str, ...], b: _Builder) -> None:
+def _check_names(model: TreeModel, scene_joints: tuple[str, ...], error: Callable[[str], SceneError]) -> None:
     links = list(model.bodies)
     for cut in model.cuts:
         links += [f"{cut.name}_a", f"{cut.name}_b"]
     dup = sorted({n for n in links if links.count(n) > 1})
     if dup:
-        raise b.error(f"URDF link names would clash: {', '.join(dup)}")
+        raise error(f"URDF link names would clash: {', '.join(dup)}")
     clash = sorted(set(model.joint_names) & set(scene_joints))
     if clash:
-        raise b.error(
+        raise error(
             f"tree joint names {', '.join(clash)} are also scene joints; rename those scene joints "
             "(joint_states carries both)"
         )

@@ -81,18 +81,34 @@ def _dot(a: Any, b: Any) -> Any:
     return a.real * b.real + a.imag * b.imag
 
 
-def _pose(model: TreeModel, body: str, src: _Source) -> tuple[Any, Any, Any, Any]:
-    """``(o, ȯ, r, ṙ)`` of a planar body."""
+def _pose(model: TreeModel, body: str, src: _Source, *, locate: bool = True) -> tuple[Any, Any, Any, Any]:
+    """``(o, ȯ, r, ṙ)`` of a planar body: origin and a vector along its x axis (``o, ȯ`` are
+    ``None`` unless ``locate``: a pin reads directions only)."""
     if body == BASE_LINK:
         return 0j, 0j, 1 + 0j, 0j
     b = model.bodies[body]
     assert b.origin is not None
-    o, do = src.point(b.origin)
     if isinstance(b.axis, tuple):
         (pt, vt), (ph, vh) = src.point(b.axis[0]), src.point(b.axis[1])
         r, dr = ph - pt, vh - vt
+    elif isinstance(b.axis, str):  # a scene joint: the absolute angle of the axis
+        q, dq = src.joint(b.axis)
+        r = src.cos(q) + 1j * src.sin(q)
+        dr = 1j * dq * r
     else:
         r, dr = complex(b.axis), 0j  # type: ignore[arg-type]
+    if b.turn:
+        rot = complex(math.cos(b.turn), math.sin(b.turn))
+        r, dr = r * rot, dr * rot
+    if not locate:
+        return None, None, r, dr
+    if b.anchor is None or b.anchor == b.origin:
+        o, do = src.point(b.origin)
+    else:  # o = P − u·x, ȯ = Ṗ − j·ω·u·x with x the anchor's place in the body frame
+        pa, va = src.point(b.anchor)
+        x = complex(b.local[b.anchor][0], b.local[b.anchor][1])
+        u = r / abs(r)
+        o, do = pa - u * x, va - 1j * _omega(r, dr) * u * x
     return o, do, r, dr
 
 
@@ -101,19 +117,20 @@ def _omega(r: Any, dr: Any) -> Any:
 
 
 def _evaluate(model: TreeModel, src: _Source) -> tuple[list[Any], list[Any]]:
-    poses: dict[str, tuple[Any, Any, Any, Any]] = {}
+    poses: dict[tuple[str, bool], tuple[Any, Any, Any, Any]] = {}
 
-    def pose(name: str) -> tuple[Any, Any, Any, Any]:
-        if name not in poses:
-            poses[name] = _pose(model, name, src)
-        return poses[name]
+    def pose(name: str, locate: bool = True) -> tuple[Any, Any, Any, Any]:
+        key = (name, locate)
+        if key not in poses:
+            poses[key] = _pose(model, name, src, locate=locate)
+        return poses[key]
 
     qs: list[Any] = []
     dqs: list[Any] = []
     for j in model.joints:
         if j.rule == "planar_pin":
-            _, _, rp, drp = pose(j.parent)
-            _, _, rc, drc = pose(j.child)
+            _, _, rp, drp = pose(j.parent, False)
+            _, _, rc, drc = pose(j.child, False)
             q = src.atan2(_cross(rp, rc), _dot(rp, rc))
             unwrap = j.data[0]
             if unwrap is not None:
@@ -157,8 +174,8 @@ def _fixed_lookup(model: TreeModel) -> dict[str, complex]:
 
 
 def frame_tree_joint_states(model: TreeModel, frame: Any) -> TreeJointStates:
-    """Tree joint states of one engine frame (``frame.points[P].position/.velocity`` arrays of
-    shape ``(dim,)``, ``frame.joints[J].position/.velocity`` floats): tuples of floats."""
+    """Tree joint states of one engine frame (``frame.points[P].position/.velocity`` sequences of
+    dim floats, ``frame.joints[J].position/.velocity`` floats): tuples of floats."""
     points: Mapping[str, Any] = frame.points
     joints: Mapping[str, Any] = frame.joints
 
@@ -166,7 +183,7 @@ def frame_tree_joint_states(model: TreeModel, frame: Any) -> TreeJointStates:
         ps = points.get(n)
         if ps is None:
             return _fixed_lookup(model)[n], 0j
-        p, v = ps.position.tolist(), ps.velocity.tolist()
+        p, v = ps.position, ps.velocity
         return complex(p[0], p[1]), complex(v[0], v[1])
 
     def joint(n: str) -> tuple[float, float]:

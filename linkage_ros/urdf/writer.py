@@ -136,7 +136,7 @@ def _body_visuals(doc: _Doc, link: ET.Element, body: Body, rb: float, slides: di
         for j in model.joints:
             if j.parent == BASE_LINK and j.type == "prismatic" and j.name in slides:
                 lo, hi = slides[j.name]
-                yaw = j.rpy[2]
+                yaw = j.rpy[2] + math.atan2(j.axis[1], j.axis[0])
                 mid = 0.5 * (lo + hi)
                 centre = (j.xyz[0] + mid * math.cos(yaw), j.xyz[1] + mid * math.sin(yaw), -2 * rb)
                 doc.visual(link, "box", {"size": _vec((hi - lo + 8 * rb, 5 * rb, rb))}, centre, (0, 0, yaw), "frame")
@@ -144,10 +144,11 @@ def _body_visuals(doc: _Doc, link: ET.Element, body: Body, rb: float, slides: di
     if body.role == "drum":
         disc: dict[str, float | str] = {"radius": body.size["radius"], "length": 2 * rb}
         doc.visual(link, "cylinder", disc, (0, 0, -2 * rb), (0, 0, 0), "drum")
+    yaw = body.size.get("yaw", 0.0)  # the box along its slide, in the body frame
     if body.role == "slider":
-        doc.visual(link, "box", {"size": _vec((8 * rb, 5 * rb, 4 * rb))}, (0, 0, 0), (0, 0, 0), "slider")
+        doc.visual(link, "box", {"size": _vec((8 * rb, 5 * rb, 4 * rb))}, (0, 0, 0), (0, 0, yaw), "slider")
     if body.role == "eyelet":
-        doc.visual(link, "box", {"size": _vec((5 * rb, 3.5 * rb, 3.5 * rb))}, (0, 0, 0), (0, 0, 0), "slider")
+        doc.visual(link, "box", {"size": _vec((5 * rb, 3.5 * rb, 3.5 * rb))}, (0, 0, 0), (0, 0, yaw), "slider")
     r = body.size.get("radius", 0.0)
     if body.role == "shaft":
         doc.visual(link, "cylinder", {"radius": r / 12, "length": 3 * r}, (0, 0, 0), (-math.pi / 2, 0, 0), "crank")

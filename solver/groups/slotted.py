@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from functools import cached_property
 from typing import Any
 
 from .._fields import Entry, Units
@@ -58,12 +59,23 @@ class Slotted(Group):
         r = sub(vals[self.through], vals[self.pivot])
         z = r.value
         ctx.require(self, z.real * z.real + z.imag * z.imag > 0.0, reason="has its eyelet on the pivot")
-        jets, rho = points_on_link(vals[self.pivot], r, tuple(complex(d) for _, d in self.points), ctx.xp)
-        for (name, _), jet in zip(self.points, jets):
+        jets, rho = points_on_link(vals[self.pivot], r, self._offsets, ctx.xp)
+        for name, jet in zip(self._names, jets):
             vals[name] = jet
-        scale = max(abs(d) for _, d in self.points)
-        ctx.conditioning[self.name] = at_most_one(rho / scale)
-        refine_singular(ctx, self, self.provides())
+        ctx.conditioning[self.name] = at_most_one(rho / self._scale)
+        refine_singular(ctx, self, self._names)
+
+    @cached_property
+    def _names(self) -> tuple[str, ...]:
+        return tuple(name for name, _ in self.points)
+
+    @cached_property
+    def _offsets(self) -> tuple[complex, ...]:
+        return tuple(complex(d) for _, d in self.points)
+
+    @cached_property
+    def _scale(self) -> float:
+        return max(abs(d) for _, d in self.points)
 
     @classmethod
     def from_entry(cls, e: Entry, units: Units, fixed: Mapping[str, Any]) -> Slotted:

@@ -46,6 +46,9 @@ class Contour(Group):
     constant: complex
     known: tuple[Term, ...]
     deps: tuple[DepSpec, ...]
+    #: Every term of the signed sum, in the file's order, constants included (for exporters that
+    #: need the contour's chain of vectors, e.g. the URDF export); not used by the solve.
+    chain: tuple[Term, ...] = ()
 
     def requires(self) -> tuple[str, ...]:
         names = [b for t in self.known for b in t.bases()]

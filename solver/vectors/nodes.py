@@ -63,6 +63,8 @@ class VectorPoint(Group):
     origin_value: complex
     terms: tuple[Term, ...]
     parent: str | None  # the named point (or the origin) this one extends by one vector, for drawing
+    #: Every term of the sum, in the file's order, constants included (for exporters); not solved.
+    chain: tuple[Term, ...] = ()
 
     def requires(self) -> tuple[str, ...]:
         names = [self.origin, *(b for t in self.terms for b in t.bases())]

@@ -265,6 +265,7 @@ class _Model:
             constant=constant,
             known=tuple(known),
             deps=tuple(deps),
+            chain=tuple(terms),
         )
 
     # -- outputs --------------------------------------------------------------------------------
@@ -302,6 +303,7 @@ class _Model:
                     origin_value=value,
                     terms=tuple(moving),
                     parent=parent,
+                    chain=tuple(terms),
                 )
             )
         return out

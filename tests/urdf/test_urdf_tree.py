@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-from urdf_scene_lists import EXPORTABLE, NOT_EXPORTABLE
+from urdf_scene_lists import EXPORTABLE, NOT_EXPORTABLE, SHIPPED, VECTOR_SCENES
 
 import solver
 from linkage_ros.urdf import build_model, generate_urdf, main
@@ -188,18 +188,7 @@ def test_cli_reports_an_unknown_scene_and_exits_2(capsys: pytest.CaptureFixture[
     assert "linkage-urdf: error:" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("name", NOT_EXPORTABLE)
-def test_scene_without_export_names_the_group_kind_it_cannot_export(
-    name: str, capsys: pytest.CaptureFixture[str]
-) -> None:
-    with pytest.raises(solver.SceneError, match="has no URDF export; supported: crank, attached, rrr"):
-        build_model(solver.load_scene(name))
-    assert main([name]) == 2
-    assert "has no URDF export" in capsys.readouterr().err
-
-
-def test_every_group_scene_is_exportable() -> None:
-    kinds = {"crank", "attached", "rrr", "rrp", "slotted", "spherical_crank_slider", "joint"}
-    for name in NOT_EXPORTABLE:
-        assert not {g.kind for g in solver.load_scene(name).ordered} <= kinds, name
-    assert {"four_bar", "harvester_finger", "slider_crank", "spherical_converter"} <= set(EXPORTABLE)
+def test_every_shipped_scene_is_exportable_vector_scenes_included() -> None:
+    assert NOT_EXPORTABLE == []
+    assert EXPORTABLE == SHIPPED
+    assert {"four_bar_vectors", "harvester_finger_vectors", "vectors/pl2s_linked_slides"} <= set(VECTOR_SCENES)

@@ -1,6 +1,6 @@
 """Cost of one node tick (solve + every message) and of its parts; not a test.
 
-    .venv/bin/python tests/ros/bench_tick.py [scene ...]
+    .venv/bin/python -m bench.node_tick [scene ...]
 
 Prints the best of 7 repeats (µs per tick) for: the whole tick (Engine.frame + MessageBuilder.build
 with rosbags' Jazzy classes, paths sent once per second of run time at 1 kHz), the frame alone,
