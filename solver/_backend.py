@@ -29,6 +29,7 @@ class Backend:
     sin: Callable[[Num], Num]
     atan2: Callable[[Num, Num], Num]
     tan: Callable[[Num], Num]
+    clamp0: Callable[[Num], Num]  # max(x, 0)
     vectorised: bool
 
     def cis(self, angle: Num) -> Num:
@@ -41,8 +42,8 @@ class Backend:
         return out
 
 
-NUMPY = Backend("numpy", np.sqrt, np.cos, np.sin, np.arctan2, np.tan, True)
-SCALAR = Backend("scalar", math.sqrt, math.cos, math.sin, math.atan2, math.tan, False)
+NUMPY = Backend("numpy", np.sqrt, np.cos, np.sin, np.arctan2, np.tan, lambda x: np.maximum(x, 0.0), True)
+SCALAR = Backend("scalar", math.sqrt, math.cos, math.sin, math.atan2, math.tan, lambda x: max(x, 0.0), False)
 
 
 def _is_zero(x: Num) -> bool:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -12,7 +12,8 @@ import yaml
 
 from ._fields import ANGLE_UNITS, LENGTH_UNITS, Entry, Units
 from .errors import SceneError
-from .groups import GROUP_TYPES, JOINT_KINDS, Group, JointExpression
+from .groups import GROUP_TYPES, JOINT_KINDS, RRR, Crank, Group, JointExpression
+from .groups.rrr import CrankFeed
 
 __all__ = ["SceneData", "parse_scene", "read_yaml", "SECTION_PARSERS"]
 
@@ -60,7 +61,8 @@ def parse_scene(data: Any, *, file: str | None, default_name: str = "scene") -> 
     for key, parse in SECTION_PARSERS.items():
         if key in top.data:
             groups.extend(parse(top.child(key, top.raw(key)), units, fixed))
-    groups.extend(_joints(top))
+    groups = _feed_dyads(groups, fixed)
+    groups.extend(_joints(top, _rigid_pairs(groups)))
     _check_names(top, fixed, groups, dim)
     inputs = [g for g in groups if g.drives]
     if len(inputs) != 1:
@@ -129,7 +131,28 @@ def _group(e: Entry, units: Units, fixed: Mapping[str, Any]) -> Group:
     return group
 
 
-def _joints(top: Entry) -> list[Group]:
+def _feed_dyads(groups: list[Group], fixed: Mapping[str, Any]) -> list[Group]:
+    """Tell an RRR dyad driven directly by the crank against a fixed pivot its crank's geometry."""
+    cranks = {g.point: g for g in groups if isinstance(g, Crank)}
+    out: list[Group] = []
+    for g in groups:
+        if isinstance(g, RRR):
+            a, c = g.ends
+            crank, other = (cranks.get(a), c) if a in cranks else (cranks.get(c), a)
+            if crank is not None and other in fixed and isinstance(fixed[other], complex):
+                center = complex(fixed[crank.center])
+                if fixed[other] != center:
+                    g = replace(g, feed=CrankFeed.of(crank.point, center, crank.length, fixed[other]))
+        out.append(g)
+    return out
+
+
+def _rigid_pairs(groups: list[Group]) -> dict[frozenset[str], float]:
+    """Point pairs at a fixed distance on one body, whatever their order."""
+    return {frozenset((p, q)): length for g in groups for p, q, length in g.rigid_pairs() if p != q}
+
+
+def _joints(top: Entry, rigid: Mapping[frozenset[str], float]) -> list[Group]:
     j = top.child("joints", top.raw("joints", {}))
     out: list[Group] = []
     for name in j.data:
@@ -140,7 +163,8 @@ def _joints(top: Entry) -> list[Group]:
         kind = kinds[0]
         count = JOINT_KINDS[kind]
         pts = spec.names(kind, count) if count > 1 else (spec.name(kind),)
-        out.append(JointExpression(name=str(name), expression=kind, points=pts))
+        length = rigid.get(frozenset(pts)) if kind == "angle" else None
+        out.append(JointExpression(name=str(name), expression=kind, points=pts, rigid_length=length))
     return out
 
 

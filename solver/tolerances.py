@@ -29,8 +29,12 @@ EPS: float = float(np.finfo(np.float64).eps)
 #: rounding at a toggle position and is clamped to zero rather than reported as unassemblable.
 ASSEMBLY_SLACK: float = 64 * EPS
 
-#: Conditioning below this is a singular position: the analogs are not defined there.
-SINGULAR: float = 1e6 * EPS
+#: Conditioning below this is a singular position: the analogs are not defined there, or not
+#: resolvable in double precision. Next to a toggle the conditioning grows like √|φ − φ_toggle|,
+#: so one ulp of φ from the toggle already gives about √EPS; 64·√EPS ≈ 1e-6 takes in the samples
+#: within about 1e-12 rad of a toggle, where the analogs (∝ 1/conditioning) would be 1e6 times
+#: their typical size and carry no correct digits.
+SINGULAR: float = 64 * float(np.sqrt(EPS))
 
 #: Conditioning below this is reported as "near singular".
 NEAR_SINGULAR: float = 1e-3

@@ -55,6 +55,9 @@ class Attached(Group):
     def provides(self) -> tuple[str, ...]:
         return (self.point,)
 
+    def rigid_pairs(self) -> tuple[tuple[str, str, float], ...]:
+        return ((self.base, self.point, self.distance),)
+
     def links(self) -> tuple[tuple[str, ...], ...]:
         return ((self.base, self.point),)
 

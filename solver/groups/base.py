@@ -101,6 +101,10 @@ class Group:
         """Provided names that are neither points nor joints: internal values (the vector model's parameters)."""
         return ()
 
+    def rigid_pairs(self) -> tuple[tuple[str, str, float], ...]:
+        """Pairs of points this group keeps at a fixed distance: ``(P, Q, |PQ|)``."""
+        return ()
+
     def input_joint(self) -> str | None:
         """The joint whose coordinate is φ, for the driving group."""
         return None

@@ -45,6 +45,9 @@ class Crank(Group):
     def input_joint(self) -> str:
         return self.joint
 
+    def rigid_pairs(self) -> tuple[tuple[str, str, float], ...]:
+        return ((self.center, self.point, self.length),)
+
     def links(self) -> tuple[tuple[str, ...], ...]:
         return ((self.center, self.point),)
 

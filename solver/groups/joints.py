@@ -4,12 +4,18 @@ angle [P, Q]     θ = arg(Q − P) in (−π, π];  θ' = Im(r'/r),  θ'' = Im(r
 distance [P, Q]  ρ = |Q − P|;  ρ' = ρ·Re(r'/r),  ρ'' = ρ·(Re((r'/r)') + Re(r'/r)²).
 x P, y P         a coordinate of P and its analogs, read directly.
 These are exact consequences of the points' jets (no loop equation of their own).
+
+When P and Q lie on one rigid body at the fixed distance L (a crank, a dyad's link, a point on a
+slotted link), |r| = L identically, so r'/r = jθ' is purely imaginary and the angle's analogs
+reduce to θ' = (r × r')/L², θ'' = (r × r'')/L²: the same values with a third of the arithmetic
+(``rigid_length``, set by the loader from the groups' :meth:`~.base.Group.rigid_pairs`).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+from .._backend import cross
 from ..jet import Jet, angle_of, length_of, sub
 from .base import Context, Group
 
@@ -24,6 +30,7 @@ class JointExpression(Group):
     kind = "joint"
     expression: str  # one of JOINT_KINDS
     points: tuple[str, ...]
+    rigid_length: float | None = None  # |Q − P| when both lie on one rigid body
 
     def requires(self) -> tuple[str, ...]:
         return self.points
@@ -43,6 +50,10 @@ class JointExpression(Group):
             return
         r = sub(vals[self.points[1]], vals[self.points[0]])
         z = r.value
+        if self.rigid_length is not None and self.expression == "angle":
+            inv = 1.0 / (self.rigid_length * self.rigid_length)
+            vals[self.name] = Jet(xp.atan2(z.imag, z.real), cross(z, r.d1) * inv, cross(z, r.d2) * inv)
+            return
         ctx.require(self, z.real * z.real + z.imag * z.imag > 0.0, reason="joins two coincident points")
         vals[self.name] = angle_of(r, xp) if self.expression == "angle" else length_of(r, xp)
 

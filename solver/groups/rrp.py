@@ -58,6 +58,9 @@ class RRP(Group):
     def joints(self) -> tuple[str, ...]:
         return () if self.joint is None else (self.joint,)
 
+    def rigid_pairs(self) -> tuple[tuple[str, str, float], ...]:
+        return ((self.end, self.point, self.length),)
+
     def links(self) -> tuple[tuple[str, ...], ...]:
         return ((self.end, self.point),)
 

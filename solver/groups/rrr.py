@@ -29,7 +29,9 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
+
+import numpy as np
 
 from .._backend import abs2, cross, dot
 from .._fields import Entry, Units
@@ -38,7 +40,22 @@ from ..singular import branch_sign, change_points, refine_singular
 from ..tolerances import ASSEMBLY_SLACK
 from .base import Context, Group
 
-__all__ = ["RRR", "solve_linear"]
+__all__ = ["RRR", "CrankFeed", "solve_linear"]
+
+
+class CrankFeed(NamedTuple):
+    """The crank that drives a dyad's end directly, against the dyad's fixed other end F."""
+
+    point: str  # the crank's moving point A
+    center: complex  # O
+    length: float  # L
+    distance: float  # R = |F − O|
+    turn: complex  # e^{−jθ}/L with θ = arg(F − O)
+
+    @classmethod
+    def of(cls, point: str, center: complex, length: float, fixed: complex) -> CrankFeed:
+        r = fixed - center
+        return cls(point, center, length, abs(r), (r.conjugate() / abs(r)) / length)
 
 
 def solve_linear(p: Any, q: Any, jdet: Any, s1: Any, s2: Any) -> Any:
@@ -58,12 +75,18 @@ class RRR(Group):
     lengths: tuple[float, float]  # |AB|, |CB|
     mode: int  # M = ±1 (with continuous: M on the arc just after φ = 0)
     continuous: bool = False  # through_change_points: continuous
+    #: set when one end is a crank's point A = O + L·e^{jφ} and the other a fixed point F: then
+    #: both factors of h² are evaluated without cancellation next to a toggle (``_fed_factors``)
+    feed: CrankFeed | None = None
 
     def requires(self) -> tuple[str, ...]:
         return self.ends
 
     def provides(self) -> tuple[str, ...]:
         return (self.point,)
+
+    def rigid_pairs(self) -> tuple[tuple[str, str, float], ...]:
+        return ((self.ends[0], self.point, self.lengths[0]), (self.ends[1], self.point, self.lengths[1]))
 
     def links(self) -> tuple[tuple[str, ...], ...]:
         return ((self.ends[0], self.point, self.ends[1]),)
@@ -76,16 +99,22 @@ class RRR(Group):
         d = c_ - a_
         dd = abs2(d)
         ctx.require(self, dd > 0.0, reason="has its two ends on one point")
-        a = (l1 * l1 - l2 * l2 + dd) / (2.0 * dd)
+        half_inv = 0.5 / dd
+        a = (l1 * l1 - l2 * l2 + dd) * half_inv
         # h²·4D⁴ = ((l₁+l₂)² − D²)(D² − (l₁−l₂)²): the factored form is exactly 0 at a toggle
         # whenever D² rounds to the toggle's value (no cancellation in l₁²/D² − a²).
-        h2n = ((l1 + l2) ** 2 - dd) * (dd - (l1 - l2) ** 2)
+        if self.feed is None:
+            h2n = ((l1 + l2) ** 2 - dd) * (dd - (l1 - l2) ** 2)
+        else:
+            f1, f2 = self._fed_factors(vals[self.feed.point].value, xp)
+            h2n = f1 * f2
         # rounding at a toggle can leave h² a few ulps below zero: clamp that, report the rest.
-        ctx.require(self, h2n >= -4.0 * ASSEMBLY_SLACK * (l1 * l1 + l2 * l2) * dd)
-        h = xp.sqrt(h2n * (h2n > 0.0)) / (2.0 * dd)
+        # (the slack is scaled by the largest D² = (l₁+l₂)², a constant: no array work)
+        ctx.require(self, h2n >= -4.0 * ASSEMBLY_SLACK * (l1 * l1 + l2 * l2) * (l1 + l2) ** 2)
+        h = xp.sqrt(xp.clamp0(h2n)) * half_inv
         mode = self.mode if not self.continuous else self.mode * branch_sign(ctx.phi, self.flips(ctx))
-        b = a_ + d * (a - 1j * mode * h)
-        p, q = b - a_, b - c_
+        p = d * (a - 1j * mode * h)  # B − A
+        b, q = a_ + p, p - d  # q = B − C
         det = cross(p, q)
         if xp.vectorised or det != 0.0:
             jdet = 1j / det
@@ -98,6 +127,40 @@ class RRR(Group):
         vals[self.point] = Jet(b, b1, b2)
         ctx.conditioning[self.name] = abs(det) / (l1 * l2)
         refine_singular(ctx, self, (self.point,))
+
+    def _fed_factors(self, crank_point: Any, xp: Any) -> tuple[Any, Any]:
+        """(l₁+l₂)² − D² and D² − (l₁−l₂)² for a crank-fed dyad.
+
+        With R = |F − O|, θ = arg(F − O) and x = φ − θ, D² = (R − L)² + 4LR·sin²(x/2)
+        = (R + L)² − 4LR·cos²(x/2), so each factor is a constant made of differences of the
+        given lengths (exactly 0 for a parallelogram) plus a term proportional to sin²(x/2) or
+        cos²(x/2). Those come from w = e^{jx} = (A − O)·e^{−jθ}/L without cancellation:
+        sin²(x/2) = sin²x / (2(1 + cos x)) where cos x ≥ 0, (1 − cos x)/2 elsewhere, and likewise
+        for cos²(x/2). The rounding of w is then multiplied by sin x in h², so B stays exact to
+        rounding even for φ within 1e-8 of a toggle — where D² computed from coordinates would
+        leave an error of ε·D² under the square root (√ε ≈ 1.5e-8 of the scale in B's position).
+        """
+        feed = self.feed
+        assert feed is not None
+        l1, l2 = self.lengths
+        big_r, crank = feed.distance, feed.length
+        w = (crank_point - feed.center) * feed.turn
+        c, sn = w.real, w.imag
+        sn2 = sn * sn
+        if xp.vectorised:
+            ahead = c >= 0.0
+            sin2 = np.where(ahead, sn2 / (2.0 * (1.0 + c)), 0.5 * (1.0 - c))
+            cos2 = np.where(ahead, 0.5 * (1.0 + c), sn2 / (2.0 * (1.0 - c)))
+        elif c >= 0.0:
+            sin2, cos2 = sn2 / (2.0 * (1.0 + c)), 0.5 * (1.0 + c)
+        else:
+            sin2, cos2 = 0.5 * (1.0 - c), sn2 / (2.0 * (1.0 - c))
+        four_lr = 4.0 * crank * big_r
+        # (l₁+l₂)² − D² = (l₁+l₂)² − (R+L)² + 4LR·cos²(x/2): accurate near the stretched toggle
+        f1 = ((l1 - big_r) + (l2 - crank)) * ((l1 + l2) + (big_r + crank)) + four_lr * cos2
+        # D² − (l₁−l₂)² = (R−L)² − (l₁−l₂)² + 4LR·sin²(x/2): accurate near the folded toggle
+        f2 = ((big_r - l1) - (crank - l2)) * ((big_r + l1) - (crank + l2)) + four_lr * sin2
+        return f1, f2
 
     def flips(self, ctx: Context) -> tuple[float, ...]:
         """The change points where a continuous branch flips M (none without the owning scene)."""

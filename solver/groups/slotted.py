@@ -46,6 +46,9 @@ class Slotted(Group):
     def provides(self) -> tuple[str, ...]:
         return tuple(name for name, _ in self.points)
 
+    def rigid_pairs(self) -> tuple[tuple[str, str, float], ...]:
+        return tuple((self.pivot, name, abs(d)) for name, d in self.points)
+
     def links(self) -> tuple[tuple[str, ...], ...]:
         far = max(self.points, key=lambda p: abs(p[1]))[0]
         return ((self.pivot, self.through, far),)

@@ -118,3 +118,19 @@ def test_keeping_M_through_a_change_point_flags_the_kink_as_undefined() -> None:
 def test_unknown_through_change_points_value_is_a_scene_error() -> None:
     with pytest.raises(solver.SceneError, match=r"through_change_points: must be 'keep' .* or 'continuous'"):
         four_bar(0.1, 0.4, 0.1, 0.4, through="sometimes")
+
+
+@pytest.mark.parametrize("name", ["hard/parallelogram", "hard/antiparallelogram"])
+def test_positions_stay_exact_within_a_hair_of_the_change_points(name: str) -> None:
+    """A crank-fed dyad evaluates D² − (l₁ − l₂)² in closed form in φ, so no √ε loss at a toggle."""
+    scene = solver.load_scene(name)
+    eps = np.array([1e-15, 1e-12, 1e-9, 1e-7])
+    phi = np.concatenate([eps, -eps, np.pi + eps, np.pi - eps])
+    k = scene.solve(phi)
+    a, b = k.point("A").position, k.point("B").position
+    c = np.array([0.4, 0.0])
+    # |AB| = 0.4 and |CB| = 0.1 to rounding: B sits on both circles even beside the toggle
+    np.testing.assert_allclose(np.hypot(*(b - a).T), 0.4, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(np.hypot(*(b - c).T), 0.1, rtol=0, atol=1e-15)
+    if name == "hard/parallelogram":
+        np.testing.assert_allclose(b - a, np.broadcast_to(c, b.shape), rtol=0, atol=1e-15)
