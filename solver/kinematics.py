@@ -124,9 +124,11 @@ class Kinematics:
 
     @property
     def conditioning(self) -> dict[str, Any]:
-        """Per group, its dimensionless conditioning per sample: 1 well conditioned, 0 singular."""
-        if self._conditioning_arrays is None and self.phi.ndim == 0:
-            self._conditioning_arrays = {k: np.float64(v) for k, v in self._conditioning.items()}
+        """Per group, its dimensionless conditioning per sample: 1 well conditioned, 0 singular.
+
+        (N,) arrays for a sweep; plain floats for a scalar φ."""
+        if self.phi.ndim == 0:  # a scalar solve: its floats as they are
+            return self._conditioning  # type: ignore[return-value]
         if self._conditioning_arrays is None:
             shape = self.phi.shape
             self._conditioning_arrays = {

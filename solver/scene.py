@@ -278,11 +278,13 @@ def _scalar_floats(
     out: dict[str, tuple[Any, Any, Any]] = {}
     for p in points:
         z0, z1, z2 = vals[p]
-        v, a = z1 * w, z2 * (w * w) + z1 * e
         if dim == 2:
+            v, a = z1 * w, z2 * (w * w) + z1 * e
             out[p] = ((z0.real, z0.imag), (v.real, v.imag), (a.real, a.imag))
-        else:
-            out[p] = tuple(tuple(np.broadcast_to(x, 3).tolist()) for x in (z0, v, a))  # type: ignore[assignment]
+        elif type(z0) is tuple:  # a spatial group's scalar path gives float triples
+            out[p] = (z0, tuple(x * w for x in z1), tuple(x2 * (w * w) + x1 * e for x1, x2 in zip(z1, z2)))
+        else:  # a fixed spatial point: an array, zero derivatives
+            out[p] = (tuple(np.asarray(z0, float).tolist()), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
     for j in joints:
         q0, q1, q2 = vals[j]
         out[j] = (float(q0), float(q1 * w), float(q2 * (w * w) + q1 * e))

@@ -77,6 +77,16 @@ class SphericalCrankSlider(Group):
         sp, cp = xp.sin(psi), xp.cos(psi)
         r = self.radius
         o = ctx.values[self.center].value
+        if not xp.vectorised:  # one φ: plain floats, no numpy per tick
+            ox, oy, oz = (float(v) for v in o)
+            ry, rz, t1, t2 = r * sp, r * cp, r * psi1, r * (psi1 * psi1)
+            ctx.values[self.point] = Jet(
+                (ox, oy + ry, oz + rz),
+                (0.0, t1 * cp, -t1 * sp),
+                (0.0, r * psi2 * cp - t2 * sp, -r * psi2 * sp - t2 * cp),
+            )
+            ctx.conditioning[self.name] = 1.0
+            return
         zero = 0.0 * psi
         radial = np.stack([zero, sp, cp], axis=-1)  # (…, 3)
         tangent = np.stack([zero, cp, -sp], axis=-1)
