@@ -137,12 +137,6 @@ class Kinematics:
         return self._conditioning_arrays
 
     @property
-    def worst_conditioning(self) -> float:
-        """The smallest conditioning figure of any group at any sample (1.0 when none reports one)."""
-        values = [float(np.min(v)) if np.ndim(v) else float(v) for v in self._conditioning.values()]
-        return min(values, default=1.0)
-
-    @property
     def min_conditioning(self) -> np.ndarray:
         """The worst conditioning over all groups, per sample (1 where no group reports one)."""
         values = list(self.conditioning.values())

@@ -253,15 +253,6 @@ class Scene:
             valid=np.array(not ctx.invalid) if mask else None,
         )
 
-    def assemblable(self, phi: float) -> bool:
-        """Whether every group of the plan can be assembled at the single angle ``phi``."""
-        ctx = Context(phi=float(phi), xp=SCALAR, mask=True)
-        try:
-            self.plan.run(ctx)
-        except (ZeroDivisionError, ValueError):
-            return False
-        return not ctx.invalid
-
     def _intervals(self, group: str) -> list[tuple[float, float]]:
         from .assembly import unassemblable_intervals
 
