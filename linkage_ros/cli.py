@@ -130,7 +130,7 @@ def run_main(argv: Sequence[str] | None = None) -> int:
         return EXIT_ERROR
     data = result.data
     outputs = tuple(points or scene.output_points)
-    for line in summary_lines(data, outputs, tuple(scene.output_joints)):
+    for line in summary_lines(data, outputs, tuple(scene.output_joints), scene.joint_units):
         print(line)
     if set(result.statuses) - {"ok"}:
         print("status: " + ", ".join(f"{k}: {v} ticks" for k, v in sorted(result.statuses.items())))

@@ -85,7 +85,6 @@ def write_csv(scene: Scene, k: Kinematics, out: TextIO) -> None:
 def summary(scene: Scene, k: Kinematics, *, deg: bool = True) -> str:
     """Per output: range, and the extremes of |velocity| and |acceleration| with their φ."""
     phi = k.phi[k.valid]
-    unit = "°" if deg else " rad"
 
     def at(i: int) -> str:
         return f"{math.degrees(phi[i]):.2f}°" if deg else f"{phi[i]:.4f} rad"
@@ -111,11 +110,12 @@ def summary(scene: Scene, k: Kinematics, *, deg: bool = True) -> str:
         if not len(phi):
             break
         iv, ia = int(np.argmax(np.abs(dq))), int(np.argmax(np.abs(ddq)))
-        lines.append(f"  joint {j}: q ∈ [{q.min():.6g}, {q.max():.6g}] (rad or m)")
+        u = scene.joint_units.get(j, "rad")
+        lines.append(f"  joint {j}: q ∈ [{q.min():.6g}, {q.max():.6g}] {u}")
         lines.append(
-            f"    max |dq| = {abs(dq[iv]):.6g} at φ = {at(iv)}; max |ddq| = {abs(ddq[ia]):.6g} at φ = {at(ia)}"
+            f"    max |dq| = {abs(dq[iv]):.6g} {u}/s at φ = {at(iv)}; "
+            f"max |ddq| = {abs(ddq[ia]):.6g} {u}/s² at φ = {at(ia)}"
         )
-    _ = unit
     lines.extend(stability_lines(scene, k))
     return "\n".join(lines)
 

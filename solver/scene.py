@@ -121,6 +121,11 @@ class Scene:
         return tuple(n for g in self.ordered for n in g.joints())
 
     @cached_property
+    def joint_units(self) -> dict[str, str]:
+        """The unit of every joint's coordinate: "rad" or "m"."""
+        return {n: u for g in self.ordered for n, u in g.joint_units().items()}
+
+    @cached_property
     def point_names(self) -> tuple[str, ...]:
         joints = set(self.joint_names) | {n for g in self.ordered for n in g.hidden()}
         provided = [n for g in self.ordered for n in g.provides() if n not in joints]

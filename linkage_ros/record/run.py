@@ -12,7 +12,7 @@ import math
 import signal
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
@@ -230,9 +230,15 @@ def _record_block(recorder: Any, builder: Any, fast: Any, ts: Any,
         recorder.write_serialized(stamp, out)
 
 
-def summary_lines(data: RunData, outputs: Sequence[str], output_joints: Sequence[str]) -> list[str]:
+def summary_lines(
+    data: RunData,
+    outputs: Sequence[str],
+    output_joints: Sequence[str],
+    units: Mapping[str, str] | None = None,
+) -> list[str]:
     """Per output point: range of each coordinate, max |v| and max |a| with t and φ where they
-    occur; per output joint: range, max |velocity| and max |acceleration|."""
+    occur; per output joint: range, max |velocity| and max |acceleration| (``units``: each
+    joint's "rad" or "m", default rad)."""
     lines: list[str] = []
     if data.n == 0:
         return ["no ticks"]
@@ -260,7 +266,8 @@ def summary_lines(data: RunData, outputs: Sequence[str], output_joints: Sequence
             continue
         jp, jv, ja = data.joints[j]
         iv, ia = int(np.argmax(np.abs(jv))), int(np.argmax(np.abs(ja)))
-        lines.append(f"joint {j}: position ∈ [{jp.min() + 0.0:.6g}, {jp.max() + 0.0:.6g}]")
-        lines.append(f"  max |velocity| = {abs(jv[iv]):.6g} {where(iv)}")
-        lines.append(f"  max |acceleration| = {abs(ja[ia]):.6g} {where(ia)}")
+        u = (units or {}).get(j, "rad")
+        lines.append(f"joint {j}: position ∈ [{jp.min() + 0.0:.6g}, {jp.max() + 0.0:.6g}] {u}")
+        lines.append(f"  max |velocity| = {abs(jv[iv]):.6g} {u}/s {where(iv)}")
+        lines.append(f"  max |acceleration| = {abs(ja[ia]):.6g} {u}/s² {where(ia)}")
     return lines

@@ -105,6 +105,10 @@ class Group:
         """Pairs of points this group keeps at a fixed distance: ``(P, Q, |PQ|)``."""
         return ()
 
+    def joint_units(self) -> dict[str, str]:
+        """The unit of each provided joint coordinate: "rad" (the default) or "m"."""
+        return {name: "rad" for name in self.joints()}
+
     def input_joint(self) -> str | None:
         """The joint whose coordinate is φ, for the driving group."""
         return None

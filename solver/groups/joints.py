@@ -41,6 +41,9 @@ class JointExpression(Group):
     def joints(self) -> tuple[str, ...]:
         return (self.name,)
 
+    def joint_units(self) -> dict[str, str]:
+        return {self.name: "rad" if self.expression == "angle" else "m"}
+
     def solve(self, ctx: Context) -> None:
         vals, xp = ctx.values, ctx.xp
         if self.expression in ("x", "y"):

@@ -61,6 +61,9 @@ class RRP(Group):
     def rigid_pairs(self) -> tuple[tuple[str, str, float], ...]:
         return ((self.end, self.point, self.length),)
 
+    def joint_units(self) -> dict[str, str]:
+        return {name: "m" for name in self.joints()}
+
     def links(self) -> tuple[tuple[str, ...], ...]:
         return ((self.end, self.point),)
 

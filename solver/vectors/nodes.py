@@ -92,6 +92,9 @@ class VectorJoint(Group):
     def provides(self) -> tuple[str, ...]:
         return (self.name,)
 
+    def joint_units(self) -> dict[str, str]:
+        return {self.name: "rad" if self.expression == "angle" else "m"}
+
     def joints(self) -> tuple[str, ...]:
         return (self.name,)
 

@@ -153,12 +153,13 @@ def test_summary_gives_range_and_maxima_with_where_they_occur() -> None:
     acc[3] = (0.0, -2.0)
     data = RunData("demo", 2, t, 2 * t, np.ones(5), np.zeros(5), {"P": pos}, {"P": vel},
                    {"P": acc}, {"J": (t, -3 * t, t)}, [], {})
-    lines = summary_lines(data, ["P"], ["J"])
+    lines = summary_lines(data, ["P"], ["J"], {"J": "m"})
     assert lines[0] == "point P: x ∈ [0, 1] m, y ∈ [-1, 0] m"
     assert lines[1].startswith("  max |v| = 5 m/s at t = 0.2500 s, φ = 0.5000 rad")
     assert lines[2].startswith("  max |a| = 2 m/s² at t = 0.7500 s")
-    assert lines[3] == "joint J: position ∈ [0, 1]"
-    assert lines[4].startswith("  max |velocity| = 3 at t = 1.0000 s")
+    assert lines[3] == "joint J: position ∈ [0, 1] m"
+    assert lines[4].startswith("  max |velocity| = 3 m/s at t = 1.0000 s")
+    assert summary_lines(data, ["P"], ["J"])[3] == "joint J: position ∈ [0, 1] rad"
 
 
 def test_cli_writes_default_files_under_runs_and_prints_a_summary(
