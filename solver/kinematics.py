@@ -16,7 +16,7 @@ import numpy as np
 from .errors import SolverError
 from .jet import Jet
 
-__all__ = ["Kinematics", "Motion", "empty_motion", "fill_motion"]
+__all__ = ["Kinematics", "Motion", "MotionRows", "empty_motion", "fill_motion", "motion_rows"]
 
 
 class Motion(NamedTuple):
@@ -42,22 +42,42 @@ def empty_motion(n: int, width: int | None) -> Motion:
     return Motion(np.empty(shape), np.empty(shape), np.empty(shape))
 
 
-def fill_motion(out: Motion, rows: slice, jet: Jet, omega: Any, epsilon: Any, *, planar: bool) -> None:
-    """Write the real motion of ``jet`` for the samples ``rows`` into ``out``.
+class MotionRows(NamedTuple):
+    """Where :func:`fill_motion` writes one output: planar points as complex (N,) views of their
+    (N, 2) arrays, so that a complex jet is copied contiguously; ``spatial`` for (N, 3) points,
+    whose rows take ω and ε as a column."""
+
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    spatial: bool
+
+
+def motion_rows(out: Motion, *, planar: bool) -> MotionRows:
+    """The arrays of ``out`` that :func:`fill_motion` writes (once per solve, not per block)."""
+    if planar:
+        pos, vel, acc = (x.view(np.complex128)[:, 0] for x in out)
+        return MotionRows(pos, vel, acc, False)
+    return MotionRows(out.position, out.velocity, out.acceleration, out.position.ndim == 2)
+
+
+def fill_motion(out: MotionRows, rows: slice, jet: Jet, omega: Any, epsilon: Any) -> None:
+    """Write the real motion of ``jet`` for the samples ``rows`` into ``out``:
+    v = z'·ω, a = z''·ω² + z'·ε.
 
     Planar points are complex jets (written as x, y columns); spatial points (…, 3) real jets;
-    joints real jets.
+    joints real jets. ``omega`` and ``epsilon`` are floats or the rows' (n,) arrays.
     """
     z0, z1, z2 = jet
     w, e = omega, epsilon
-    if not planar and out.position.ndim == 2:  # spatial points: ω, ε per row
+    if out.spatial:  # spatial points: ω, ε per row
         w = omega[:, None] if np.ndim(omega) else omega
         e = epsilon[:, None] if np.ndim(epsilon) else epsilon
-    pos, vel, acc = (x.view(np.complex128)[rows, 0] for x in out) if planar else (x[rows] for x in out)
-    pos[...] = z0
-    np.multiply(z1, w, out=vel)
+    out.position[rows] = z0
+    np.multiply(z1, w, out=out.velocity[rows])
+    acc = out.acceleration[rows]
     np.multiply(z2, w * w, out=acc)
-    if np.ndim(e) or e != 0.0:
+    if type(e) is not float or e != 0.0:
         acc += z1 * e
 
 

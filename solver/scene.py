@@ -22,7 +22,7 @@ from ._backend import NUMPY, SCALAR
 from ._loader import SceneData, parse_scene, read_yaml
 from .errors import AssemblyError, SceneError, SolverError
 from .groups import Context
-from .kinematics import Kinematics, empty_motion, fill_motion
+from .kinematics import Kinematics, empty_motion, fill_motion, motion_rows
 from .plan import Plan, build_plan, order_groups
 
 __all__ = ["Scene", "Link", "load_scene", "find_scene", "shipped_scenes", "scene_dirs", "CHUNK"]
@@ -174,6 +174,8 @@ class Scene:
         returns (dim,) points and 0-d joints; an array takes the vectorised path, in blocks of
         ``CHUNK`` samples so that the temporaries stay in cache.
         """
+        if type(phi) is float and type(omega) is float and type(epsilon) is float:  # the per-tick call
+            return self._solve_scalar(phi, omega, epsilon, mask)
         if _is_scalar(phi) and _is_scalar(omega) and _is_scalar(epsilon):
             return self._solve_scalar(float(phi), float(omega), float(epsilon), mask)
         phi_arr = np.asarray(phi, dtype=float)
@@ -201,31 +203,39 @@ class Scene:
         n = phi.shape[0]
         motions = {p: empty_motion(n, self.dim) for p in self.output_points}
         motions.update({j: empty_motion(n, None) for j in self.output_joints})
+        planar = self.dim == 2
+        # per output, once per solve: the arrays its rows are written to
+        fills = [(p, motion_rows(motions[p], planar=planar)) for p in self.output_points]
+        fills += [(j, motion_rows(motions[j], planar=False)) for j in self.output_joints]
         conditioning: dict[str, np.ndarray] = {}
         valid = np.ones(n, bool) if mask else None
-        planar = self.dim == 2
-        for lo in range(0, max(n, 1), CHUNK):
-            rows = slice(lo, min(lo + CHUNK, n))
-            ctx = Context(
-                phi=phi[rows],
-                xp=NUMPY,
-                mask=mask,
-                scene=self._label,
-                find_intervals=self._intervals,
-                owner=self,
-            )
-            with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        w_block, e_block = np.ndim(omega) != 0, np.ndim(epsilon) != 0
+        w, e = omega, epsilon
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            for lo in range(0, max(n, 1), CHUNK):
+                rows = slice(lo, min(lo + CHUNK, n))
+                ctx = Context(
+                    phi=phi[rows],
+                    xp=NUMPY,
+                    mask=mask,
+                    scene=self._label,
+                    find_intervals=self._intervals,
+                    owner=self,
+                )
                 self.plan.run(ctx)
-                w = omega if np.ndim(omega) == 0 else omega[rows]
-                e = epsilon if np.ndim(epsilon) == 0 else epsilon[rows]
-                for p in self.output_points:
-                    fill_motion(motions[p], rows, ctx.values[p], w, e, planar=planar)
-                for j in self.output_joints:
-                    fill_motion(motions[j], rows, ctx.values[j], w, e, planar=False)
-            for name, c in ctx.conditioning.items():
-                conditioning.setdefault(name, np.empty(n))[rows] = c
-            if valid is not None:
-                valid[rows] = ~np.broadcast_to(ctx.invalid, (rows.stop - rows.start,))
+                if w_block:
+                    w = omega[rows]
+                if e_block:
+                    e = epsilon[rows]
+                values = ctx.values
+                for name, targets in fills:
+                    fill_motion(targets, rows, values[name], w, e)
+                for name, c in ctx.conditioning.items():
+                    if name not in conditioning:
+                        conditioning[name] = np.empty(n)
+                    conditioning[name][rows] = c
+                if valid is not None:
+                    valid[rows] = ~np.broadcast_to(ctx.invalid, (rows.stop - rows.start,))
         return Kinematics(
             phi=phi,
             omega=np.broadcast_to(omega, phi.shape),
@@ -272,18 +282,19 @@ def _scalar_floats(
 ) -> dict[str, tuple[Any, Any, Any]]:
     """Real motion of every output at one φ as Python floats: no numpy call at all."""
     out: dict[str, tuple[Any, Any, Any]] = {}
+    ww = w * w
     for p in points:
         z0, z1, z2 = vals[p]
         if dim == 2:
-            v, a = z1 * w, z2 * (w * w) + z1 * e
+            v, a = z1 * w, z2 * ww + z1 * e
             out[p] = ((z0.real, z0.imag), (v.real, v.imag), (a.real, a.imag))
         elif type(z0) is tuple:  # a spatial group's scalar path gives float triples
-            out[p] = (z0, tuple(x * w for x in z1), tuple(x2 * (w * w) + x1 * e for x1, x2 in zip(z1, z2)))
+            out[p] = (z0, tuple(x * w for x in z1), tuple(x2 * ww + x1 * e for x1, x2 in zip(z1, z2)))
         else:  # a fixed spatial point: an array, zero derivatives
             out[p] = (tuple(np.asarray(z0, float).tolist()), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
     for j in joints:
         q0, q1, q2 = vals[j]
-        out[j] = (float(q0), float(q1 * w), float(q2 * (w * w) + q1 * e))
+        out[j] = (float(q0), float(q1 * w), float(q2 * ww + q1 * e))
     return out
 
 

@@ -54,8 +54,9 @@ class Crank(Group):
     def solve(self, ctx: Context) -> None:
         xp, phi = ctx.xp, ctx.phi
         o = ctx.values[self.center].value
-        arm = self.length * xp.cis(phi)
-        ctx.values[self.point] = Jet(o + arm, 1j * arm, -arm)
+        arm = xp.cis(phi)
+        arm *= self.length  # in place on the fresh e^{jφ} (the same product as L·e^{jφ})
+        ctx.values[self.point] = Jet(o + arm, 1j * arm, xp.negative(arm))
         ctx.values[self.joint] = Jet(phi, 1.0, 0.0)
 
     @classmethod

@@ -55,7 +55,10 @@ class JointExpression(Group):
         z = r.value
         if self.rigid_length is not None and self.expression == "angle":
             inv = 1.0 / (self.rigid_length * self.rigid_length)
-            vals[self.name] = Jet(xp.atan2(z.imag, z.real), cross(z, r.d1) * inv, cross(z, r.d2) * inv)
+            theta1, theta2 = cross(z, r.d1), cross(z, r.d2)
+            theta1 *= inv  # in place on the fresh cross products
+            theta2 *= inv
+            vals[self.name] = Jet(xp.arg(z), theta1, theta2)
             return
         ctx.require(self, z.real * z.real + z.imag * z.imag > 0.0, reason="joins two coincident points")
         vals[self.name] = angle_of(r, xp) if self.expression == "angle" else length_of(r, xp)

@@ -33,7 +33,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from .._backend import abs2, cross, dot
+from .._backend import abs2, cross, dot, minus
 from .._fields import Entry, Units
 from ..jet import Jet
 from ..singular import branch_sign, change_points, refine_singular
@@ -61,10 +61,29 @@ class CrankFeed(NamedTuple):
 def solve_linear(p: Any, q: Any, jdet: Any, s1: Any, s2: Any) -> Any:
     """The planar vector X with X·p = s₁ and X·q = s₂, given ``jdet = j/(p × q)``."""
     if isinstance(s2, float) and s2 == 0.0:
-        return -s1 * q * jdet
-    if isinstance(s1, float) and s1 == 0.0:
-        return s2 * p * jdet
-    return (s2 * p - s1 * q) * jdet
+        x = -s1 * q
+    elif isinstance(s1, float) and s1 == 0.0:
+        x = s2 * p
+    else:
+        x = s2 * p
+        x -= s1 * q
+    x *= jdet  # in place on the fresh product (the same order of operations as (…)·jdet)
+    return x
+
+
+#: The smallest normal double: for |det| ≥ this, 1/det is finite.
+_NORMAL = float(np.finfo(float).tiny)
+
+
+def _j_over(det: np.ndarray) -> np.ndarray:
+    """``j/det`` for a real array with every |det| ≥ ``_NORMAL`` (±∞ included), in two real
+    divisions instead of one complex division: there numpy's complex division gives exactly
+    (0/det, 1/det), signed zeros included. (Below, or at NaN, it gives NaN or ∞ parts that this
+    would not reproduce: the caller divides as before.)"""
+    out = np.empty(det.shape, np.complex128)
+    np.divide(0.0, det, out=out.real)
+    np.divide(1.0, det, out=out.imag)
+    return out
 
 
 @dataclass(frozen=True)
@@ -92,6 +111,9 @@ class RRR(Group):
         return ((self.ends[0], self.point, self.ends[1]),)
 
     def solve(self, ctx: Context) -> None:
+        # Written so that every array temporary is fresh and reused in place (augmented
+        # assignments, ``out=``): the same operations in the same order as the formulas above,
+        # so the same bits, with fewer allocations. Never write into a jet from ``ctx.values``.
         xp, vals = ctx.xp, ctx.values
         ja, jc = vals[self.ends[0]], vals[self.ends[1]]
         l1, l2 = self.lengths
@@ -100,32 +122,46 @@ class RRR(Group):
         dd = abs2(d)
         ctx.require(self, dd > 0.0, reason="has its two ends on one point")
         half_inv = 0.5 / dd
-        a = (l1 * l1 - l2 * l2 + dd) * half_inv
+        a = l1 * l1 - l2 * l2 + dd
+        a *= half_inv
         # h²·4D⁴ = ((l₁+l₂)² − D²)(D² − (l₁−l₂)²): the factored form is exactly 0 at a toggle
         # whenever D² rounds to the toggle's value (no cancellation in l₁²/D² − a²).
         if self.feed is None:
-            h2n = ((l1 + l2) ** 2 - dd) * (dd - (l1 - l2) ** 2)
+            h2n = (l1 + l2) ** 2 - dd
+            h2n *= dd - (l1 - l2) ** 2
         else:
-            f1, f2 = self._fed_factors(vals[self.feed.point].value, xp)
-            h2n = f1 * f2
+            h2n, f2 = self._fed_factors(vals[self.feed.point].value, xp)
+            h2n *= f2
         # rounding at a toggle can leave h² a few ulps below zero: clamp that, report the rest.
         # (the slack is scaled by the largest D² = (l₁+l₂)², a constant: no array work)
         ctx.require(self, h2n >= -4.0 * ASSEMBLY_SLACK * (l1 * l1 + l2 * l2) * (l1 + l2) ** 2)
-        h = xp.sqrt(xp.clamp0(h2n)) * half_inv
+        h = xp.sqrt0(h2n)
+        h *= half_inv
         mode = self.mode if not self.continuous else self.mode * branch_sign(ctx.phi, self.flips(ctx))
-        p = d * (a - 1j * mode * h)  # B − A
+        p: Any
+        if isinstance(h, np.ndarray) and h.ndim:  # p = d·(a − j·M·h), in one complex temporary
+            p = np.multiply(1j * mode, h)
+            np.multiply(d, np.subtract(a, p, out=p), out=p)
+        else:
+            p = d * (a - 1j * mode * h)  # B − A
         b, q = a_ + p, p - d  # q = B − C
         det = cross(p, q)
-        if xp.vectorised or det != 0.0:
+        cond = abs(det)
+        jdet: Any
+        if isinstance(det, np.ndarray):
+            jdet = _j_over(det) if det.size and cond.min() >= _NORMAL else 1j / det
+        elif xp.vectorised or det != 0.0:
             jdet = 1j / det
         else:  # an exact toggle on the scalar path: the limit is taken below
             jdet = complex(math.nan, math.nan)
         b1 = solve_linear(p, q, jdet, dot(ja.d1, p), dot(jc.d1, q))
-        s1 = dot(ja.d2, p) - abs2(b1 - ja.d1)
-        s2 = dot(jc.d2, q) - abs2(b1 - jc.d1)
+        s1 = dot(ja.d2, p)
+        s1 -= abs2(minus(b1, ja.d1))
+        s2 = dot(jc.d2, q) - abs2(minus(b1, jc.d1))
         b2 = solve_linear(p, q, jdet, s1, s2)
         vals[self.point] = Jet(b, b1, b2)
-        ctx.conditioning[self.name] = abs(det) / (l1 * l2)
+        cond /= l1 * l2
+        ctx.conditioning[self.name] = cond
         refine_singular(ctx, self, (self.point,))
 
     def _fed_factors(self, crank_point: Any, xp: Any) -> tuple[Any, Any]:
@@ -147,19 +183,26 @@ class RRR(Group):
         w = (crank_point - feed.center) * feed.turn
         c, sn = w.real, w.imag
         sn2 = sn * sn
-        if xp.vectorised:
+        if xp.vectorised:  # each branch evaluated only where it is taken (``where=``)
             ahead = c >= 0.0
-            sin2 = np.where(ahead, sn2 / (2.0 * (1.0 + c)), 0.5 * (1.0 - c))
-            cos2 = np.where(ahead, 0.5 * (1.0 + c), sn2 / (2.0 * (1.0 - c)))
+            opc, omc = 1.0 + c, 1.0 - c
+            sin2 = 0.5 * omc
+            cos2 = 0.5 * opc
+            opc *= 2.0
+            omc *= 2.0
+            np.divide(sn2, opc, out=sin2, where=ahead)
+            np.divide(sn2, omc, out=cos2, where=~ahead)
         elif c >= 0.0:
             sin2, cos2 = sn2 / (2.0 * (1.0 + c)), 0.5 * (1.0 + c)
         else:
             sin2, cos2 = 0.5 * (1.0 - c), sn2 / (2.0 * (1.0 - c))
         four_lr = 4.0 * crank * big_r
         # (l₁+l₂)² − D² = (l₁+l₂)² − (R+L)² + 4LR·cos²(x/2): accurate near the stretched toggle
-        f1 = ((l1 - big_r) + (l2 - crank)) * ((l1 + l2) + (big_r + crank)) + four_lr * cos2
+        f1 = four_lr * cos2
+        f1 += ((l1 - big_r) + (l2 - crank)) * ((l1 + l2) + (big_r + crank))
         # D² − (l₁−l₂)² = (R−L)² − (l₁−l₂)² + 4LR·sin²(x/2): accurate near the folded toggle
-        f2 = ((big_r - l1) - (crank - l2)) * ((big_r + l1) - (crank + l2)) + four_lr * sin2
+        f2 = four_lr * sin2
+        f2 += ((big_r - l1) - (crank - l2)) * ((big_r + l1) - (crank + l2))
         return f1, f2
 
     def flips(self, ctx: Context) -> tuple[float, ...]:

@@ -108,4 +108,4 @@ class VectorJoint(Group):
             return
         j = unit_jet(self.ref, ctx.values)
         u = j.value
-        ctx.values[self.name] = Jet(ctx.xp.atan2(u.imag, u.real), j.d1, j.d2)
+        ctx.values[self.name] = Jet(ctx.xp.arg(u), j.d1, j.d2)
