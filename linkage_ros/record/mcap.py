@@ -272,7 +272,6 @@ class McapContents:
                 if c.schema_id in self.schemas}
 
 
-OPCODE_CHUNK = 0x06
 OPCODE_MESSAGE_INDEX = 0x07
 OPCODE_MESSAGE = 0x05
 MESSAGE_HEAD = struct.Struct("<HIQQ")  # channel id, sequence, log time, publish time
