@@ -39,6 +39,9 @@ setup(
     extras_require={
         # MCAP recording works with numpy 1.26 (ROS 2 Jazzy's); the rerun view needs numpy >= 2
         "record": ["rosbags>=0.10", "mcap>=1.2", "mcap-ros2-support>=0.5"],
+        # the real ROS 2 Jazzy (rclpy with Fast DDS, the message packages) as wheels, for
+        # mechanism_node outside a ROS install; rosbags serialises the node's messages
+        "ros": ["ros-jazzy-rclpy[fastrtps]", "ros-jazzy-common-interfaces", "rosbags>=0.10"],
         "view": ["rerun-sdk>=0.41,<0.42"],
         "test": [
             "pytest>=8",
@@ -67,6 +70,7 @@ setup(
             "linkage-view = linkage_ros.cli:view_main",
             "linkage-mcap = linkage_ros.cli:mcap_main",
             "linkage-urdf = linkage_ros.urdf:main",
+            "linkage-echo = linkage_ros.echo:main",
         ],
     },
 )

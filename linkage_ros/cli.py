@@ -6,7 +6,10 @@
   cut short by a crash).
 * ``linkage-mcap recover BROKEN.mcap FIXED.mcap`` and ``linkage-mcap info RUN.mcap``.
 
-Each ``*_main`` returns the exit status (0 ok, 1 runtime error, 2 bad input, 130 interrupted).
+Each ``*_main`` returns the exit status (0 ok, 1 runtime error, 2 bad input, 130 interrupted,
+141 when the reader of its output went away, e.g. ``| head``). A bad command line, scene or
+output path is one line on stderr. Only the default ``runs/`` folder is created; an explicit
+output path must be a file name in an existing folder.
 """
 
 from __future__ import annotations
@@ -18,11 +21,16 @@ import sys
 import time
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
+
+from solver._cmdline import Parser, check_output, finite, one_line, positive, quiet_pipe
 
 __all__ = ["mcap_main", "run_main", "view_main"]
 
 RUNS_DIR = Path("runs")
 EXIT_OK, EXIT_ERROR, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
+MAX_TICKS = 10_000_000
+"""Most ticks of one run (every tick is kept in memory for the rerun view and the summary)."""
 
 
 NO_RERUN = (
@@ -35,33 +43,31 @@ def _have_rerun() -> bool:
     return importlib.util.find_spec("rerun") is not None
 
 
-def _err(msg: str) -> None:
-    print(f"error: {msg}", file=sys.stderr)
+def _err(msg: str, prog: str = "linkage") -> None:
+    print(f"{prog}: error: {one_line(msg)}", file=sys.stderr)
 
 
-def _finite(text: str) -> float:
-    value = float(text)
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"not a finite number: {text!r}")
-    return value
+def _os_error(exc: OSError) -> str:
+    name = f"{exc.filename}: " if exc.filename else ""
+    return f"{name}{exc.strerror or exc}"
 
 
 def _run_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = Parser(
         prog="linkage-run",
         description="Run a mechanism on simulated time without ROS: record the node's topics "
                     "to MCAP (rosbag2 profile) and the motion to a rerun recording.")
     p.add_argument("scene", help="scene file, or the name of a shipped scene (e.g. harvester_finger)")
     span = p.add_mutually_exclusive_group()
-    span.add_argument("--duration", type=_finite, metavar="S", help="simulated seconds")
-    span.add_argument("--cycles", type=_finite, metavar="N",
-                      help="turns of the input (default 1 when --duration is not given)")
-    p.add_argument("--rate", type=_finite, default=100.0, metavar="HZ", help="ticks per second (100)")
-    p.add_argument("--omega", type=_finite, default=2 * math.pi, metavar="W",
+    span.add_argument("--duration", type=positive, metavar="S", help="simulated seconds (> 0)")
+    span.add_argument("--cycles", type=positive, metavar="N",
+                      help="turns of the input (> 0; default 1 when --duration is not given)")
+    p.add_argument("--rate", type=positive, default=100.0, metavar="HZ", help="ticks per second (100)")
+    p.add_argument("--omega", type=finite, default=2 * math.pi, metavar="W",
                    help="input angular velocity, rad/s (2π: one turn per second)")
-    p.add_argument("--epsilon", type=_finite, default=0.0, metavar="E",
+    p.add_argument("--epsilon", type=finite, default=0.0, metavar="E",
                    help="input angular acceleration, rad/s² (0)")
-    p.add_argument("--phi0", type=_finite, default=0.0, metavar="RAD", help="input angle at t = 0")
+    p.add_argument("--phi0", type=finite, default=0.0, metavar="RAD", help="input angle at t = 0")
     p.add_argument("--points", metavar="P,Q", help="published points (default: the scene's outputs)")
     p.add_argument("--on-unassemblable", choices=("stop", "reverse"), default="stop")
     p.add_argument("--mcap", type=Path, metavar="FILE",
@@ -73,13 +79,43 @@ def _run_parser() -> argparse.ArgumentParser:
     p.add_argument("--spawn", action="store_true", help="also show the run in a rerun viewer")
     p.add_argument("--frame-id", default="world")
     p.add_argument("--namespace", default="/", help="node namespace of the recorded topics (/)")
-    p.add_argument("--chunk-interval", type=_finite, default=1.0, metavar="S",
+    p.add_argument("--chunk-interval", type=positive, default=1.0, metavar="S",
                    help="close and flush an MCAP chunk at least this often (1 s)")
     p.add_argument("--no-fast", action="store_true",
                    help="build and serialise every message through the builder (slower)")
     return p
 
 
+def _run_outputs(args: argparse.Namespace, stem: str) -> tuple[Path | None, Path | None]:
+    """The MCAP and rerun paths: explicit ones checked (no folder created), defaults under runs/."""
+    mcap = None if args.no_mcap else args.mcap
+    rrd = None if args.no_rrd else args.rrd
+    for path, flag in ((mcap, "--mcap"), (rrd, "--rrd")):
+        if path is not None:
+            check_output(path, flag)
+    if mcap is not None and rrd is not None and Path(mcap).resolve() == Path(rrd).resolve():
+        raise ValueError(f"--mcap and --rrd name the same file {mcap}")
+    if (not args.no_mcap and mcap is None) or (not args.no_rrd and rrd is None):
+        if RUNS_DIR.exists() and not RUNS_DIR.is_dir():
+            raise ValueError(f"{RUNS_DIR} is a file, not the folder for the default outputs")
+    if not args.no_mcap and mcap is None:
+        mcap = RUNS_DIR / f"{stem}.mcap"
+    if not args.no_rrd and rrd is None:
+        rrd = RUNS_DIR / f"{stem}.rrd"
+    return mcap, rrd
+
+
+def _duration(args: argparse.Namespace, duration_for_cycles: Any) -> float:
+    if args.duration is not None:
+        return float(args.duration)
+    if args.omega == 0.0 and args.epsilon == 0.0:
+        what = f"--cycles {args.cycles:g}" if args.cycles is not None else "the default one turn"
+        raise ValueError(f"with --omega 0 and --epsilon 0 the input never turns, so {what} never ends: "
+                         "give --duration S (or a non-zero --omega / --epsilon)")
+    return float(duration_for_cycles(args.cycles if args.cycles is not None else 1.0, args.omega, args.epsilon))
+
+
+@quiet_pipe
 def run_main(argv: Sequence[str] | None = None) -> int:
     """``linkage-run``."""
     args = _run_parser().parse_args(argv)
@@ -92,45 +128,63 @@ def run_main(argv: Sequence[str] | None = None) -> int:
             summary_lines,
         )
     except ImportError as exc:  # pragma: no cover - missing extra
-        _err(f"{exc}; install the record extra: pip install 'linkage_ros[record]'")
+        _err(f"{exc}; install the record extra: pip install 'linkage_ros[record]'", "linkage-run")
         return EXIT_ERROR
-    try:
+    points = [p.strip() for p in args.points.split(",") if p.strip()] if args.points else None
+    try:  # everything the command line says is checked before the run starts
+        duration = _duration(args, duration_for_cycles)
+        ticks = math.floor(duration * args.rate * (1 + 1e-12)) + 1
+        if ticks > MAX_TICKS:
+            raise ValueError(f"{duration:g} s at {args.rate:g} Hz is {ticks:,} ticks: at most {MAX_TICKS:,} "
+                             "in one run (a shorter --duration or a lower --rate)")
         scene = solver.load_scene(args.scene)
-        duration = (args.duration if args.duration is not None else
-                    duration_for_cycles(args.cycles if args.cycles is not None else 1.0,
-                                        args.omega, args.epsilon))
-    except (solver.SolverError, ValueError, OSError) as exc:
-        _err(str(exc))
+        for p in points or ():
+            if p not in scene.point_names:
+                raise ValueError(f"--points: '{p}' is not a point of {scene.name}; "
+                                 f"points: {', '.join(scene.point_names)}")
+        stem = f"{scene.name.replace('/', '_')}-{time.strftime('%Y%m%d-%H%M%S')}"
+        mcap, rrd = _run_outputs(args, stem)
+    except (solver.SolverError, ValueError) as exc:
+        _err(str(exc), "linkage-run")
         return EXIT_USAGE
-    stem = f"{scene.name}-{time.strftime('%Y%m%d-%H%M%S')}"
-    mcap = None if args.no_mcap else (args.mcap or RUNS_DIR / f"{stem}.mcap")
-    rrd = None if args.no_rrd else (args.rrd or RUNS_DIR / f"{stem}.rrd")
+    except OSError as exc:
+        _err(_os_error(exc), "linkage-run")
+        return EXIT_USAGE
     if (rrd is not None or args.spawn) and not _have_rerun():
         if args.rrd is not None or args.spawn:
-            _err(NO_RERUN)
+            _err(NO_RERUN, "linkage-run")
             return EXIT_USAGE
         print(f"note: {NO_RERUN}; no .rrd written", file=sys.stderr)
         rrd = None
-    points = [p.strip() for p in args.points.split(",") if p.strip()] if args.points else None
+    for default in (mcap, rrd):
+        if default is not None and default.parent == RUNS_DIR:
+            RUNS_DIR.mkdir(exist_ok=True)  # the one folder made on the user's behalf
     opts = RunOptions(
         scene=args.scene, duration=duration, rate=args.rate, omega=args.omega,
         epsilon=args.epsilon, phi0=args.phi0, mcap=mcap, rrd=rrd, spawn=args.spawn,
         points=points, on_unassemblable=args.on_unassemblable, frame_id=args.frame_id,
         namespace=args.namespace, chunk_interval_s=args.chunk_interval, fast=not args.no_fast)
-    print(f"{scene.name}: {duration:g} s at {args.rate:g} Hz, ω = {args.omega:g} rad/s, "
-          f"ε = {args.epsilon:g} rad/s², φ0 = {args.phi0:g} rad", flush=True)
+    from solver.summary import motion_line
+
+    print(f"scene {scene.name}: {duration:g} s of simulated time at {args.rate:g} Hz ({ticks} ticks), input "
+          f"'{scene.input_joint}' from φ0 = {math.degrees(args.phi0):g}°; {motion_line(args.omega, args.epsilon)}",
+          flush=True)
     tty = sys.stderr if sys.stderr.isatty() else None
     try:
         result = run_standalone(opts, progress=tty)
     except (solver.SolverError, ValueError, KeyError) as exc:
-        _err(str(exc))
+        _err(str(exc), "linkage-run")
         return EXIT_USAGE
-    except (OSError, RuntimeError) as exc:
-        _err(str(exc))
+    except OSError as exc:
+        _err(_os_error(exc), "linkage-run")
+        return EXIT_ERROR
+    except RuntimeError as exc:
+        _err(str(exc), "linkage-run")
         return EXIT_ERROR
     data = result.data
     outputs = tuple(points or scene.output_points)
-    for line in summary_lines(data, outputs, tuple(scene.output_joints), scene.joint_units):
+    for line in summary_lines(data, outputs, tuple(scene.output_joints), scene.joint_units,
+                              descriptions=getattr(scene, "descriptions", {})):
         print(line)
     if set(result.statuses) - {"ok"}:
         print("status: " + ", ".join(f"{k}: {v} ticks" for k, v in sorted(result.statuses.items())))
@@ -140,9 +194,11 @@ def run_main(argv: Sequence[str] | None = None) -> int:
     if rrd is not None:
         print(f"rerun: {rrd}  (view: rerun {rrd})")
     if result.arrow_scales:
-        print(f"arrows: v × {result.arrow_scales['velocity']:g} s, "
-              f"a × {result.arrow_scales['acceleration']:g} s²")
-    print(f"{result.ticks} ticks in {secs['total']:.2f} s")
+        sv, sa = result.arrow_scales["velocity"], result.arrow_scales["acceleration"]
+        print(f"arrows in the rerun view: velocity drawn as v × {sv:g} s (1 m/s is an arrow {sv:g} m long), "
+              f"acceleration as a × {sa:g} s² (1 m/s² is {sa:g} m long)")
+    simulated = float(data.t[-1] - data.t[0]) if data.n else 0.0
+    print(f"{result.ticks} ticks in {secs['total']:.2f} s of wall-clock time ({simulated:g} s simulated)")
     if result.interrupted:
         print(f"interrupted at t = {data.t[-1] if data.n else 0.0:g} s; files finished",
               file=sys.stderr)
@@ -150,33 +206,57 @@ def run_main(argv: Sequence[str] | None = None) -> int:
     return EXIT_OK
 
 
+def _check_input(path: Path, what: str) -> None:
+    if not path.exists():
+        raise ValueError(f"{path}: no such file")
+    if path.is_dir():
+        raise ValueError(f"{path}: is a directory, not {what}")
+
+
+@quiet_pipe
 def view_main(argv: Sequence[str] | None = None) -> int:
     """``linkage-view``."""
-    p = argparse.ArgumentParser(
+    p = Parser(
         prog="linkage-view",
         description="Turn a recorded MCAP run into the rerun view (from the messages, without "
                     "solving again); works on files cut short by a crash.")
     p.add_argument("mcap", type=Path, help="recorded run (.mcap)")
     p.add_argument("-o", "--output", type=Path, metavar="RUN.rrd",
-                   help="rerun file to write (default: next to the MCAP, .rrd)")
+                   help="rerun file to write (default: next to the MCAP, RUN.view.rrd, so that the "
+                        ".rrd linkage-run wrote beside it is kept)")
     p.add_argument("--spawn", action="store_true", help="show it in a rerun viewer")
     args = p.parse_args(argv)
+    out = args.output or (None if args.spawn else args.mcap.with_suffix(".view.rrd"))
+    try:
+        _check_input(args.mcap, "an MCAP file")
+        if out is not None:
+            check_output(out, "-o" if args.output else "output")
+            if out.resolve() == args.mcap.resolve():
+                raise ValueError(f"-o {out}: that is the MCAP file being read")
+    except ValueError as exc:
+        _err(str(exc), "linkage-view")
+        return EXIT_USAGE
     if not _have_rerun():
-        _err(NO_RERUN)
+        _err(NO_RERUN, "linkage-view")
         return EXIT_USAGE
     from linkage_ros.record.replay import run_data_from_mcap
     from linkage_ros.record.rerun import write_rrd
 
     try:
         data, contents = run_data_from_mcap(args.mcap)
-    except (OSError, ValueError, KeyError) as exc:
-        _err(f"{args.mcap}: {exc}")
+    except OSError as exc:
+        _err(_os_error(exc), "linkage-view")
         return EXIT_USAGE
-    out = args.output or (None if args.spawn else args.mcap.with_suffix(".rrd"))
+    except (ValueError, KeyError, IndexError, TypeError) as exc:
+        _err(f"{args.mcap}: not a readable linkage_ros recording ({one_line(str(exc), 200)})", "linkage-view")
+        return EXIT_USAGE
     try:
         write_rrd(data, out, spawn=args.spawn)
+    except OSError as exc:
+        _err(_os_error(exc), "linkage-view")
+        return EXIT_ERROR
     except RuntimeError as exc:
-        _err(str(exc))
+        _err(str(exc), "linkage-view")
         return EXIT_ERROR
     state = "finished" if contents.complete else "cut short (no footer), read up to the last chunk"
     print(f"{args.mcap}: {state}; {contents.message_count} messages, {data.n} ticks, "
@@ -186,9 +266,10 @@ def view_main(argv: Sequence[str] | None = None) -> int:
     return EXIT_OK
 
 
+@quiet_pipe
 def mcap_main(argv: Sequence[str] | None = None) -> int:
     """``linkage-mcap``."""
-    p = argparse.ArgumentParser(prog="linkage-mcap", description="Inspect and repair MCAP runs.")
+    p = Parser(prog="linkage-mcap", description="Inspect and repair MCAP runs.")
     sub = p.add_subparsers(dest="command", required=True)
     rec = sub.add_parser("recover", help="write a valid, finished copy of a file cut short")
     rec.add_argument("broken", type=Path)
@@ -200,15 +281,23 @@ def mcap_main(argv: Sequence[str] | None = None) -> int:
 
     try:
         if args.command == "recover":
+            _check_input(args.broken, "an MCAP file")
+            check_output(args.fixed, "FIXED")
+            if args.fixed.resolve() == args.broken.resolve():
+                raise ValueError(f"{args.fixed}: write the recovered copy to another file than the broken one")
             contents = recover(args.broken, args.fixed)
             lost = contents.size - contents.valid_bytes
             print(f"{args.fixed}: {len(contents.messages)} messages on "
                   f"{len(contents.channels)} topics recovered "
                   f"({'the file was finished' if contents.complete else f'{lost} bytes cut'})")
             return EXIT_OK
+        _check_input(args.file, "an MCAP file")
         contents = read_mcap(args.file)
-    except (OSError, ValueError) as exc:
-        _err(str(exc))
+    except OSError as exc:
+        _err(_os_error(exc), "linkage-mcap")
+        return EXIT_USAGE
+    except (ValueError, KeyError, IndexError) as exc:
+        _err(f"{args.file if args.command == 'info' else args.broken}: {exc}", "linkage-mcap")
         return EXIT_USAGE
     header = contents.header
     print(f"{args.file}: profile {header.profile if header else '?'}, "

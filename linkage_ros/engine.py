@@ -28,7 +28,7 @@ import solver
 from solver.errors import AssemblyError, SceneError, format_intervals
 from solver.tolerances import NEAR_SINGULAR
 
-from .motion import SEGMENT_HOLD, Motion
+from .motion import SEGMENT_HOLD, Motion, Motions
 
 __all__ = [
     "ON_UNASSEMBLABLE",
@@ -134,13 +134,27 @@ class Engine:
         self.point_names: tuple[str, ...] = tuple(scene.point_names)
         self.joint_names: tuple[str, ...] = tuple(scene.joint_names)
         self._full = scene.with_outputs(points=self.point_names, joints=self.joint_names)
-        start = motion.segments[0]
+        #: The input joints; with several (docs/inputs.md) ``motion`` is a
+        #: :class:`~linkage_ros.motion.Motions` and a frame's phi, omega, epsilon are k-tuples.
+        self.inputs: tuple[str, ...] = tuple(getattr(scene, "inputs", (scene.input_joint,)))
+        if (len(self.inputs) > 1) != isinstance(motion, Motions) or (
+            isinstance(motion, Motions) and len(motion) != len(self.inputs)
+        ):
+            raise ValueError(
+                f"scene '{scene.name}' has {len(self.inputs)} input(s) ({', '.join(self.inputs)}): give "
+                + ("a Motion" if len(self.inputs) == 1 else f"Motions of {len(self.inputs)} laws, one per input")
+            )
+        if isinstance(motion, Motions):
+            t0, phi0, omega0, eps0 = motion.start()
+        else:
+            start = motion.segments[0]
+            t0, phi0, omega0, eps0 = start.t0, start.phi0, start.omega0, start.epsilon
         self._event_message = ""
-        first = self._tick(start.t0, start.phi0, start.omega0, start.epsilon)
+        first = self._tick(t0, phi0, omega0, eps0)
         if not isinstance(first, Frame):
             raise first
-        self._last_valid_t = start.t0
-        self.paths: dict[str, NDArray[np.float64]] = self._paths(start.phi0, path_samples)
+        self._last_valid_t = t0
+        self.paths: dict[str, NDArray[np.float64]] = self._paths(phi0, path_samples)
 
     # ------------------------------------------------------------------ one tick
     def frame(self, t: float) -> Frame:
@@ -154,13 +168,23 @@ class Engine:
             return result
         return self._unassemblable(t, phi, omega, result)
 
-    def _tick(self, t: float, phi: float, omega: float, eps: float) -> Frame | AssemblyError:
-        """One solve at a scalar φ: the frame, or the reason it has none."""
+    def frame_at(self, phi: float, omega: float, epsilon: float, *, t: float = 0.0) -> Frame | AssemblyError:
+        """The frame at an input state given from outside (topic mode, :mod:`linkage_ros.relay`),
+        not from the motion law: no hold or reverse; where the mechanism cannot be assembled (or
+        the solve is not finite) the :class:`solver.AssemblyError` is returned, not raised."""
+        return self._tick(float(t), float(phi), float(omega), float(epsilon), holding=False)
+
+    def _tick(
+        self, t: float, phi: float, omega: float, eps: float, *, holding: bool | None = None
+    ) -> Frame | AssemblyError:
+        """One solve at a scalar φ: the frame, or the reason it has none (``holding``: whether
+        the frame is a hold of the motion; None: ask the motion)."""
         try:
             k = self._full.solve(phi, omega=omega, epsilon=eps)
         except AssemblyError as error:
             return error
-        holding = self.motion.segment_at(t).tag == SEGMENT_HOLD
+        if holding is None:
+            holding = self.motion.segment_at(t).tag == SEGMENT_HOLD
         frame = self._make_frame(t, phi, omega, eps, k, None, holding=holding)
         total = _finite_sum(frame)
         if not math.isfinite(total):
@@ -170,7 +194,7 @@ class Engine:
     def _unassemblable(self, t: float, phi: float, omega: float, error: AssemblyError) -> Frame:
         interval = _interval_containing(error.intervals, phi)
         where = (
-            f"φ in {format_intervals([interval])}" if interval is not None else f"φ = {phi:.6g} rad"
+            f"φ in {format_intervals([interval])}" if interval is not None else f"φ = {_angles(phi, '.6g')} rad"
         )
         reason = f"group '{error.group}' {error.reason} for {where}"
         t_last = min(self._last_valid_t, t)
@@ -196,7 +220,7 @@ class Engine:
         # stop (or a reversal that found no valid state): hold at the last valid tick.
         self.motion.hold(t_last)
         p, w, e = self.motion.state(t)
-        self._event_message = f"{reason}; stopped at φ = {p:.6f} rad"
+        self._event_message = f"{reason}; stopped at φ = {_angles(p, '.6f')} rad"
         result = self._tick(t, p, w, e)
         if not isinstance(result, Frame):  # pragma: no cover - the held angle solved before
             raise result
@@ -223,7 +247,7 @@ class Engine:
                 if not holding:
                     self._last_valid_t = t
                 yield self._make_frame(
-                    t, float(phi[i]), float(omega[i]), float(eps[i]), k, i, holding=holding
+                    t, _row(phi, i), _row(omega, i), _row(eps, i), k, i, holding=holding
                 )
 
     # ------------------------------------------------------------------ helpers
@@ -293,11 +317,20 @@ class Engine:
             message=message,
         )
 
-    def _paths(self, phi0: float, samples: int) -> dict[str, NDArray[np.float64]]:
+    def _paths(self, phi0: Any, samples: int) -> dict[str, NDArray[np.float64]]:
         """Each published point over one turn of the input from ``phi0``; only the assemblable
-        run of angles that contains ``phi0`` (the one the mechanism can reach)."""
+        run of angles that contains ``phi0`` (the one the mechanism can reach).
+
+        With several inputs: along the motion laws themselves, over the time of one turn of the
+        fastest input at its initial speed (a single point when no input moves)."""
         plan = self.scene.with_outputs(points=self.published_points, joints=())
-        grid = phi0 + np.linspace(0.0, TWO_PI, samples)
+        if isinstance(self.motion, Motions):
+            t0, _, omega0, _ = self.motion.start()
+            fastest = max(abs(w) for w in omega0)
+            span = TWO_PI / fastest if fastest > 0.0 else 0.0
+            grid, _, _ = self.motion.states(t0 + np.linspace(0.0, span, samples))
+        else:
+            grid = phi0 + np.linspace(0.0, TWO_PI, samples)
         k = plan.solve(grid, omega=1.0, epsilon=0.0, mask=True)
         valid = np.asarray(k.valid, dtype=bool).copy()
         positions = {p: np.asarray(k.point(p).position, dtype=np.float64) for p in self.published_points}
@@ -345,10 +378,30 @@ def _boundary(interval: tuple[float, float], phi: float, omega: float) -> float:
     return lo if phi - lo < hi - phi else hi
 
 
-def _non_finite(phi: float) -> AssemblyError:
+def _non_finite(phi: Any) -> AssemblyError:
+    if isinstance(phi, tuple):  # several inputs
+        from solver.multi import SampleAssemblyError
+
+        return SampleAssemblyError(
+            group="(all)", samples=[phi], inputs=[f"q{i + 1}" for i in range(len(phi))],
+            reason="gives non-finite values (a singular position)",
+        )
     return AssemblyError(
         group="(all)", phi=[phi], reason="gives non-finite values (a singular position)"
     )
+
+
+def _row(values: NDArray[np.float64], i: int) -> Any:
+    """Sample ``i`` of a run's input values: a float, or a k-tuple with several inputs."""
+    row = values[i]
+    return float(row) if row.ndim == 0 else tuple(row.tolist())
+
+
+def _angles(phi: Any, spec: str) -> str:
+    """φ in a message: one number, or (q1, …, qk) with several inputs."""
+    if isinstance(phi, tuple):
+        return "(" + ", ".join(format(p, spec) for p in phi) + ")"
+    return format(phi, spec)
 
 
 def _finite_sum(frame: Frame) -> float:

@@ -30,7 +30,7 @@ import numpy as np
 
 from .engine import STATUS_NEAR_SINGULAR, STATUS_OK, Engine, Frame
 from .msgtypes import TYPE_NAMES, MessageTypes
-from .urdf import exportable_model, frame_tree_joint_states
+from .urdf import TreeJointStates, exportable_model, frame_tree_joint_states
 
 __all__ = [
     "FIXED_TOPIC_TYPES",
@@ -199,16 +199,19 @@ class MessageBuilder:
         topics: Iterable[str] | None,
         *,
         include_paths: bool | None = False,
+        tree: TreeJointStates | None = None,
     ) -> list[tuple[str, Any]]:
         """Like :meth:`build`, for the topics in ``topics`` only (None: all). The path timing of
-        the markers changes only when they are built with the paths."""
+        the markers changes only when they are built with the paths. ``tree``: the URDF tree's
+        joint states to put on ``joint_states`` (default: :meth:`tree_states` of ``frame``; the
+        byte templates of :mod:`linkage_ros.wire` pass sentinels)."""
         wanted = None if topics is None else set(topics)
         sec, nanosec = stamp_parts(stamp)
         header = self._Header(stamp=self._Time(sec=sec, nanosec=nanosec), frame_id=self.frame_id)
         tick = _Tick(self, frame)
         out: list[tuple[str, Any]] = []
         if wanted is None or JOINT_STATES in wanted or JOINT_KINEMATICS in wanted:
-            js, jk = self._joints(frame, header)
+            js, jk = self._joints(frame, header, tree)
             if wanted is None or JOINT_STATES in wanted:
                 out.append((JOINT_STATES, js))
             if wanted is None or JOINT_KINEMATICS in wanted:
@@ -243,7 +246,17 @@ class MessageBuilder:
         c = _floats(xyz)
         return self._Vector3(x=c[0], y=c[1], z=c[2] if len(c) > 2 else 0.0)
 
-    def _joints(self, frame: Frame, header: Any) -> tuple[Any, Any]:
+    @property
+    def tree_joint_names(self) -> tuple[str, ...]:
+        """Names of the URDF tree's joints on ``joint_states`` (empty without a URDF export)."""
+        return () if self._tree is None else tuple(self._tree.joint_names)
+
+    def tree_states(self, frame: Frame) -> TreeJointStates | None:
+        """The URDF tree's joint states that ride along on ``joint_states`` (None: the scene has
+        no URDF export)."""
+        return None if self._tree is None else frame_tree_joint_states(self._tree, frame)
+
+    def _joints(self, frame: Frame, header: Any, tree: TreeJointStates | None = None) -> tuple[Any, Any]:
         """joint_states and joint_kinematics (they share the position and velocity arrays)."""
         joints = [frame.joints[n] for n in self._joint_names]
         positions, velocities, accelerations = self.types.float64_rows(
@@ -259,7 +272,8 @@ class MessageBuilder:
                 header=header, name=names, position=positions, velocity=velocities, effort=self._empty
             )
         else:
-            tree = frame_tree_joint_states(self._tree, frame)
+            if tree is None:
+                tree = frame_tree_joint_states(self._tree, frame)
             tree_q, tree_dq = self.types.float64_rows(
                 [
                     [*(j.position for j in joints), *tree.position],

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["SEGMENT_HOLD", "SEGMENT_REVERSE", "SEGMENT_USER", "Motion", "Segment"]
+__all__ = ["SEGMENT_HOLD", "SEGMENT_REVERSE", "SEGMENT_USER", "Motion", "Motions", "Segment"]
 
 #: Tags naming why a segment started.
 SEGMENT_USER = "user"
@@ -235,3 +235,106 @@ def _evaluate(
     phi = s + (quad + small)
     omega = omega0 + (eps * dt + eps * dt_err)
     return phi, omega
+
+
+class Motions:
+    """The time laws of a scene with several inputs: one :class:`Motion` per input joint, in the
+    order of ``scene.inputs`` (docs/inputs.md).
+
+    The same interface as :class:`Motion`, with tuples (one entry per input) where it has floats:
+    :meth:`state` gives ``(phi, omega, epsilon)`` as k-tuples of Python floats, :meth:`states`
+    (N, k) arrays. :meth:`hold` and :meth:`reverse` act on every input at once (the engine's
+    unassemblable policy); a segment is a hold when every input holds.
+    """
+
+    def __init__(self, laws: Sequence[Motion]) -> None:
+        if len(laws) < 2:
+            raise ValueError(f"Motions is for two or more inputs, got {len(laws)} law(s); use Motion")
+        self.laws: tuple[Motion, ...] = tuple(laws)
+
+    @classmethod
+    def of(
+        cls,
+        count: int,
+        *,
+        phi0: Sequence[float] | float = 0.0,
+        omega: Sequence[float] | float = 1.0,
+        epsilon: Sequence[float] | float = 0.0,
+        t0: float = 0.0,
+    ) -> Motions:
+        """``count`` laws from per-input values (a sequence of ``count``) or one value for all."""
+
+        def each(label: str, value: Sequence[float] | float) -> list[float]:
+            if isinstance(value, (int, float)):
+                return [float(value)] * count
+            values = [float(v) for v in value]
+            if len(values) != count:
+                raise ValueError(f"{label} needs {count} values (one per input), got {len(values)}")
+            return values
+
+        p, w, e = each("phi0", phi0), each("omega", omega), each("epsilon", epsilon)
+        return cls([Motion(phi0=p[i], omega=w[i], epsilon=e[i], t0=t0) for i in range(count)])
+
+    def __len__(self) -> int:
+        return len(self.laws)
+
+    @property
+    def segments(self) -> tuple[Segment, ...]:
+        """The first input's segments (for the start time; each law keeps its own history)."""
+        return self.laws[0].segments
+
+    def segment_at(self, t: float) -> Segment:
+        """A hold when every input holds at ``t``; else the first non-holding input's segment."""
+        segs = [law.segment_at(t) for law in self.laws]
+        return next((s for s in segs if s.tag != SEGMENT_HOLD), segs[0])
+
+    def start(self) -> tuple[float, tuple[float, ...], tuple[float, ...], tuple[float, ...]]:
+        """``(t0, phi0, omega0, epsilon)`` of the first segments, per input."""
+        firsts = [law.segments[0] for law in self.laws]
+        return (
+            firsts[0].t0,
+            tuple(s.phi0 for s in firsts),
+            tuple(s.omega0 for s in firsts),
+            tuple(s.epsilon for s in firsts),
+        )
+
+    def state(self, t: float) -> tuple[tuple[float, ...], tuple[float, ...], tuple[float, ...]]:
+        """``(phi, omega, epsilon)`` at ``t``, each a k-tuple of Python floats."""
+        states = [law.state(t) for law in self.laws]
+        return tuple(s[0] for s in states), tuple(s[1] for s in states), tuple(s[2] for s in states)
+
+    def states(self, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """Vectorised :meth:`state`: ``phi, omega, epsilon`` of shape ``t.shape + (k,)``."""
+        parts = [law.states(t) for law in self.laws]
+        return tuple(np.stack([p[i] for p in parts], axis=-1) for i in range(3))  # type: ignore[return-value]
+
+    def crossing(self, phi: float, t_lo: float, t_hi: float) -> float | None:
+        """No φ interval bounds a k-dimensional unassemblable region: always None."""
+        return None
+
+    def reverse(self, t: float) -> Segment:
+        """Reverse every input at ``t``."""
+        return [law.reverse(t) for law in self.laws][0]
+
+    def hold(self, t: float) -> Segment:
+        """Stop every input at ``t``."""
+        return [law.hold(t) for law in self.laws][0]
+
+    def set_omega(self, t: float, omega: Sequence[float], *, epsilon: Sequence[float] | None = None) -> Segment:
+        """From ``t`` on, per-input angular velocities (and accelerations if given)."""
+        eps: Sequence[float | None] = [None] * len(self.laws) if epsilon is None else epsilon
+        return [law.set_omega(t, w, epsilon=e) for law, w, e in zip(self.laws, omega, eps, strict=True)][0]
+
+    def set_epsilon(self, t: float, epsilon: Sequence[float]) -> Segment:
+        """From ``t`` on, per-input angular accelerations."""
+        return [law.set_epsilon(t, e) for law, e in zip(self.laws, epsilon, strict=True)][0]
+
+    def snapshot(self) -> tuple[tuple[Segment, ...], ...]:
+        return tuple(law.snapshot() for law in self.laws)
+
+    def restore(self, segments: Sequence[Sequence[Segment]]) -> None:
+        for law, segs in zip(self.laws, segments, strict=True):
+            law.restore(segs)
+
+    def __repr__(self) -> str:
+        return f"Motions({', '.join(repr(law) for law in self.laws)})"

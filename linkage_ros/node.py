@@ -1,18 +1,25 @@
 """mechanism_node: the thin rclpy shell around :class:`linkage_ros.runtime.Runtime`.
 
-    ros2 run linkage_ros mechanism_node --ros-args -p scene:=four_bar -p omega:=2.0
+    mechanism_node --ros-args -p scene:=four_bar -p omega:=2.0          # from the venv
+    ros2 run linkage_ros mechanism_node --ros-args -p scene:=four_bar    # from a colcon install
 
 Declares the parameters of :data:`linkage_ros.runtime.PARAMETERS` with descriptors, ticks a
-timer at ``rate_hz`` with t from the node clock (``use_sim_time`` works), publishes the messages
-the runtime builds (QoS depth 10, reliable) and validates parameter changes in a callback. This
-is the only module of the package that imports rclpy.
+timer at ``rate_hz`` with t from the node clock (``use_sim_time`` works), publishes the CDR bytes
+the runtime renders (``Publisher.publish(bytes)``; QoS depth 10, reliable) and validates
+parameter changes in a callback. Integer values for double parameters (``-p omega:=2``, or
+``ros2 param set ... omega 3``) are converted to doubles, at start and at run time.
+
+SIGINT and SIGTERM end the node between two ticks: the MCAP recording is finished, the exit
+status is 0. This is the only module of the package that imports rclpy.
 """
 
 from __future__ import annotations
 
 import gc
 import importlib
+import signal
 from collections.abc import Sequence
+from types import FrameType
 from typing import Any
 
 import rclpy
@@ -23,26 +30,37 @@ from rcl_interfaces.msg import (
     ParameterType,
     SetParametersResult,
 )
-from rclpy.executors import ExternalShutdownException
+from rclpy.exceptions import ParameterException
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.signals import SignalHandlerOptions
 
-import solver
 from solver.errors import SolverError
 
 from .messages import TYPE_NAMES
-from .runtime import PARAMETERS, ParameterSpec, Recorder, Runtime
+from .runtime import PARAMETERS, ParameterSpec, Recorder, Runtime, validate_parameter
 
-__all__ = ["MechanismNode", "QOS_DEPTH", "main", "message_classes", "qos_profile"]
+__all__ = [
+    "MechanismNode",
+    "QOS_DEPTH",
+    "coerce_parameter",
+    "main",
+    "message_classes",
+    "qos_profile",
+]
 
 QOS_DEPTH = 10
+#: Longest wait of the spin loop (s): how soon a signal is acted on when no timer is due.
+SPIN_TIMEOUT_S = 0.1
 
 _PARAMETER_TYPES = {
     "string": ParameterType.PARAMETER_STRING,
     "double": ParameterType.PARAMETER_DOUBLE,
     "string_array": ParameterType.PARAMETER_STRING_ARRAY,
 }
+_SPECS = {spec.name: spec for spec in PARAMETERS}
 
 
 def qos_profile() -> QoSProfile:
@@ -79,66 +97,86 @@ def descriptor(spec: ParameterSpec) -> ParameterDescriptor:
     return ParameterDescriptor(**kwargs)
 
 
+def coerce_parameter(name: str, value: Any) -> Any:
+    """An integer given for one of our double parameters, as a float; other values unchanged."""
+    spec = _SPECS.get(name)
+    if spec is not None and spec.kind == "double" and isinstance(value, int) and not isinstance(value, bool):
+        return float(value)
+    return value
+
+
 def mcap_recorder(namespace: str) -> Any:
-    """A recorder factory for Runtime: rosbag2-profile MCAP with rclpy's serialisation."""
+    """A recorder factory for Runtime: rosbag2-profile MCAP of the published bytes, with the
+    ``linkage_ros`` scene metadata that ``linkage-view`` uses to name what the markers draw."""
 
-    def factory(path: str, topics: Sequence[tuple[str, str]]) -> Recorder:
-        from rclpy.serialization import serialize_message
-
+    def factory(path: str, topics: Sequence[tuple[str, str]], *, engine: Any, frame_id: str) -> Recorder:
         from .record.mcap import Recorder as McapRecorder
+        from .record.replay import METADATA_NAME, scene_metadata
 
-        return McapRecorder(
-            path,
-            topics,
-            namespace=namespace,
-            serialize=lambda message, _type: serialize_message(message),
-        )
+        return McapRecorder(path, topics, namespace=namespace,
+                            metadata={METADATA_NAME: scene_metadata(engine, frame_id=frame_id)})
 
     return factory
 
 
 class MechanismNode(Node):
-    """Publishes the kinematics of one mechanism at ``rate_hz``."""
+    """Publishes the kinematics of one mechanism at ``rate_hz``.
+
+    Raises ValueError (a reason) or :class:`solver.SolverError` for unusable start values.
+    """
 
     def __init__(self, *, node_name: str = "mechanism_node", **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
+        # rclpy's parsed start values (-p, --params-file, parameter_overrides); read, not changed
+        overrides: dict[str, Parameter] = dict(getattr(self, "_parameter_overrides", {}))
         values: dict[str, Any] = {}
         for spec in PARAMETERS:
+            given = overrides.get(spec.name)
+            value = spec.default if given is None else coerce_parameter(spec.name, given.value)
             if spec.name == "points":
-                continue  # its default depends on the scene
-            self.declare_parameter(spec.name, spec.default, descriptor(spec))
+                values["points"] = value
+                continue
+            reason = validate_parameter(spec.name, value)
+            if reason:
+                raise ValueError(reason)
+            self.declare_parameter(spec.name, value, descriptor(spec), ignore_override=True)
             values[spec.name] = self.get_parameter(spec.name).value
-        scene_outputs = _scene_outputs(values["scene"])
-        points_spec = next(spec for spec in PARAMETERS if spec.name == "points")
+        self.runtime = Runtime(values, recorder_factory=mcap_recorder(self.get_namespace()))
         # A non-empty default makes the type a string array ([""] when the scene has no outputs:
         # rclpy would read an empty list as a byte array).
-        self.declare_parameter("points", list(scene_outputs) or [""], descriptor(points_spec))
-        values["points"] = list(self.get_parameter("points").value or ())
-        self.runtime = Runtime(
-            values, message_classes(), recorder_factory=mcap_recorder(self.get_namespace())
-        )
-        self._qos = qos_profile()
-        self._publishers: dict[str, Any] = {}
+        points = list(self.runtime.settings["points"]) or [""]
+        self.declare_parameter("points", points, descriptor(_SPECS["points"]), ignore_override=True)
+        self._qos_profile = qos_profile()
+        self._topic_publishers: dict[str, Any] = {}
         self._sync_publishers()
-        self._timer = self.create_timer(self.runtime.period_s, self._on_timer)
-        self._pending: list[Any] = []
+        self._tick_timer = self.create_timer(self.runtime.period_s, self._on_timer)
+        self._pending_parameters: list[Parameter] = []
+        self.add_pre_set_parameters_callback(self._coerce_parameters)
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.get_logger().info(
-            f"scene {self.runtime.engine.scene.name}: publishing {len(self._publishers)} topics "
+            f"scene {self.runtime.engine.scene.name}: publishing {len(self._topic_publishers)} topics "
             f"at {self.runtime.settings['rate_hz']:g} Hz"
         )
 
     # ------------------------------------------------------------------ callbacks
     def _on_timer(self) -> None:
-        now_ns = self.get_clock().now().nanoseconds
-        messages = self.runtime.tick(now_ns)
-        for topic, message in messages:
-            self._publishers[topic].publish(message)
-        for event in self.runtime.take_events():
-            self.get_logger().warning(event)
-        if self._pending:
-            pending, self._pending = self._pending, []
+        messages = self.runtime.tick(self.get_clock().now().nanoseconds)
+        publishers = self._topic_publishers
+        for topic, data in messages:
+            publishers[topic].publish(data)
+        if self.runtime.events:
+            for event in self.runtime.take_events():
+                self.get_logger().warning(event)
+        if self._pending_parameters:
+            pending, self._pending_parameters = self._pending_parameters, []
             self.set_parameters(pending)
+
+    def _coerce_parameters(self, parameters: list[Parameter]) -> list[Parameter]:
+        out = []
+        for p in parameters:
+            value = coerce_parameter(p.name, p.value)
+            out.append(p if value is p.value else Parameter(p.name, Parameter.Type.DOUBLE, value))
+        return out
 
     def _on_set_parameters(self, parameters: Sequence[Any]) -> SetParametersResult:
         changes = {p.name: p.value for p in parameters}
@@ -151,53 +189,78 @@ class MechanismNode(Node):
             return SetParametersResult(successful=False, reason=reason)
         self._sync_publishers()
         if self.runtime.settings["rate_hz"] != old_rate:
-            self.destroy_timer(self._timer)
-            self._timer = self.create_timer(self.runtime.period_s, self._on_timer)
+            self.destroy_timer(self._tick_timer)
+            self._tick_timer = self.create_timer(self.runtime.period_s, self._on_timer)
         points = list(self.runtime.settings["points"])
         if "points" not in changes and points != old_points:
             # The points followed a change of scene: show it in the parameter (next tick).
-            self._pending.append(Parameter("points", value=points))
+            self._pending_parameters.append(Parameter("points", value=points))
         return SetParametersResult(successful=True, reason="")
 
     # ------------------------------------------------------------------ helpers
     def _sync_publishers(self) -> None:
-        classes = self.runtime.types.classes
         wanted = dict(self.runtime.topics)
-        for topic in [t for t in self._publishers if t not in wanted]:
-            self.destroy_publisher(self._publishers.pop(topic))
+        classes = message_classes(sorted(set(wanted.values())))
+        for topic in [t for t in self._topic_publishers if t not in wanted]:
+            self.destroy_publisher(self._topic_publishers.pop(topic))
         for topic, typename in wanted.items():
-            if topic not in self._publishers:
-                self._publishers[topic] = self.create_publisher(classes[typename], topic, self._qos)
+            if topic not in self._topic_publishers:
+                self._topic_publishers[topic] = self.create_publisher(
+                    classes[typename], topic, self._qos_profile
+                )
 
     def destroy_node(self) -> None:
         self.runtime.close()
         super().destroy_node()
 
 
-def _scene_outputs(scene: str) -> tuple[str, ...]:
-    return tuple(solver.load_scene(scene).output_points)
+class _StopRequest:
+    """SIGINT / SIGTERM handler: asks the spin loop to stop after the current tick."""
+
+    def __init__(self) -> None:
+        self.requested = False
+
+    def __call__(self, signum: int, frame: FrameType | None) -> None:
+        self.requested = True
 
 
 def main(args: Sequence[str] | None = None) -> int:
-    """Entry point of ``ros2 run linkage_ros mechanism_node``; 1 when the start values are
-    unusable (unknown scene, unassemblable phi0, ...)."""
+    """Entry point of ``mechanism_node``: 0 after SIGINT / SIGTERM (the recording finished), 1
+    with one ``cannot start: ...`` line when the start values are unusable."""
+    stop = _StopRequest()
+    previous = {sig: signal.signal(sig, stop) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
-        with rclpy.init(args=args):
-            try:
-                node = MechanismNode()
-            except (SolverError, ValueError) as error:
-                rclpy.logging.get_logger("mechanism_node").error(f"cannot start: {error}")
-                return 1
-            # the scene, plan, typestore and message classes live as long as the node: move them
-            # out of the collector's way, so its passes at 1 kHz only see the tick's own objects
-            gc.collect()
-            gc.freeze()
-            try:
-                rclpy.spin(node)
-            finally:
-                node.destroy_node()
-    except (KeyboardInterrupt, ExternalShutdownException):
+        rclpy.init(args=None if args is None else list(args),
+                   signal_handler_options=SignalHandlerOptions.NO)
+        try:
+            return _run(stop)
+        finally:
+            rclpy.try_shutdown()
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+def _run(stop: _StopRequest) -> int:
+    try:
+        node = MechanismNode()
+    except (SolverError, ValueError, ParameterException) as error:
+        rclpy.logging.get_logger("mechanism_node").error(f"cannot start: {error}")
+        return 1
+    # the scene, plan, typestore and templates live as long as the node: move them out of the
+    # collector's way, so its passes at 1 kHz only see the tick's own objects
+    gc.collect()
+    gc.freeze()
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    try:
+        while not stop.requested and executor.context.ok():
+            executor.spin_once(timeout_sec=SPIN_TIMEOUT_S)
+    except ExternalShutdownException:
         pass
+    finally:
+        executor.shutdown(timeout_sec=1.0)
+        node.destroy_node()
     return 0
 
 

@@ -2,7 +2,14 @@
 
 The node (:mod:`linkage_ros.node`) is a thin shell: it declares :data:`PARAMETERS`, forwards
 parameter changes to :meth:`Runtime.update` and timer ticks to :meth:`Runtime.tick`, and
-publishes what comes back. Everything here is plain Python and tested without ROS.
+publishes the CDR bytes that come back (the recorder writes the same bytes). Everything here is
+plain Python and tested without ROS.
+
+What a tick sends: every topic of :func:`~linkage_ros.messages.topic_types` except that
+``diagnostics`` goes out on the first tick, whenever the status changes (ok / near singular /
+unassemblable, or a new unassemblable event) and otherwise every :data:`DIAGNOSTICS_PERIOD_S`
+of clock time; the markers carry the paths on the first tick and then once per
+:data:`~linkage_ros.messages.PATH_PERIOD` of run time.
 """
 
 from __future__ import annotations
@@ -11,6 +18,7 @@ import math
 import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, Protocol
 
 import solver
@@ -19,8 +27,10 @@ from solver.errors import SolverError
 from .engine import ON_UNASSEMBLABLE, STATUS_UNASSEMBLABLE, Engine, Frame
 from .messages import MessageBuilder, MessageTypes, topic_types
 from .motion import Motion
+from .wire import TickSerializer
 
 __all__ = [
+    "DIAGNOSTICS_PERIOD_S",
     "PARAMETERS",
     "ParameterSpec",
     "Recorder",
@@ -35,6 +45,8 @@ MAX_OMEGA = 1.0e4
 MAX_EPSILON = 1.0e6
 MAX_RATE_HZ = 1.0e4
 MIN_RATE_HZ = 1.0e-3
+#: Clock seconds between two diagnostics messages while the status stays the same.
+DIAGNOSTICS_PERIOD_S = 1.0
 
 _FRAME_ID = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_./-]*\Z")
 _POINT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
@@ -154,13 +166,20 @@ def validate_parameter(name: str, value: Any) -> str | None:
 class Recorder(Protocol):
     """What the runtime needs of a recorder (``linkage_ros.record.mcap.Recorder`` fits)."""
 
-    def write(self, stamp_ns: int, messages: Sequence[tuple[str, Any]]) -> None: ...
+    def write_serialized(self, stamp_ns: int, messages: Sequence[tuple[str, bytes]]) -> None: ...
 
     def close(self) -> None: ...
 
 
-#: ``factory(path, topics)`` opens a recorder for ``[(topic, type name)]``.
-RecorderFactory = Callable[[str, Sequence[tuple[str, str]]], Recorder]
+#: ``factory(path, topics, engine=..., frame_id=...)`` opens a recorder for
+#: ``[(topic, type name)]`` (``engine`` and ``frame_id`` for the file's scene metadata).
+RecorderFactory = Callable[..., Recorder]
+
+
+def _jazzy_typestore() -> Any:
+    from rosbags.typesys import Stores, get_typestore
+
+    return get_typestore(Stores.ROS2_JAZZY)
 
 
 def _points_of(value: Any) -> tuple[str, ...]:
@@ -171,7 +190,9 @@ class Runtime:
     """The node's state: settings, engine, message builder, run clock and optional recorder.
 
     ``values``: parameter values by name (defaults from :data:`PARAMETERS` fill the gaps).
-    ``types``: message classes (rclpy's in the node, rosbags' in tests).
+    ``types`` and ``serialize(msg, typename)``: rosbags' message classes and CDR serialiser
+    (default: rosbags' Jazzy type store); the ticks are rendered by
+    :class:`~linkage_ros.wire.TickSerializer` from templates the builder makes with them.
     ``recorder_factory``: opens the MCAP recorder when ``record_mcap`` is set.
     Raises :class:`solver.SolverError` (or ValueError) for unusable start values.
     """
@@ -179,8 +200,9 @@ class Runtime:
     def __init__(
         self,
         values: Mapping[str, Any],
-        types: Mapping[str, Any] | MessageTypes,
+        types: Mapping[str, Any] | MessageTypes | None = None,
         *,
+        serialize: Callable[[Any, str], Any] | None = None,
         recorder_factory: RecorderFactory | None = None,
     ) -> None:
         settings = {spec.name: spec.default for spec in PARAMETERS}
@@ -191,7 +213,14 @@ class Runtime:
             reason = validate_parameter(name, value)
             if reason:
                 raise ValueError(reason)
+        if types is None or serialize is None:
+            store = _jazzy_typestore()
+            types = store.types if types is None else types
+            serialize = store.serialize_cdr if serialize is None else serialize
         self.types = types if isinstance(types, MessageTypes) else MessageTypes(types)
+        self._serialize = serialize
+        self._diagnostics_key: tuple[str, str] | None = None
+        self._diagnostics_ns = 0
         self._recorder_factory = recorder_factory
         self.settings = settings
         self.start_ns: int | None = None
@@ -201,10 +230,10 @@ class Runtime:
         self.events: list[str] = []
         self.engine = self._engine(settings, t0=0.0)
         self.settings["points"] = list(self.engine.published_points)
-        self.builder = MessageBuilder(self.engine, self.types, frame_id=settings["frame_id"])
+        self.builder, self.wire = self._builder(self.engine, settings["frame_id"])
         self.recorder: Recorder | None = None
         if settings["record_mcap"]:
-            self.recorder = self._open_recorder(settings["record_mcap"], self.topics)
+            self.recorder = self._open_recorder(settings["record_mcap"], self.engine, settings["frame_id"])
 
     # ------------------------------------------------------------------ queries
     @property
@@ -223,8 +252,9 @@ class Runtime:
         return (int(now_ns) - self.start_ns) / NS_PER_S
 
     # ------------------------------------------------------------------ the tick
-    def tick(self, now_ns: int) -> list[tuple[str, Any]]:
-        """Solve the frame at clock time ``now_ns`` and build its messages (stamp = ``now_ns``).
+    def tick(self, now_ns: int) -> list[tuple[str, bytes]]:
+        """Solve the frame at clock time ``now_ns`` and render its messages as CDR bytes
+        (stamp = ``now_ns``); the recorder, if any, gets the same bytes.
 
         A clock at zero (simulated time before the first /clock message) gives no messages.
         A clock that jumps backwards restarts the run at ``phi0``.
@@ -238,17 +268,27 @@ class Runtime:
             self.events.append("clock jumped backwards: restarting the run at phi0")
             self.start_ns = now_ns
             self.engine = self._engine(self.settings, t0=0.0)
-            self.builder = MessageBuilder(self.engine, self.types, frame_id=self.settings["frame_id"])
+            self.builder, self.wire = self._builder(self.engine, self.settings["frame_id"])
         self._last_ns = now_ns
         frame = self.engine.frame(self.run_time(now_ns))
         self.last_frame = frame
         if frame.status == STATUS_UNASSEMBLABLE and frame.message != self._last_event:
             self.events.append(frame.message)
         self._last_event = frame.message if frame.status == STATUS_UNASSEMBLABLE else ""
-        messages = self.builder.build(frame, now_ns)
+        messages = self.wire.render(frame, now_ns, paths=self.builder.wants_paths(frame.t),
+                                    diagnostics=self._wants_diagnostics(frame, now_ns))
         if self.recorder is not None:
-            self.recorder.write(now_ns, messages)
+            self.recorder.write_serialized(now_ns, messages)
         return messages
+
+    def _wants_diagnostics(self, frame: Frame, now_ns: int) -> bool:
+        """First tick, a change of status (or a new unassemblable event), or a period passed."""
+        key = (frame.status, frame.message if frame.status == STATUS_UNASSEMBLABLE else "")
+        if (key != self._diagnostics_key or self._diagnostics_key is None
+                or not 0 <= now_ns - self._diagnostics_ns < DIAGNOSTICS_PERIOD_S * NS_PER_S):
+            self._diagnostics_key, self._diagnostics_ns = key, now_ns
+            return True
+        return False
 
     def take_events(self) -> list[str]:
         """Unassemblable (and clock) events since the last call, each reported once."""
@@ -287,7 +327,7 @@ class Runtime:
         recorder = self.recorder
         if "record_mcap" in changed and new["record_mcap"]:
             try:
-                recorder = self._open_recorder(new["record_mcap"], topic_types(engine))
+                recorder = self._open_recorder(new["record_mcap"], engine, new["frame_id"])
             except (OSError, ValueError, ImportError) as error:
                 return f"cannot record to {new['record_mcap']!r}: {error}"
         # Nothing can fail from here on.
@@ -299,7 +339,8 @@ class Runtime:
                 motion.set_epsilon(t, float(new["epsilon"]))
         engine.on_unassemblable = new["on_unassemblable"]
         if engine is not self.engine or "frame_id" in changed:
-            self.builder = MessageBuilder(engine, self.types, frame_id=new["frame_id"])
+            self.builder, self.wire = self._builder(engine, new["frame_id"])
+            self._diagnostics_key = None
         if recorder is not self.recorder or (not new["record_mcap"] and self.recorder):
             if self.recorder is not None:
                 self.recorder.close()
@@ -335,7 +376,14 @@ class Runtime:
             scene = solver.load_scene(settings["scene"])
         return Engine(scene, motion, points=points, on_unassemblable=settings["on_unassemblable"])
 
-    def _open_recorder(self, path: str, topics: Sequence[tuple[str, str]]) -> Recorder:
+    def _builder(self, engine: Engine, frame_id: str) -> tuple[MessageBuilder, TickSerializer]:
+        builder = MessageBuilder(engine, self.types, frame_id=frame_id)
+        return builder, TickSerializer(builder, self._serialize)
+
+    def _open_recorder(self, path: str, engine: Engine, frame_id: str) -> Recorder:
         if self._recorder_factory is None:
             raise ValueError("this node has no MCAP recorder")
-        return self._recorder_factory(path, topics)
+        folder = Path(path).parent
+        if not folder.is_dir():
+            raise ValueError(f"directory {str(folder)!r} does not exist (record_mcap does not create it)")
+        return self._recorder_factory(path, topic_types(engine), engine=engine, frame_id=frame_id)

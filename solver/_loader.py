@@ -3,16 +3,18 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-import yaml
 
-from ._fields import ANGLE_UNITS, LENGTH_UNITS, Entry, Units
+from ._fields import ANGLE_UNITS, LENGTH_UNITS, Entry, Units, show, suggest
+from ._inputs import check_drivers
+from ._yaml import load_yaml
 from .errors import SceneError
 from .groups import GROUP_TYPES, JOINT_KINDS, RRR, Crank, Group, JointExpression
+from .groups.joints import URDF_JOINT_KINDS
 from .groups.rrr import CrankFeed
 
 __all__ = ["SceneData", "parse_scene", "read_yaml", "SECTION_PARSERS"]
@@ -35,38 +37,76 @@ class SceneData:
     input_joint: str
     output_points: tuple[str, ...]
     output_joints: tuple[str, ...]
+    #: one-line descriptions of points and joints (``descriptions:``), for summaries and viewers
+    descriptions: Mapping[str, str] = field(default_factory=dict)
+
+
+#: The top-level fields of a scene file; the sections in SECTION_PARSERS are known too.
+TOP_FIELDS = ["scene", "provenance", "description", "descriptions", "units", "fixed", "groups", "joints", "outputs"]
+
+#: The fields of each group type, checked first so that a misspelt key is reported as such
+#: (a group's ``from_entry`` reads them; its ``done()`` stays the exact check).
+GROUP_FIELDS: dict[str, tuple[str, ...]] = {
+    "crank": ("type", "name", "center", "point", "length", "joint"),
+    "attached": ("type", "name", "point", "base", "along", "distance", "angle"),
+    "slotted": ("type", "name", "pivot", "through", "points"),
+    "rrr": ("type", "name", "ends", "point", "lengths", "M", "through_change_points"),
+    "rrp": ("type", "name", "end", "point", "length", "guide", "M", "joint"),
+    "spherical_crank_slider": ("type", "name", "center", "point", "shaft", "cage", "alpha", "radius"),
+}
+
+#: Longest ``description`` text (one line).
+DESCRIPTION_MAX = 200
 
 
 def read_yaml(path: Path) -> Any:
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise SceneError(f"cannot read the scene file: {exc.strerror or exc}", file=str(path)) from exc
-    try:
-        return yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        raise SceneError(f"not valid YAML: {exc}", file=str(path)) from exc
+    """The YAML document of a scene file, read safely (solver._yaml: size, depth, aliases,
+    encoding and duplicate keys are checked)."""
+    return load_yaml(path)
 
 
 def parse_scene(data: Any, *, file: str | None, default_name: str = "scene") -> SceneData:
+    """Validate a scene's data; a misspelt top-level key is reported before any other fault."""
+    if data is None:
+        raise SceneError("the file is empty: a scene is a mapping of sections (docs/scenes.md)", file=file)
+    try:
+        return _parse_scene(data, file=file, default_name=default_name)
+    except SceneError:
+        if isinstance(data, Mapping):
+            Entry(data, file=file, where="").expect([*TOP_FIELDS, *SECTION_PARSERS])
+        raise
+
+
+def _parse_scene(data: Any, *, file: str | None, default_name: str = "scene") -> SceneData:
     top = Entry(data, file=file, where="")
     name = top.name("scene", default_name)
-    provenance = str(top.raw("provenance", "")).strip()
-    top.raw("description", "")
+    provenance = _text(top, "provenance", 100_000)
+    _text(top, "description", 100_000)
     units = _units(top)
     fixed, dim = _fixed(top, units)
     groups: list[Group] = []
-    for i, raw in enumerate(top.raw("groups", [])):
+    raw_groups = top.raw("groups", [])
+    if raw_groups is None:
+        raise top.error("is empty: list the scene's structural groups (docs/scenes.md)", "groups")
+    if not isinstance(raw_groups, list):
+        raise top.error(f"must be a list of groups, got {show(raw_groups)}", "groups")
+    if not raw_groups and not any(key in top.data for key in SECTION_PARSERS):
+        raise top.error("name at least one group (a crank first: the input)", "groups")
+    for i, raw in enumerate(raw_groups):
         groups.append(_group(top.child(f"groups[{i}]", raw), units, fixed))
     for key, parse in SECTION_PARSERS.items():
         if key in top.data:
             groups.extend(parse(top.child(key, top.raw(key)), units, fixed))
     groups = _feed_dyads(groups, fixed)
-    groups.extend(_joints(top, _rigid_pairs(groups)))
+    groups.extend(_joints(top, _rigid_pairs(groups), units, dim))
+    check_drivers(top, groups)  # several inputs: over-determined points, drivers (solver._inputs)
     _check_names(top, fixed, groups, dim)
     inputs = [g for g in groups if g.drives]
-    if len(inputs) != 1:
-        raise top.error(f"a scene needs exactly one input (a crank), found {len(inputs)}", "groups")
+    if not inputs:
+        raise top.error(
+            "a scene needs exactly one input (a crank), found 0 (or one crank per input for several, docs/inputs.md)",
+            "groups",
+        )
     input_joint = inputs[0].input_joint()
     assert input_joint is not None
     out = top.child("outputs", top.raw("outputs"))
@@ -84,8 +124,40 @@ def parse_scene(data: Any, *, file: str | None, default_name: str = "scene") -> 
             raise out.error(f"unknown joint '{j}'; joints: {sorted(joints)}", "joints")
     if not out_points and not out_joints:
         raise out.error("name at least one point or joint")
+    descriptions = _descriptions(top, points | joints)
     top.done()
-    return SceneData(name, file, provenance, dim, fixed, tuple(groups), input_joint, out_points, out_joints)
+    return SceneData(
+        name, file, provenance, dim, fixed, tuple(groups), input_joint, out_points, out_joints, descriptions
+    )
+
+
+def _text(top: Entry, key: str, limit: int) -> str:
+    value = top.raw(key, "")
+    if value is None:
+        return ""
+    if not isinstance(value, str):
+        raise top.error(f"must be text, got {show(value)}", key)
+    if len(value) > limit:
+        raise top.error(f"text of {len(value):,} characters: at most {limit:,}", key)
+    return value.strip()
+
+
+def _descriptions(top: Entry, names: set[str]) -> dict[str, str]:
+    """``descriptions: {B: drum pin, finger: angle of the finger}``: one line per point or joint."""
+    d = top.child("descriptions", top.raw("descriptions", {}) or {})
+    out: dict[str, str] = {}
+    for key in d.data:
+        if key not in names:
+            known = ", ".join(sorted(names)[:20])
+            raise d.error(f"'{show(key, 40)}' is not a point or joint of the scene; known: {known}", str(key))
+        text = d.raw(key)
+        if not isinstance(text, str) or not text.strip():
+            raise d.error(f"must be a one-line text, got {show(text)}", str(key))
+        text = " ".join(text.split())
+        if len(text) > DESCRIPTION_MAX:
+            raise d.error(f"a description of {len(text)} characters: at most {DESCRIPTION_MAX}", str(key))
+        out[str(key)] = text
+    return out
 
 
 def _units(top: Entry) -> Units:
@@ -108,10 +180,11 @@ def _fixed(top: Entry, units: Units) -> tuple[dict[str, Any], int]:
         value = f.raw(key)
         ok = isinstance(value, (list, tuple)) and len(value) in (2, 3)
         if ok:
-            ok = all(isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) for v in value)
+            ok = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
         if not ok:
-            raise f.error(f"must be [x, y] or [x, y, z] in {top.data.get('units')}, got {value!r}", str(key))
-        xyz = [float(v) * units.length for v in value]
+            raise f.error(f"must be [x, y] or [x, y, z] in {show(top.data.get('units'))}, got {show(value)}", str(key))
+        f.check_name(str(key), str(key))
+        xyz = [f.length_value(f.as_number(v, str(key)), str(key), units, positive=False) for v in value]
         dims.add(len(xyz))
         fixed[str(key)] = complex(xyz[0], xyz[1]) if len(xyz) == 2 else np.array(xyz)
     if not fixed:
@@ -125,8 +198,16 @@ def _group(e: Entry, units: Units, fixed: Mapping[str, Any]) -> Group:
     kind = e.name("type")
     cls = GROUP_TYPES.get(kind)
     if cls is None:
-        raise e.error(f"unknown group type '{kind}'; known types: {', '.join(sorted(GROUP_TYPES))}", "type")
-    group = cls.from_entry(e, units, fixed)
+        near = suggest(kind, GROUP_TYPES)
+        hint = f" (did you mean '{near[0]}'?)" if near else ""
+        raise e.error(f"unknown group type '{kind}'{hint}; known types: {', '.join(sorted(GROUP_TYPES))}", "type")
+    try:
+        group = cls.from_entry(e, units, fixed)
+    except SceneError:  # a misspelt key first: it is the likelier cause of a missing or odd field
+        known = getattr(cls, "fields", None) or GROUP_FIELDS.get(kind)
+        if known is not None:
+            e.expect([*known, *e.used])
+        raise
     e.done()
     return group
 
@@ -152,15 +233,22 @@ def _rigid_pairs(groups: list[Group]) -> dict[frozenset[str], float]:
     return {frozenset((p, q)): length for g in groups for p, q, length in g.rigid_pairs() if p != q}
 
 
-def _joints(top: Entry, rigid: Mapping[frozenset[str], float]) -> list[Group]:
+def _joints(top: Entry, rigid: Mapping[frozenset[str], float], units: Units, dim: int) -> list[Group]:
     j = top.child("joints", top.raw("joints", {}))
     out: list[Group] = []
     for name in j.data:
         spec = j.child(str(name), j.raw(name))
-        kinds = [k for k in spec.data if k in JOINT_KINDS]
+        kinds = [k for k in spec.data if k in JOINT_KINDS or k in URDF_JOINT_KINDS]
         if len(kinds) != 1 or len(spec.data) != 1:
-            raise spec.error(f"must be one of {{{', '.join(f'{k}: …' for k in JOINT_KINDS)}}}, got {dict(spec.data)!r}")
+            known = (*JOINT_KINDS, *URDF_JOINT_KINDS)
+            raise spec.error(f"must be one of {{{', '.join(f'{k}: …' for k in known)}}}, got {show(spec.data)}")
         kind = kinds[0]
+        if kind in URDF_JOINT_KINDS:  # URDF-style: {revolute: {parent, child, ...}} / {prismatic: {...}}
+            if dim != 2:
+                raise spec.error(f"a {kind} joint needs a planar scene", kind)
+            urdf = spec.child(kind, spec.raw(kind))
+            out.append(JointExpression.from_urdf_entry(str(name), kind, urdf, units))
+            continue
         count = JOINT_KINDS[kind]
         pts = spec.names(kind, count) if count > 1 else (spec.name(kind),)
         length = rigid.get(frozenset(pts)) if kind == "angle" else None

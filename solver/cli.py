@@ -11,9 +11,11 @@ from typing import TextIO
 import numpy as np
 
 from . import assembly, classify
+from ._cmdline import Parser, check_output, count, finite, one_line, quiet_pipe
 from .errors import SolverError, format_intervals
 from .kinematics import Kinematics
 from .scene import Scene, load_scene
+from .summary import Output, Sweep, motion_line, summary_lines
 
 __all__ = ["main", "csv_header", "write_csv", "summary"]
 
@@ -21,18 +23,18 @@ AXES = "xyz"
 
 
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = Parser(
         prog="linkage-solve",
         description="Exact kinematics of a linkage scene over one turn of its input (or given angles).",
     )
     p.add_argument("scene", help="scene file, or the name of a shipped scene (e.g. harvester_finger)")
     grid = p.add_mutually_exclusive_group()
-    grid.add_argument("--phi-count", type=int, default=360, metavar="N", help="N angles over one turn (default 360)")
+    grid.add_argument("--phi-count", type=count, default=360, metavar="N", help="N angles over one turn (default 360)")
     grid.add_argument("--phi", type=_floats, metavar="V1,V2,...", help="these input angles (rad, or deg with --deg)")
-    p.add_argument("--deg", action="store_true", help="--phi values are in degrees; the summary shows degrees")
-    p.add_argument("--omega", type=float, default=1.0, metavar="W", help="input angular velocity, rad/s (default 1)")
+    p.add_argument("--deg", action="store_true", help="--phi values are in degrees (the summary always shows degrees)")
+    p.add_argument("--omega", type=finite, default=1.0, metavar="W", help="input angular velocity, rad/s (default 1)")
     p.add_argument(
-        "--epsilon", type=float, default=0.0, metavar="E", help="input angular acceleration, rad/s² (default 0)"
+        "--epsilon", type=finite, default=0.0, metavar="E", help="input angular acceleration, rad/s² (default 0)"
     )
     p.add_argument("--csv", metavar="FILE|-", help="write the table as CSV (SI units, phi in rad) to FILE or stdout")
     p.add_argument(
@@ -45,9 +47,9 @@ def _parser() -> argparse.ArgumentParser:
 
 def _floats(text: str) -> list[float]:
     try:
-        values = [float(v) for v in text.split(",") if v.strip()]
-    except ValueError as exc:
-        raise argparse.ArgumentTypeError(f"not a comma-separated list of numbers: {text!r}") from exc
+        values = [finite(v) for v in text.split(",") if v.strip()]
+    except argparse.ArgumentTypeError as exc:
+        raise argparse.ArgumentTypeError(f"not a comma-separated list of finite numbers: {text!r} ({exc})") from None
     if not values:
         raise argparse.ArgumentTypeError("give at least one angle")
     return values
@@ -82,40 +84,26 @@ def write_csv(scene: Scene, k: Kinematics, out: TextIO) -> None:
     np.savetxt(out, data, delimiter=",", fmt="%.17g")
 
 
-def summary(scene: Scene, k: Kinematics, *, deg: bool = True) -> str:
-    """Per output: range, and the extremes of |velocity| and |acceleration| with their φ."""
-    phi = k.phi[k.valid]
-
-    def at(i: int) -> str:
-        return f"{math.degrees(phi[i]):.2f}°" if deg else f"{phi[i]:.4f} rad"
-
-    w = k.omega.flat[0] if k.omega.size else 0.0
-    e = k.epsilon.flat[0] if k.epsilon.size else 0.0
-    lines = [f"scene {scene.name}: {len(phi)} positions, ω = {w:g} rad/s, ε = {e:g} rad/s²"]
+def summary(scene: Scene, k: Kinematics, *, deg: bool = True, periodic: bool = False) -> str:
+    """The summary of a sweep (solver.summary: one vocabulary with linkage-run, angles in
+    degrees), then the singular positions, transmission angles and gaps. ``periodic``: the
+    samples are one whole turn (a joint's net rotation includes the step back to the start);
+    ``deg`` is kept for callers of the old signature (angles are always in degrees)."""
+    valid = np.asarray(k.valid, bool)
+    phi = k.phi[valid]
+    w = float(k.omega.flat[0]) if k.omega.size else 0.0
+    e = float(k.epsilon.flat[0]) if k.epsilon.size else 0.0
+    span = " over one turn" if periodic else ""
+    lines = [f"scene {scene.name}: {len(phi)} positions{span} of the input '{scene.input_joint}'; {motion_line(w, e)}"]
     if scene.provenance:
         lines.append(f"  ({scene.provenance.split('. ')[0].rstrip('.')}.)")  # its first sentence
-    for p in scene.output_points:
-        m = k.point(p)
-        pos, vel, acc = (x[k.valid] for x in m)
-        if not len(phi):
-            break
-        lo, hi = pos.min(axis=0), pos.max(axis=0)
-        rng = ", ".join(f"{a} ∈ [{lo[i]:.6g}, {hi[i]:.6g}]" for i, a in enumerate(AXES[: scene.dim]))
-        sv, sa = np.linalg.norm(vel, axis=1), np.linalg.norm(acc, axis=1)
-        iv, ia = int(np.argmax(sv)), int(np.argmax(sa))
-        lines.append(f"  point {p}: {rng} m")
-        lines.append(f"    max |v| = {sv[iv]:.6g} m/s at φ = {at(iv)}; max |a| = {sa[ia]:.6g} m/s² at φ = {at(ia)}")
-    for j in scene.output_joints:
-        q, dq, ddq = (x[k.valid] for x in k.joint(j))
-        if not len(phi):
-            break
-        iv, ia = int(np.argmax(np.abs(dq))), int(np.argmax(np.abs(ddq)))
-        u = scene.joint_units.get(j, "rad")
-        lines.append(f"  joint {j}: q ∈ [{q.min():.6g}, {q.max():.6g}] {u}")
-        lines.append(
-            f"    max |dq| = {abs(dq[iv]):.6g} {u}/s at φ = {at(iv)}; "
-            f"max |ddq| = {abs(ddq[ia]):.6g} {u}/s² at φ = {at(ia)}"
-        )
+    desc = getattr(scene, "descriptions", {})
+    points = [Output(p, *(x[valid] for x in k.point(p)), description=desc.get(p, "")) for p in scene.output_points]
+    joints = [
+        Output(j, *(x[valid] for x in k.joint(j)), unit=scene.joint_units.get(j, "rad"), description=desc.get(j, ""))
+        for j in scene.output_joints
+    ]
+    lines += summary_lines(Sweep(phi=phi, points=points, joints=joints, periodic=periodic and bool(valid.all())))
     lines.extend(stability_lines(scene, k))
     return "\n".join(lines)
 
@@ -151,8 +139,9 @@ def stability_lines(scene: Scene, k: Kinematics) -> list[str]:
     for g in scene.plan.groups:
         mu = classify.transmission_range(scene, g)
         if mu is not None:
+            a, c = g.ends
             lines.append(
-                f"  transmission angle of {g.name} (between AB and CB): "
+                f"  transmission angle of {g.name} (between {_link(a, g.point)} and {_link(c, g.point)}): "
                 f"{math.degrees(mu[0]):.4f}° … {math.degrees(mu[1]):.4f}°"
             )
         grashof = classify.grashof(scene, g)
@@ -163,15 +152,21 @@ def stability_lines(scene: Scene, k: Kinematics) -> list[str]:
     return lines
 
 
+def _link(p: str, q: str) -> str:
+    """A link by its joints: ``AB`` for one-letter names, ``crank_pin–B`` otherwise."""
+    return f"{p}{q}" if len(p) == 1 and len(q) == 1 else f"{p}–{q}"
+
+
+@quiet_pipe
 def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     try:
+        if args.csv and args.csv != "-":
+            check_output(args.csv, "--csv")
         scene = load_scene(args.scene)
         if args.phi is not None:
             phi = np.radians(args.phi) if args.deg else np.asarray(args.phi, float)
         else:
-            if args.phi_count < 1:
-                raise SolverError(f"--phi-count must be at least 1, got {args.phi_count}")
             phi = np.linspace(0.0, 2 * math.pi, args.phi_count, endpoint=False)
         k = scene.solve(phi, omega=args.omega, epsilon=args.epsilon, mask=args.mask)
         if args.csv:
@@ -194,12 +189,14 @@ def main(argv: Sequence[str] | None = None) -> int:
                 with open(args.csv, "w", encoding="utf-8", newline="") as fh:
                     write_csv(scene, k, fh)
         else:
-            print(summary(scene, k, deg=True))
-    except SolverError as exc:
-        print(f"linkage-solve: error: {exc}", file=sys.stderr)
+            print(summary(scene, k, periodic=args.phi is None))
+    except (SolverError, ValueError) as exc:
+        print(f"linkage-solve: error: {one_line(str(exc))}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        raise  # the reader went away (`| head`): quiet_pipe ends quietly
     except OSError as exc:
-        print(f"linkage-solve: error: {exc}", file=sys.stderr)
+        print(f"linkage-solve: error: {one_line(exc.strerror or str(exc))}: {exc.filename or ''}", file=sys.stderr)
         return 2
     return 0
 

@@ -17,14 +17,23 @@ class SolverError(ValueError):
 
 
 class SceneError(SolverError):
-    """A scene file (or scene data) that cannot be turned into a mechanism."""
+    """A scene file (or scene data) that cannot be turned into a mechanism.
 
-    def __init__(self, message: str, *, file: str | None = None, entry: str | None = None) -> None:
+    One line: ``FILE:LINE: ENTRY: fault`` — the line where the YAML parser knows it (else
+    ``FILE: ENTRY: fault``), the entry as a path into the file (``groups[1].lengths``).
+    """
+
+    def __init__(
+        self, message: str, *, file: str | None = None, entry: str | None = None, line: int | None = None
+    ) -> None:
         self.file = file
         self.entry = entry
+        self.line = line
         self.reason = message
-        where = ": ".join(part for part in (file, entry) if part)
-        super().__init__(f"{where}: {message}" if where else message)
+        head = f"{file}:{line}" if file and line is not None else file
+        where = ": ".join(part for part in (head, entry) if part)
+        text = f"{where}: {message}" if where else message
+        super().__init__(" ".join(text.split()))
 
 
 def format_intervals(intervals: Sequence[tuple[float, float]]) -> str:

@@ -8,7 +8,7 @@ returned are the analogs themselves.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -16,7 +16,16 @@ import numpy as np
 from .errors import SolverError
 from .jet import Jet
 
-__all__ = ["Kinematics", "Motion", "MotionRows", "empty_motion", "fill_motion", "motion_rows"]
+__all__ = [
+    "Derivatives",
+    "Kinematics",
+    "Motion",
+    "OutputMotion",
+    "MotionRows",
+    "empty_motion",
+    "fill_motion",
+    "motion_rows",
+]
 
 
 class Motion(NamedTuple):
@@ -28,6 +37,54 @@ class Motion(NamedTuple):
     position: np.ndarray
     velocity: np.ndarray
     acceleration: np.ndarray
+
+
+class Derivatives:
+    """The exact first and second partial derivatives of a solve's outputs in its inputs,
+    evaluated on first use (``compute() -> {name: (jacobian, hessian)}``) and kept."""
+
+    __slots__ = ("_compute", "_cache")
+
+    def __init__(self, compute: Callable[[], Mapping[str, tuple[np.ndarray, np.ndarray]]]) -> None:
+        self._compute = compute
+        self._cache: Mapping[str, tuple[np.ndarray, np.ndarray]] | None = None
+
+    def of(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        if self._cache is None:
+            self._cache = self._compute()
+        return self._cache[name]
+
+
+class OutputMotion(Motion):
+    """A :class:`Motion` of one output of a solve, with its derivatives in the inputs.
+
+    ``jacobian``: (N, dim, k) for a point, (N, k) for a joint; ``hessian``: (N, dim, k, k) and
+    (N, k, k) — the leading N dropped for a single instant. Evaluated on first access (one more
+    pass of the plan per input and per pair of inputs, for every output of the solve at once);
+    with one input they are the analogs d/dφ and d²/dφ² reshaped (docs/inputs.md).
+    """
+
+    _derivatives: Derivatives | None
+    _name: str
+
+    def __new__(cls, motion: Motion, name: str, derivatives: Derivatives | None) -> OutputMotion:
+        self = super().__new__(cls, *motion)
+        self._derivatives = derivatives
+        self._name = name
+        return self
+
+    @property
+    def jacobian(self) -> np.ndarray:
+        return self._derived()[0]
+
+    @property
+    def hessian(self) -> np.ndarray:
+        return self._derived()[1]
+
+    def _derived(self) -> tuple[np.ndarray, np.ndarray]:
+        if self._derivatives is None:
+            raise SolverError(f"'{self._name}': this result carries no derivatives in the inputs")
+        return self._derivatives.of(self._name)
 
 
 def empty_motion(n: int, width: int | None) -> Motion:
@@ -96,7 +153,14 @@ class Kinematics:
         conditioning: Mapping[str, Any],
         valid: np.ndarray | None = None,
         floats: Mapping[str, tuple[Any, Any, Any]] | None = None,
+        derivatives: Derivatives | None = None,
+        inputs: tuple[str, ...] | None = None,
     ) -> None:
+        #: The input joints, in order (k of them); with several, ``phi`` is (N, k) — (k,) for
+        #: one instant — and so are ``omega`` and ``epsilon``.
+        self.inputs = inputs
+        self._derivatives = derivatives
+        self._samples = phi.shape if inputs is None or len(inputs) == 1 else phi.shape[:-1]
         self.phi = phi
         self.omega = omega
         self.epsilon = epsilon
@@ -108,17 +172,23 @@ class Kinematics:
         self._valid = valid
         self._conditioning_arrays: dict[str, Any] | None = None
 
-    def point(self, name: str) -> Motion:
+    def point(self, name: str) -> OutputMotion:
         """Position, velocity and acceleration of point ``name``: (N, 2) or (N, 3) arrays."""
         if name not in self.points:
             raise SolverError(f"point '{name}' was not requested; requested points: {list(self.points)}")
-        return self._motions.get(name) or self._from_floats(name)
+        return self._output(name)
 
-    def joint(self, name: str) -> Motion:
+    def joint(self, name: str) -> OutputMotion:
         """Coordinate, velocity and acceleration of joint ``name`` (rad or m): (N,) arrays."""
         if name not in self.joints:
             raise SolverError(f"joint '{name}' was not requested; requested joints: {list(self.joints)}")
-        return self._motions.get(name) or self._from_floats(name)
+        return self._output(name)
+
+    def _output(self, name: str) -> OutputMotion:
+        m = self._motions.get(name) or self._from_floats(name)
+        if type(m) is not OutputMotion:
+            m = self._motions[name] = OutputMotion(m, name, self._derivatives)
+        return m  # type: ignore[return-value]
 
     def floats(self, name: str) -> tuple[Any, Any, Any]:
         """For a scalar φ: (position, velocity, acceleration) of a point (tuples of dim floats) or a
@@ -139,7 +209,7 @@ class Kinematics:
     def valid(self) -> np.ndarray:
         """False where a sample could not be assembled (only with ``mask=True``; else all True)."""
         if self._valid is None:
-            self._valid = np.ones(self.phi.shape, bool)
+            self._valid = np.ones(self._samples, bool)
         return self._valid
 
     @property
@@ -147,10 +217,10 @@ class Kinematics:
         """Per group, its dimensionless conditioning per sample: 1 well conditioned, 0 singular.
 
         (N,) arrays for a sweep; plain floats for a scalar φ."""
-        if self.phi.ndim == 0:  # a scalar solve: its floats as they are
+        if not self._samples:  # a scalar solve: its floats as they are
             return self._conditioning  # type: ignore[return-value]
         if self._conditioning_arrays is None:
-            shape = self.phi.shape
+            shape = self._samples
             self._conditioning_arrays = {
                 k: np.broadcast_to(np.asarray(v, float), shape) for k, v in self._conditioning.items()
             }
@@ -160,7 +230,7 @@ class Kinematics:
     def min_conditioning(self) -> np.ndarray:
         """The worst conditioning over all groups, per sample (1 where no group reports one)."""
         values = list(self.conditioning.values())
-        return np.minimum.reduce(values) if values else np.ones(self.phi.shape)
+        return np.minimum.reduce(values) if values else np.ones(self._samples)
 
     @property
     def singular(self) -> np.ndarray:

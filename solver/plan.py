@@ -23,29 +23,52 @@ def order_groups(groups: Sequence[Group], known: Iterable[str], *, file: str | N
     available = set(known)
     pending = list(groups)
     ordered: list[Group] = []
-    while pending:
-        ready = [g for g in pending if set(g.requires()) <= available]
-        if not ready:
+    # In rounds, as a scan of the pending list would take them (each round: every pending group
+    # whose inputs are available, in scene order), but in linear time: each group counts its
+    # unmet inputs, and a name that becomes available releases only the groups waiting for it.
+    waiting: dict[str, list[int]] = {}
+    unmet: list[int] = []
+    for i, g in enumerate(pending):
+        need = set(g.requires()) - available
+        unmet.append(len(need))
+        for n in need:
+            waiting.setdefault(n, []).append(i)
+    ready = [i for i, count in enumerate(unmet) if count == 0]
+    while ready:
+        ordered.extend(pending[i] for i in ready)
+        released: list[int] = []
+        for i in ready:
+            for n in pending[i].provides():
+                if n not in available:
+                    available.add(n)
+                    for k in waiting.pop(n, ()):
+                        unmet[k] -= 1
+                        if unmet[k] == 0:
+                            released.append(k)
+        ready = sorted(released)
+    if len(ordered) < len(pending):
+        placed = {id(g) for g in ordered}
+        pending = [g for g in pending if id(g) not in placed]
+        if pending:
             providers = {n for g in pending for n in g.provides()}
             g = pending[0]
             missing = sorted(set(g.requires()) - available)
             unknown = [m for m in missing if m not in providers]
             if unknown:
                 raise SceneError(
-                    f"unknown point or joint {', '.join(repr(u) for u in unknown)}",
+                    f"unknown point or joint {', '.join(repr(u) for u in unknown)} (nothing provides it: "
+                    "a misspelt name, or too few inputs — no input moves it)",
                     file=file,
                     entry=f"{g.kind} '{g.name}'",
                 )
+            more = f" and {len(pending) - 8} more" if len(pending) > 8 else ""
             raise SceneError(
                 "groups depend on each other in a cycle: "
-                + ", ".join(f"'{p.name}' needs {sorted(set(p.requires()) - available)}" for p in pending),
+                + ", ".join(f"'{p.name}' needs {sorted(set(p.requires()) - available)}" for p in pending[:8])
+                + more,
                 file=file,
                 entry="groups",
             )
-        for g in ready:
-            pending.remove(g)
-            ordered.append(g)
-            available.update(g.provides())
     return tuple(ordered)
 
 

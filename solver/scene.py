@@ -19,10 +19,11 @@ from typing import Any
 import numpy as np
 
 from ._backend import NUMPY, SCALAR
+from ._inputs import check_outputs_move, input_joints
 from ._loader import SceneData, parse_scene, read_yaml
 from .errors import AssemblyError, SceneError, SolverError
 from .groups import Context
-from .kinematics import Kinematics, empty_motion, fill_motion, motion_rows
+from .kinematics import Derivatives, Kinematics, empty_motion, fill_motion, motion_rows
 from .plan import Plan, build_plan, order_groups
 
 __all__ = ["Scene", "Link", "load_scene", "find_scene", "shipped_scenes", "scene_dirs", "CHUNK"]
@@ -97,7 +98,13 @@ class Scene:
         self.path: str | None = data.file
         self.dim: int = data.dim
         self.provenance: str = data.provenance
+        #: one-line descriptions of points and joints from the scene's ``descriptions:`` (may be empty)
+        self.descriptions: Mapping[str, str] = data.descriptions
+        #: The input joints, in scene order (docs/inputs.md); one for a single-input scene.
+        self.inputs: tuple[str, ...] = input_joints(data.groups)
+        #: The driven joint whose coordinate is φ; with several inputs, the first of ``inputs``.
         self.input_joint: str = data.input_joint
+        self._multi = len(self.inputs) > 1
         self._label = data.file or data.name
         self.ordered = order_groups(data.groups, data.fixed, file=data.file)
         self.output_points = tuple(data.output_points if points is None else points)
@@ -112,6 +119,8 @@ class Scene:
                 raise SceneError(
                     f"unknown joint '{j}'; joints: {list(self.joint_names)}", file=data.file, entry="outputs"
                 )
+        if points is None and joints is None:  # the declared outputs: every input must move one
+            check_outputs_move(self.ordered, data.fixed, (*self.output_points, *self.output_joints), file=data.file)
         self.plan: Plan = build_plan(self.ordered, data.fixed, (*self.output_points, *self.output_joints))
 
     # -- what the scene is -------------------------------------------------------------------
@@ -173,7 +182,16 @@ class Scene:
         A scalar ``phi`` takes the per-tick path (Python scalars, no numpy per operation) and
         returns (dim,) points and 0-d joints; an array takes the vectorised path, in blocks of
         ``CHUNK`` samples so that the temporaries stay in cache.
+
+        With several inputs (``len(scene.inputs) = k > 1``) ``phi`` is (N, k), or (k,) for one
+        instant, and ``omega``, ``epsilon`` scalars (the same for every input), (k,) or (N, k);
+        velocities are J·ω and accelerations J·ε + ωᵀ·H·ω (solver.multi, docs/inputs.md).
+        Every output's ``.jacobian`` and ``.hessian`` give the exact derivatives in the inputs.
         """
+        if self._multi:  # several inputs: phi (N, k) or (k,) (solver.multi, docs/inputs.md)
+            from .multi import solve_multi
+
+            return solve_multi(self, phi, omega, epsilon, mask)
         if type(phi) is float and type(omega) is float and type(epsilon) is float:  # the per-tick call
             return self._solve_scalar(phi, omega, epsilon, mask)
         if _is_scalar(phi) and _is_scalar(omega) and _is_scalar(epsilon):
@@ -245,7 +263,19 @@ class Scene:
             joints=self.output_joints,
             conditioning=conditioning,
             valid=valid,
+            derivatives=Derivatives(lambda: self._analogs(phi, mask)),
+            inputs=self.inputs,
         )
+
+    def _analogs(self, phi: Any, mask: bool) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """One input: the jacobian and hessian are the analogs d/dφ and d²/dφ² reshaped,
+        (N, dim, 1) and (N, dim, 1, 1) — (N, 1) and (N, 1, 1) for a joint."""
+        k = self.solve(phi, mask=mask)
+        out = {}
+        for name in (*self.output_points, *self.output_joints):
+            m = k.point(name) if name in self.output_points else k.joint(name)
+            out[name] = (m.velocity[..., None], m.acceleration[..., None, None])
+        return out
 
     def _solve_scalar(self, phi: float, omega: float, epsilon: float, mask: bool) -> Kinematics:
         if not (math.isfinite(phi) and math.isfinite(omega) and math.isfinite(epsilon)):
@@ -266,6 +296,8 @@ class Scene:
             joints=self.output_joints,
             conditioning=ctx.conditioning,
             valid=np.array(not ctx.invalid) if mask else None,
+            derivatives=Derivatives(lambda: self._analogs(phi, mask)),
+            inputs=self.inputs,
         )
 
     def _intervals(self, group: str) -> list[tuple[float, float]]:

@@ -127,6 +127,9 @@ def refine_singular(ctx: Context, group: Group, names: Sequence[str]) -> None:
         bad = np.asarray(cond < REFINE_BELOW)
         if not bad.any():
             return
+    if ctx.seeds is not None:  # several inputs: no limit along one branch (docs/inputs.md)
+        _singular_nan(ctx, cond, names)
+        return
     scalar = not ctx.xp.vectorised
     phi = np.atleast_1d(np.asarray(ctx.phi, float))
     bad_idx = np.flatnonzero(np.broadcast_to(bad, phi.shape))
@@ -174,6 +177,36 @@ def refine_singular(ctx: Context, group: Group, names: Sequence[str]) -> None:
         if scalar:
             cast = complex if isinstance(jet.value, complex) else float
             new = [cast(x[0]) for x in new]
+        ctx.values[name] = Jet(jet.value, new[0], new[1])
+
+
+def _singular_nan(ctx: Context, cond: Any, names: Sequence[str]) -> None:
+    """Several inputs: the derivatives are NaN at the singular samples (conditioning below
+    SINGULAR, flagged in ``Kinematics.singular``) and as the system gives them elsewhere.
+
+    With one input the analogs at a singular sample are a limit along the one-dimensional branch;
+    with k inputs the Jacobian itself is unbounded there (a five-bar with its distal links
+    aligned), so no such limit defines it."""
+    if isinstance(cond, float):
+        if not cond < SINGULAR:
+            return
+        for name in names:
+            jet = ctx.values[name]
+            nan: Any = complex(math.nan, math.nan) if isinstance(jet.value, complex) else math.nan
+            ctx.values[name] = Jet(jet.value, nan, nan)
+        return
+    strict = np.asarray(cond < SINGULAR)
+    if not strict.any():
+        return
+    for name in names:
+        jet = ctx.values[name]
+        n = np.shape(jet.value)[0]
+        dtype = complex if np.iscomplexobj(np.asarray(jet.value)) else float
+        new = []
+        for d in (jet.d1, jet.d2):
+            arr = np.array(np.broadcast_to(np.asarray(d, dtype), np.shape(jet.value)))
+            arr[np.broadcast_to(strict, (n,))] = complex(math.nan, math.nan) if dtype is complex else math.nan
+            new.append(arr)
         ctx.values[name] = Jet(jet.value, new[0], new[1])
 
 

@@ -235,39 +235,28 @@ def summary_lines(
     outputs: Sequence[str],
     output_joints: Sequence[str],
     units: Mapping[str, str] | None = None,
+    *,
+    descriptions: Mapping[str, str] | None = None,
 ) -> list[str]:
-    """Per output point: range of each coordinate, max |v| and max |a| with t and φ where they
-    occur; per output joint: range, max |velocity| and max |acceleration| (``units``: each
-    joint's "rad" or "m", default rad)."""
-    lines: list[str] = []
+    """The run's summary in linkage-solve's words (:mod:`solver.summary`): per output point its
+    position ranges and the largest speed and acceleration with the t and φ where they occur (or
+    "constant"); per output joint its motion (a "full turn" for a joint that turns a revolution),
+    velocity and acceleration. ``units``: each joint's "rad" or "m" (default rad);
+    ``descriptions``: the scene's one-line descriptions of points and joints."""
+    from solver.summary import Output, Sweep
+    from solver.summary import summary_lines as lines_of
+
     if data.n == 0:
-        return ["no ticks"]
-    axes = "xyz"[: data.dim]
-
-    def where(i: int) -> str:
-        turn = math.degrees(math.remainder(float(data.phi[i]), TWO_PI))
-        return f"at t = {data.t[i]:.4f} s, φ = {data.phi[i]:.4f} rad ({turn:+.1f}° in the turn)"
-
-    for p in outputs:
-        if p not in data.positions:
-            continue
-        pos = data.positions[p]
-        rng = ", ".join(f"{a} ∈ [{pos[:, j].min() + 0.0:.6g}, {pos[:, j].max() + 0.0:.6g}] m"
-                        for j, a in enumerate(axes))
-        lines.append(f"point {p}: {rng}")
-        if p in data.velocities:
-            v = np.linalg.norm(data.velocities[p], axis=1)
-            a = np.linalg.norm(data.accelerations[p], axis=1)
-            iv, ia = int(np.argmax(v)), int(np.argmax(a))
-            lines.append(f"  max |v| = {v[iv]:.6g} m/s {where(iv)}")
-            lines.append(f"  max |a| = {a[ia]:.6g} m/s² {where(ia)}")
-    for j in output_joints:
-        if j not in data.joints:
-            continue
-        jp, jv, ja = data.joints[j]
-        iv, ia = int(np.argmax(np.abs(jv))), int(np.argmax(np.abs(ja)))
-        u = (units or {}).get(j, "rad")
-        lines.append(f"joint {j}: position ∈ [{jp.min() + 0.0:.6g}, {jp.max() + 0.0:.6g}] {u}")
-        lines.append(f"  max |velocity| = {abs(jv[iv]):.6g} {u}/s {where(iv)}")
-        lines.append(f"  max |acceleration| = {abs(ja[ia]):.6g} {u}/s² {where(ia)}")
-    return lines
+        return ["  no ticks"]
+    desc = descriptions or {}
+    points = [
+        Output(p, data.positions[p], data.velocities[p], data.accelerations[p], description=desc.get(p, ""))
+        for p in outputs
+        if p in data.positions and p in data.velocities
+    ]
+    joints = [
+        Output(j, *data.joints[j], unit=(units or {}).get(j, "rad"), description=desc.get(j, ""))
+        for j in output_joints
+        if j in data.joints
+    ]
+    return lines_of(Sweep(phi=data.phi, points=points, joints=joints, t=data.t))

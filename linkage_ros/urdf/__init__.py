@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from solver import SolverError, load_scene
+from solver._cmdline import Parser, check_output, one_line, quiet_pipe
 
 from .model import BASE_LINK, SUPPORTED_GROUPS, Body, Cut, TreeJoint, TreeModel, build_model, exportable_model
 from .states import TreeJointStates, frame_tree_joint_states, kinematics_tree_joint_states, tree_joint_states
@@ -54,7 +55,7 @@ def generate_urdf(scene: Any, *, frame_id: str = "world") -> str:
 
 
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = Parser(
         prog="linkage-urdf",
         description="Write the URDF of a linkage scene: the mechanism opened into a tree, with two "
         "fixed frames <cut>_a and <cut>_b at every cut joint.",
@@ -66,17 +67,26 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
+@quiet_pipe
 def main(argv: Sequence[str] | None = None) -> int:
-    """``linkage-urdf SCENE [-o FILE] [--frame-id NAME]``; returns the exit status."""
+    """``linkage-urdf SCENE [-o FILE] [--frame-id NAME]``; returns the exit status (one line on
+    stderr for a bad scene or output path; quiet when the reader of stdout goes away)."""
     args = _parser().parse_args(argv)
     try:
+        if args.output:
+            check_output(args.output, "-o")
         text = generate_urdf(args.scene, frame_id=args.frame_id)
         if args.output:
             Path(args.output).write_text(text, encoding="utf-8")
         else:
             sys.stdout.write(text)
-    except (SolverError, OSError) as exc:
-        print(f"linkage-urdf: error: {exc}", file=sys.stderr)
+    except BrokenPipeError:
+        raise
+    except (SolverError, ValueError) as exc:
+        print(f"linkage-urdf: error: {one_line(str(exc))}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print(f"linkage-urdf: error: {exc.filename or ''}: {exc.strerror or exc}", file=sys.stderr)
         return 2
     return 0
 

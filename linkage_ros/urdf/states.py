@@ -199,7 +199,7 @@ def kinematics_tree_joint_states(model: TreeModel, k: Any) -> TreeJointStates:
     joint as outputs, e.g. ``scene.everything().solve(phi, omega=..., epsilon=...)``):
     ``(N, J)`` arrays (``(J,)`` for a scalar φ)."""
     fixed = _fixed_lookup(model)
-    n = np.shape(k.phi)
+    n = np.shape(k.valid)  # the samples' shape: φ's, or (N,) of (N, k) inputs (docs/inputs.md)
     known = set(k.points)
 
     def as_complex(xy: np.ndarray) -> np.ndarray:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -43,6 +43,10 @@ class Context:
     #: The Scene being solved, for the analyses that need its whole plan: a continuous branch's
     #: change points and the analogs' limit at a singular sample (solver.singular).
     owner: Any = None
+    #: Several inputs (solver.multi): each input joint's directional jet ``(q, u, s)``, which the
+    #: cranks start from instead of ``(φ, 1, 0)``; ``phi`` then holds the (N, k) samples (a
+    #: k-tuple on the per-tick path). ``None`` for a single-input scene.
+    seeds: Mapping[str, Jet] | None = None
 
     def intervals_of(self, group: str) -> list[tuple[float, float]]:
         """The φ intervals in which ``group`` cannot be assembled, where the plan can tell."""
@@ -50,6 +54,11 @@ class Context:
 
     def require(self, group: Group, ok: Num, *, reason: str = "cannot be assembled") -> None:
         """Stop (or, in mask mode, record) the samples where ``ok`` is false."""
+        if self.seeds is not None:  # several inputs: the failing samples are rows of (q₁ … q_k)
+            from ..multi import require_samples
+
+            require_samples(self, group, ok, reason)
+            return
         if not self.xp.vectorised:
             if not ok:
                 if self.mask:
@@ -89,7 +98,7 @@ class Group:
     """
 
     kind: ClassVar[str] = ""
-    #: True for the group that takes φ as its input (a crank); a scene has exactly one.
+    #: True for a group that takes an input coordinate (a crank); a scene has one per input.
     drives: ClassVar[bool] = False
     name: str
 

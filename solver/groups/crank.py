@@ -9,6 +9,10 @@ Linear system
 Branch rule
     none: one solution for every φ.
 The crank also provides the input joint, whose coordinate is φ itself: ``(φ, 1, 0)``.
+
+Several inputs (docs/inputs.md): each crank is seeded with its input's directional jet
+``(q, u, s)`` — the path q(t) = q₀ + u·t + s·t²/2 — so that A' = j(A − O)·u and
+A'' = j(A − O)·s − (A − O)·u², and every group downstream yields J·u and uᵀHu + J·s.
 """
 
 from __future__ import annotations
@@ -52,12 +56,33 @@ class Crank(Group):
         return ((self.center, self.point),)
 
     def solve(self, ctx: Context) -> None:
+        if ctx.seeds is not None:
+            self._solve_seeded(ctx, ctx.seeds[self.joint])
+            return
         xp, phi = ctx.xp, ctx.phi
         o = ctx.values[self.center].value
         arm = xp.cis(phi)
         arm *= self.length  # in place on the fresh e^{jφ} (the same product as L·e^{jφ})
         ctx.values[self.point] = Jet(o + arm, 1j * arm, xp.negative(arm))
         ctx.values[self.joint] = Jet(phi, 1.0, 0.0)
+
+    def _solve_seeded(self, ctx: Context, seed: Jet) -> None:
+        """One of several inputs, seeded with the directional jet ``(q, u, s)`` (solver.multi):
+        A' = j·(A − O)·u,  A'' = j·(A − O)·s − (A − O)·u².  A zero ``u`` (the float 0.0, another
+        input's direction) leaves A' and A'' the float 0.0, so no array work follows from it."""
+        q, u, s = seed
+        arm = ctx.xp.cis(q)
+        arm *= self.length
+        point = ctx.values[self.center].value + arm
+        if type(u) is float and u == 0.0 and type(s) is float and s == 0.0:
+            ctx.values[self.point] = Jet(point, 0.0, 0.0)
+        else:
+            ja = 1j * arm
+            acc = arm * (-(u * u))
+            if not (type(s) is float and s == 0.0):
+                acc += ja * s
+            ctx.values[self.point] = Jet(point, ja * u, acc)
+        ctx.values[self.joint] = Jet(q, u, s)
 
     @classmethod
     def from_entry(cls, e: Entry, units: Units, fixed: Mapping[str, Any]) -> Crank:

@@ -26,11 +26,13 @@ says the framework has no solution.
 from __future__ import annotations
 
 import cmath
+import math
 from collections.abc import Mapping
 from typing import Any
 
-from .._fields import Entry, Units
+from .._fields import Entry, Units, show
 from ..groups.base import Group
+from ..tolerances import SINGULAR
 from .contour import Contour, DepSpec
 from .nodes import VectorInput, VectorJoint, VectorPoint
 from .terms import Ref, Term
@@ -73,7 +75,7 @@ def _drawn(e: Entry, points: set[str]) -> tuple[tuple[str, ...], ...]:
     if not isinstance(raw, list) or not all(
         isinstance(line, list) and len(line) >= 2 and all(isinstance(n, str) for n in line) for line in raw
     ):
-        raise e.error(f"must be a list of polylines, each a list of two or more point names, got {raw!r}", "draw")
+        raise e.error(f"must be a list of polylines, each a list of two or more point names, got {show(raw)}", "draw")
     for line in raw:
         for n in line:
             if n not in points:
@@ -134,7 +136,7 @@ class _Model:
                 )
                 sub.done()
                 return ("link", target, plus)
-        raise v.error(f"must be {_PARAM_FORMS}, got {raw!r}", key)
+        raise v.error(f"must be {_PARAM_FORMS}, got {show(raw)}", key)
 
     def resolve(self, name: str, kind: str, chain: tuple[str, ...] = ()) -> Ref:
         """Follow links to the base: a constant, the input, or an unknown (seed 004: links first)."""
@@ -159,7 +161,8 @@ class _Model:
     def terms(self, e: Entry, key: str) -> list[Term]:
         raw = e.raw(key)
         if not isinstance(raw, (list, tuple)) or not raw or not all(isinstance(x, str) for x in raw):
-            raise e.error(f"must be a non-empty list of vector names, each optionally signed (-AB), got {raw!r}", key)
+            what = "a non-empty list of vector names, each optionally signed (-AB)"
+            raise e.error(f"must be {what}, got {show(raw)}", key)
         out = []
         for item in raw:
             text = item.strip()
@@ -230,6 +233,7 @@ class _Model:
             )
         if base == "Пл2":
             form, solutions = "pl2", 1
+            _check_slides(c, where, deps)
         elif base == "Пл4":
             form, solutions = "pl4", 2
         else:
@@ -314,13 +318,31 @@ class _Model:
             j = je.child(str(jname), je.raw(jname))
             kinds = [k for k in ("angle", "length") if k in j.data]
             if len(kinds) != 1 or len(j.data) != 1:
-                raise j.error(f"must be {{angle: VECTOR}} or {{length: VECTOR}}, got {dict(j.data)!r}")
+                raise j.error(f"must be {{angle: VECTOR}} or {{length: VECTOR}}, got {show(j.data)}")
             vec = j.name(kinds[0])
             if vec not in self.specs:
                 raise j.error(f"'{vec}' is not a vector; vectors: {sorted(self.specs)}", kinds[0])
             kind = "alpha" if kinds[0] == "angle" else "r"
             out.append(VectorJoint(name=str(jname), expression=kinds[0], ref=self.resolve(vec, kind)))
         return out
+
+
+def _check_slides(c: Entry, where: str, deps: list[DepSpec]) -> None:
+    """Пл2 with both slides at constant angles: refuse parallel slides (or a slide whose terms
+    cancel) on load, where the closure ρ₁·D₁ + ρ₂·D₂ + K = 0 has no solution at any φ."""
+    if any(d.term.alpha.base is not None for d in deps):
+        return  # a slide that turns: parallel at some φ at most (an AssemblyError there)
+    col = [0j, 0j]
+    for d in deps:
+        if d.len_of is not None:
+            col[d.len_of] += d.term.sign * d.term.alpha.rot
+    n1, n2 = abs(col[0]), abs(col[1])
+    if n1 <= SINGULAR or n2 <= SINGULAR or abs((col[0].conjugate() * col[1]).imag) <= SINGULAR * n1 * n2:
+        angles = ", ".join(f"{d.term.vector} at {math.degrees(d.term.alpha.offset):g}°" for d in deps)
+        raise c.error(
+            f"{where}: the two unknown lengths slide along parallel lines ({angles}): the contour "
+            "cannot close at any φ (seed 004's Пл2 needs two slides at different angles)"
+        )
 
 
 def _stalled(ce: Entry, pending: list[tuple[str, Entry, list[Term], list[str]]], known: set[str]) -> None:

@@ -16,6 +16,7 @@ Assembly fails where D₁ × D₂ = 0 (the two slides are parallel).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import Any
 
@@ -31,4 +32,6 @@ def position(d1: Num, d2: Num, k: Num, require: Callable[[Num, str], None]) -> t
     """``(ρ₁, ρ₂)`` of ``ρ₁·D₁ + ρ₂·D₂ + K = 0``."""
     det = cross(d1, d2)
     require(abs(det) > SINGULAR * abs2(d1) ** 0.5 * abs2(d2) ** 0.5, "has its two slides parallel")
+    if det.__class__ is float and det == 0.0:  # the scalar path in mask mode: flagged above, no division
+        return math.nan, math.nan
     return cross(k, d2) / -det, cross(d1, k) / -det

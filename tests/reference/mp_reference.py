@@ -29,6 +29,9 @@ from mpmath import mp, mpf
 
 __all__ = [
     "DPS",
+    "FIVE_BAR",
+    "build_five_bar_reference",
+    "five_bar_grid",
     "SCENES",
     "SceneSpec",
     "build_reference",
@@ -296,6 +299,119 @@ def build_reference(name: str, phis: Sequence[float] | None = None, *, date: str
     }
 
 
+# --- the five-bar (two inputs, issue 14): exact Jacobians and Hessians ---
+
+FIVE_BAR = "five_bar"
+FIVE_BAR_OMEGA = ("2", "-1.5")
+FIVE_BAR_EPSILON = ("0.7", "3")
+FIVE_BAR_DEGREES = tuple(range(40, 141, 10))
+"""q1 and q2 on this grid (degrees, each rounded to the nearest double in rad): 11 × 11 samples."""
+_FIVE_BAR_ORDERS = {"d_dq1": (1, 0), "d_dq2": (0, 1), "d2_dq1dq1": (2, 0), "d2_dq1dq2": (1, 1), "d2_dq2dq2": (0, 2)}
+
+
+def five_bar(q1: mpf, q2: mpf) -> Geometry:
+    """Generic five-bar: O1 = (0, 0), O2 = (0.2, 0); cranks 0.15 at angles q1, q2; distal links
+    0.25 meeting at P on the left of A1 → A2 (above the line when A1 is left of A2)."""
+    crank, distal, o2x = mpf("0.15"), mpf("0.25"), mpf("0.2")
+    a1 = (crank * mp.cos(q1), crank * mp.sin(q1))
+    a2 = (o2x + crank * mp.cos(q2), crank * mp.sin(q2))
+    dx, dy = a2[0] - a1[0], a2[1] - a1[1]
+    d = mp.hypot(dx, dy)
+    h = mp.sqrt(distal**2 - (d / 2) ** 2)
+    p = ((a1[0] + a2[0]) / 2 - h * dy / d, (a1[1] + a2[1]) / 2 + h * dx / d)
+    return Geometry(
+        {"P": p},
+        {"left_distal": (p[0] - a1[0], p[1] - a1[1]), "right_distal": (p[0] - a2[0], p[1] - a2[1])},
+        {"q1": q1, "q2": q2},
+    )
+
+
+def five_bar_grid() -> list[tuple[float, float]]:
+    """(q1, q2) over FIVE_BAR_DEGREES², q1 the slow index (rad, exact binary64 values)."""
+    with mp.workdps(DPS):
+        angles = [float(mp.pi * deg / 180) for deg in FIVE_BAR_DEGREES]
+    return [(a, b) for a in angles for b in angles]
+
+
+def _five_bar_scalar(name: str, q0: tuple[mpf, mpf]) -> Callable[[mpf, mpf], mpf]:
+    """One output coordinate as a function of (q1, q2); angles relative to their value at q0."""
+    if name in ("left_distal", "right_distal"):
+        vx0, vy0 = five_bar(*q0).angles[name]
+
+        def relative(a: mpf, b: mpf) -> mpf:
+            vx, vy = five_bar(a, b).angles[name]
+            return mp.atan2(vx0 * vy - vy0 * vx, vx0 * vx + vy0 * vy)
+
+        return relative
+    if name in ("q1", "q2"):
+        return lambda a, b: five_bar(a, b).slides[name]
+    axis = {"P.x": 0, "P.y": 1}[name]
+    return lambda a, b: five_bar(a, b).points["P"][axis]
+
+
+def _five_bar_entry(name: str, q: tuple[mpf, mpf]) -> dict[str, mpf]:
+    g = five_bar(*q)
+    if name in ("left_distal", "right_distal"):
+        vx, vy = g.angles[name]
+        value = mp.atan2(vy, vx)
+    elif name in ("q1", "q2"):
+        value = g.slides[name]
+    else:
+        value = g.points["P"][{"P.x": 0, "P.y": 1}[name]]
+    f = _five_bar_scalar(name, q)
+    out = {"position": value}
+    for key, order in _FIVE_BAR_ORDERS.items():
+        out[key] = mp.diff(f, q, order)
+    w = [mpf(x) for x in FIVE_BAR_OMEGA]
+    e = [mpf(x) for x in FIVE_BAR_EPSILON]
+    jac = (out["d_dq1"], out["d_dq2"])
+    hess = ((out["d2_dq1dq1"], out["d2_dq1dq2"]), (out["d2_dq1dq2"], out["d2_dq2dq2"]))
+    out["velocity"] = jac[0] * w[0] + jac[1] * w[1]
+    quadratic = sum(w[i] * hess[i][j] * w[j] for i in range(2) for j in range(2))
+    out["acceleration"] = jac[0] * e[0] + jac[1] * e[1] + quadratic
+    return out
+
+
+def build_five_bar_reference(samples: Sequence[tuple[float, float]] | None = None, *, date: str | None = None) -> dict:
+    """The five-bar's reference: per sample (q1, q2), every output's value, its first and second
+    partial derivatives in (q1, q2), and the real motion for ω = FIVE_BAR_OMEGA, ε = FIVE_BAR_EPSILON."""
+    samples = five_bar_grid() if samples is None else [tuple(map(float, s)) for s in samples]
+    names = ("P.x", "P.y", "q1", "q2", "left_distal", "right_distal")
+    keys = ("position", *_FIVE_BAR_ORDERS, "velocity", "acceleration")
+    with mp.workdps(DPS):
+        rows = [{n: _five_bar_entry(n, (mpf(a), mpf(b))) for n in names} for a, b in samples]
+        table = {n: {key: [_fmt(row[n][key]) for row in rows] for key in keys} for n in names}
+        q_strings = [[_fmt(mpf(a)), _fmt(mpf(b))] for a, b in samples]
+    when = date or datetime.date.today().isoformat()
+    points = {"P": {key: [[x, y] for x, y in zip(table["P.x"][key], table["P.y"][key])] for key in keys}}
+    joints = {
+        n: {"kind": "angle" if n.endswith("distal") else "input angle"} | table[n]
+        for n in ("q1", "q2", "left_distal", "right_distal")
+    }
+    return {
+        "provenance": (
+            f"{SCRIPT} (mpmath {mpmath.__version__}, mp.dps={DPS}), {when}: positions from the closed-form "
+            "geometry of a generic five-bar (O1 = (0, 0), O2 = (0.2, 0) m, cranks 0.15 m, distal links 0.25 m, "
+            "P on the left of A1 -> A2; illustrative dimensions, issue 14) evaluated in mpmath; first and second "
+            "partial derivatives in (q1, q2) by mpmath's high-precision numerical differentiation mp.diff of the "
+            "position functions, an independent route from the solver's jets. q values are exact binary64 numbers."
+        ),
+        "scene": FIVE_BAR,
+        "dim": 2,
+        "inputs": ["q1", "q2"],
+        "scale_length": "0.25",
+        "units": "m and rad; angle joints in (-pi, pi]; d_dqi per rad, d2_dqidqj per rad^2",
+        "motion": {
+            "omega": list(FIVE_BAR_OMEGA),
+            "epsilon": list(FIVE_BAR_EPSILON),
+            "law": "v = J*omega, a = J*epsilon + omega^T*H*omega",
+        },
+        "q": q_strings,
+        "points": points,
+        "joints": joints,
+    }
+
+
 # --- seed 001, Tables 1-2: exact maxima ---
 
 
@@ -378,6 +494,18 @@ def self_check(phis: Iterable[float] | None = None) -> dict[str, mpf]:
             a1, a2 = _jet(f, p)
             b1, b2 = _jet(f, p, h=h)
             note("mp.diff step independence", max(abs(a1 - b1), abs(a2 - b2)))
+        # the five-bar: loop closure, the differentiated closure (P - A1).(dP/dq1 - dA1/dq1) = 0,
+        # and mp.diff's mixed partial independent of its step
+        for a, b in five_bar_grid()[::17]:
+            q = (mpf(a), mpf(b))
+            p5 = five_bar(*q).points["P"]
+            a1 = (mpf("0.15") * mp.cos(q[0]), mpf("0.15") * mp.sin(q[0]))
+            note("five-bar closure", mp.hypot(p5[0] - a1[0], p5[1] - a1[1]) - mpf("0.25"))
+            px, py = (_five_bar_scalar(n, q) for n in ("P.x", "P.y"))
+            jx, jy = mp.diff(px, q, (1, 0)), mp.diff(py, q, (1, 0))
+            note("five-bar differentiated closure", (p5[0] - a1[0]) * (jx + a1[1]) + (p5[1] - a1[1]) * (jy - a1[0]))
+            step = mp.ldexp(1, -mp.prec - 40)
+            note("five-bar mixed partial step", mp.diff(px, q, (1, 1)) - mp.diff(px, q, (1, 1), h=step))
         # seed 001 maximum of |ψ''|: closed form against a root of ψ''' = 0
         value, where = spherical_max_psi_ddot()
 
@@ -421,14 +549,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=DATA_DIR, help="folder for reference_<scene>.json")
     parser.add_argument("--check", action="store_true", help="compare with the stored files, write nothing")
-    parser.add_argument("scenes", nargs="*", default=list(SCENES), help="scene names (default: all)")
+    parser.add_argument("scenes", nargs="*", default=[*SCENES, FIVE_BAR], help="scene names (default: all)")
     args = parser.parse_args(argv)
     mp.dps = DPS
     worst = self_check()
     print("self-check, largest discrepancies:", {k: mp.nstr(v, 3) for k, v in worst.items()})
     status = 0
     for name in args.scenes:
-        ref = build_reference(name)
+        ref = build_five_bar_reference() if name == FIVE_BAR else build_reference(name)
         target = args.out / f"reference_{name}.json"
         if args.check:
             diff = _compare(json.loads(target.read_text()), ref)
@@ -439,7 +567,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         text = json.dumps(ref, indent=1) + "\n"
         target.write_text(text)
         print(
-            f"{target}: {len(ref['phi'])} angles, {len(text) / 1024:.0f} KiB, "
+            f"{target}: {len(ref.get('phi', ref.get('q', [])))} samples, {len(text) / 1024:.0f} KiB, "
             f"angle margin from ±pi {_angle_margin(ref):.3g} rad"
         )
     return status

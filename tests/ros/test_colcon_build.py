@@ -1,17 +1,21 @@
 """The package builds with colcon in a temporary workspace and `colcon test` passes.
 
 Uses the colcon next to this Python (the venv's, from PyPI) or on PATH. The inner `colcon test`
-runs tests/ros without this file's marker (``-m "not colcon"``), so it does not recurse.
+runs tests/ros without this file's marker and without the DDS tests (``-m "not colcon and not
+dds"``), so it does not recurse and does not start nodes twice; the installed
+``lib/linkage_ros/mechanism_node`` is started here instead and must publish.
 """
 
 from __future__ import annotations
 
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -76,6 +80,19 @@ def test_the_installed_packages_find_the_installed_scenes(workspace: Path, tmp_p
     assert run.stdout.strip() == "ok"
 
 
+def test_the_installed_node_starts_and_publishes(workspace: Path, start_node: Any, client: Any) -> None:
+    prefix = workspace / "install" / "linkage_ros"
+    (site,) = (prefix / "lib").glob("python3*/site-packages")
+    env = {**os.environ, "PYTHONPATH": str(site), "AMENT_PREFIX_PATH": str(prefix)}
+    listener = client.listen({"/colcon/joint_states": "sensor_msgs/msg/JointState"})
+    process = start_node("-r", "__ns:=/colcon", "-p", "scene:=four_bar",
+                         executable=str(prefix / "lib" / "linkage_ros" / "mechanism_node"), env=env)
+    try:
+        assert client.spin_until(lambda: len(listener.messages) >= 1, 30.0), process.output()
+    finally:
+        assert process.stop(signal.SIGTERM) == 0, process.output()
+
+
 def test_colcon_test_passes(workspace: Path) -> None:
     colcon = colcon_executable()
     results = workspace / "test_results"
@@ -85,7 +102,7 @@ def test_colcon_test_passes(workspace: Path) -> None:
     env = {**os.environ, INNER: "1"}
     run = subprocess.run(
         [*common, "test", *where, "--test-result-base", str(results),
-         "--pytest-args", "tests/ros", "-m", "not colcon"],
+         "--pytest-args", "tests/ros", "-m", "not colcon and not dds"],
         capture_output=True, text=True, timeout=TIMEOUT_S, cwd=workspace, env=env,
     )
     assert run.returncode == 0, run.stdout + run.stderr

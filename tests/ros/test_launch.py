@@ -29,7 +29,7 @@ def test_launch_file_parses_and_declares_the_four_arguments() -> None:
 
 def test_params_file_is_in_ros_parameters_form_with_valid_values() -> None:
     data = yaml.safe_load(PARAMS.read_text(encoding="utf-8"))
-    params = data["mechanism_node"]["ros__parameters"]
+    params = data["/**"]["ros__parameters"]
     names = {spec.name for spec in PARAMETERS}
     assert set(params) <= names and names - set(params) <= {"points"}  # points follows the scene
     for name, value in params.items():

@@ -1,224 +1,352 @@
-"""mechanism_node against the rclpy stand-in (tests/ros/fake_rclpy.py)."""
+"""mechanism_node as its own process, over DDS with the real rclpy (Jazzy wheels, Fast DDS).
+
+The node is the installed console script; the test process subscribes (raw CDR, decoded by
+rclpy) and calls the parameter services, on localhost and this session's ROS_DOMAIN_ID
+(conftest.py). Node processes are shared per module and ended by PID.
+"""
 
 from __future__ import annotations
 
+import json
 import math
+import signal
+import struct
+import subprocess
+import sys
+from collections import defaultdict
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
+from conftest import Client, NodeProcess, decode
 
+import solver
 from linkage_ros.messages import topic_types
-from linkage_ros.runtime import PARAMETERS
+
+pytestmark = pytest.mark.dds
 
 NS = 1_000_000_000
-ROCKING_SCENE = Path(__file__).parent / "data" / "rocking_four_bar.yaml"
-TOL = 1e-12
+ROOT = Path(__file__).resolve().parents[2]
+REFERENCE = json.loads((ROOT / "tests" / "data" / "reference_four_bar.json").read_text())
+DOUBLE_ROCKER = ROOT / "config" / "scenes" / "hard" / "double_rocker.yaml"
+TOL_POS = 1e-12  # m, against the solver and the 50-digit reference
+TOL_REL = 1e-9
+WAIT_S = 20.0
+FOUR_BAR_TOPICS = dict(topic_types(["A", "B"]))
+PER_TICK = [t for t in FOUR_BAR_TOPICS if t != "diagnostics"]
 
 
-def make_node(ros: dict[str, Any], **overrides: Any) -> Any:
-    Parameter = ros["rclpy.parameter"].Parameter
-    node = ros["node"].MechanismNode(
-        parameter_overrides=[Parameter(k, value=v) for k, v in overrides.items()]
+def absolute(namespace: str, topics: dict[str, str]) -> dict[str, str]:
+    return {f"{namespace.rstrip('/')}/{t}": typename for t, typename in topics.items()}
+
+
+def stamp(topic: str, data: bytes) -> int:
+    """Header stamp (ns) straight from the CDR bytes (a MarkerArray's first marker's header)."""
+    sec, nanosec = struct.unpack_from("<iI", data, 8 if topic.endswith("markers") else 4)
+    return sec * NS + nanosec
+
+
+def ticks(messages: list[tuple[str, bytes]]) -> dict[int, dict[str, bytes]]:
+    out: dict[int, dict[str, bytes]] = defaultdict(dict)
+    for topic, data in messages:
+        out[stamp(topic, data)][topic.rsplit("/", 1)[-1] if "/points/" not in topic
+                                else topic[topic.index("points/"):]] = data
+    return out
+
+
+def wait_for_ticks(client: Client, listener: Any, topic: str, count: int) -> None:
+    start = len(listener.by_topic[topic])
+    assert client.spin_until(lambda: len(listener.by_topic[topic]) >= start + count, WAIT_S), (
+        f"fewer than {count} messages on {topic}"
     )
-    return node
 
 
-def set_param(ros: dict[str, Any], node: Any, name: str, value: Any) -> Any:
-    (result,) = node.set_parameters([ros["rclpy.parameter"].Parameter(name, value=value)])
-    return result
+# ---------------------------------------------------------------------------------------- N1
+@pytest.fixture(scope="module")
+def recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return tmp_path_factory.mktemp("n1") / "n1.mcap"
 
 
-def last(node: Any, topic: str) -> Any:
-    return node.publishers_by_topic[topic].published[-1]
+@pytest.fixture(scope="module")
+def four_bar(start_node: Any, client: Client, recording: Path) -> Any:
+    """/mechanism_node: four_bar, ``omega:=2`` (an integer), 100 Hz, recording; a listener on
+    every topic from the start."""
+    listener = client.listen(absolute("/", FOUR_BAR_TOPICS))
+    process = start_node("-p", "scene:=four_bar", "-p", "omega:=2", "-p", "rate_hz:=100.0",
+                         "-p", f"record_mcap:={recording}")
+    if not client.spin_until(lambda: len(listener.by_topic["/joint_states"]) >= 3, WAIT_S):
+        process.kill()
+        pytest.fail("no joint_states from mechanism_node:\n" + process.output())
+    return process, listener
 
 
-def test_parameters_are_declared_with_descriptors(ros: dict[str, Any]) -> None:
-    node = make_node(ros)
-    PT = ros["rcl_interfaces.msg"].ParameterType
-    kinds = {"string": PT.PARAMETER_STRING, "double": PT.PARAMETER_DOUBLE,
-             "string_array": PT.PARAMETER_STRING_ARRAY}
-    for spec in PARAMETERS:
-        descriptor = node._descriptors[spec.name]
-        assert descriptor.name == spec.name
-        assert descriptor.type == kinds[spec.kind]
-        assert descriptor.description
-        if spec.float_range:
-            (rng,) = descriptor.floating_point_range
-            assert (rng.from_value, rng.to_value) == spec.float_range
-    assert node._descriptors["rate_hz"].floating_point_range[0].from_value > 0
-    assert node.get_parameter("points").value == ["B", "C", "E"]  # the scene's outputs
+def test_every_topic_is_published_with_its_type(four_bar: Any, client: Client) -> None:
+    expected = {(t, (typename,)) for t, typename in absolute("/", FOUR_BAR_TOPICS).items()}
+
+    def published() -> set[tuple[str, tuple[str, ...]]]:
+        found = client.node.get_publisher_names_and_types_by_node("mechanism_node", "/")
+        return {(name, tuple(types)) for name, types in found}
+
+    assert client.spin_until(lambda: expected <= published(), WAIT_S), published()
 
 
-def test_publishers_cover_every_topic_with_depth_10_reliable(ros: dict[str, Any]) -> None:
-    node = make_node(ros)
-    assert set(node.publishers_by_topic) == {t for t, _ in topic_types(node.runtime.engine)}
-    for publisher in node.publishers_by_topic.values():
-        assert publisher.qos.depth == 10
-        assert publisher.qos.reliability == "reliable"
+def test_all_messages_of_a_tick_carry_one_stamp_and_frame_id(four_bar: Any, client: Client) -> None:
+    _, listener = four_bar
+    wait_for_ticks(client, listener, "/joint_states", 30)
+    by_stamp = ticks(listener.messages)
+    complete = [s for s, tick in by_stamp.items() if set(PER_TICK) <= set(tick)]
+    assert len(complete) >= 25
+    assert all(len(tick) <= len(FOUR_BAR_TOPICS) for tick in by_stamp.values())
+    for s in complete[-5:]:
+        for topic, data in by_stamp[s].items():
+            message = decode(data, FOUR_BAR_TOPICS[topic])
+            headers = [m.header for m in message.markers] if topic == "markers" else [message.header]
+            for header in headers:
+                assert header.stamp.sec * NS + header.stamp.nanosec == s
+                assert header.frame_id == "world"
+    # each stamp is one tick: ascending, no topic twice
+    stamps = [stamp(t, d) for t, d in listener.messages if t == "/joint_states"]
+    assert stamps == sorted(set(stamps))
 
 
-def test_timer_publishes_all_topics_with_the_clock_stamp(ros: dict[str, Any]) -> None:
-    node = make_node(ros, omega=2.0, phi0=0.25, rate_hz=50.0, frame_id="base")
-    (timer,) = node.timers
-    assert timer.period == pytest.approx(1 / 50.0)
-    start = node.clock.ns
-    node.fire_timer()
-    node.clock.ns = start + 3 * NS // 10
-    node.fire_timer()
-    sec, nanosec = divmod(node.clock.ns, NS)
-    for topic, publisher in node.publishers_by_topic.items():
-        assert len(publisher.published) == 2, topic
-        message = publisher.published[-1]
-        headers = [m.header for m in message.markers] if topic == "markers" else [message.header]
-        for header in headers:
-            assert (header.stamp.sec, header.stamp.nanosec, header.frame_id) == (sec, nanosec, "base")
-    js = last(node, "joint_states")
-    drum = js.name.index("drum")
-    assert js.position[drum] == pytest.approx(0.25 + 2.0 * 0.3, abs=TOL)
-    assert js.velocity[drum] == pytest.approx(2.0, abs=TOL)
+def test_values_equal_the_solver_at_the_published_angle(four_bar: Any, client: Client) -> None:
+    _, listener = four_bar
+    wait_for_ticks(client, listener, "/joint_states", 10)
+    scene = solver.load_scene("four_bar").everything()
+    checked = 0
+    for tick in list(ticks(listener.messages).values())[-10:]:
+        if not set(PER_TICK) <= set(tick):
+            continue
+        jk = decode(tick["joint_kinematics"], FOUR_BAR_TOPICS["joint_kinematics"])
+        i = jk.joint_names.index("crank")
+        phi, omega, eps = (jk.points[0].positions[i], jk.points[0].velocities[i], jk.points[0].accelerations[i])
+        k = scene.solve(phi, omega=omega, epsilon=eps)
+        for point in ("A", "B"):
+            p = decode(tick[f"points/{point}/position"], FOUR_BAR_TOPICS[f"points/{point}/position"]).point
+            v = decode(tick[f"points/{point}/velocity"], FOUR_BAR_TOPICS[f"points/{point}/velocity"]).vector
+            a = decode(tick[f"points/{point}/acceleration"], FOUR_BAR_TOPICS[f"points/{point}/acceleration"]).vector
+            expected = k.point(point)
+            np.testing.assert_allclose([p.x, p.y], expected.position, rtol=0, atol=TOL_POS)
+            np.testing.assert_allclose([v.x, v.y], expected.velocity, rtol=0, atol=TOL_POS * abs(omega))
+            np.testing.assert_allclose([a.x, a.y], expected.acceleration, rtol=0, atol=TOL_POS * (omega**2 + abs(eps)))
+            assert p.z == v.z == a.z == 0.0
+        js = decode(tick["joint_states"], FOUR_BAR_TOPICS["joint_states"])
+        for name in ("coupler", "rocker"):
+            assert js.position[js.name.index(name)] == pytest.approx(k.joint(name).position, abs=TOL_POS)
+        checked += 1
+    assert checked >= 5
 
 
-def test_invalid_values_are_rejected_with_a_reason_and_the_node_keeps_running(ros: dict[str, Any]) -> None:
-    node = make_node(ros)
-    node.fire_timer()
-    bad = {
-        "rate_hz": 0.0,
-        "scene": "no_such_mechanism",
-        "phi0": math.inf,
-        "omega": math.nan,
-        "epsilon": "fast",
-        "on_unassemblable": "explode",
-        "frame_id": "",
-        "points": ["B", "nowhere"],
-    }
-    for name, value in bad.items():
-        before = node.get_parameter(name).value
-        result = set_param(ros, node, name, value)
-        assert not result.successful, name
-        assert result.reason, name
-        assert node.get_parameter(name).value == before
-    assert "unknown scene 'no_such_mechanism'" in set_param(ros, node, "scene", "no_such_mechanism").reason
-    assert "phi0 must be a finite number" in set_param(ros, node, "phi0", math.inf).reason
-    assert "unknown point(s) nowhere" in set_param(ros, node, "points", ["B", "nowhere"]).reason
-    node.clock.ns += NS // 100
-    node.fire_timer()
-    assert len(node.publishers_by_topic["joint_states"].published) == 2
+def test_an_integer_start_value_for_a_double_is_taken_as_a_double(four_bar: Any, client: Client) -> None:
+    from rcl_interfaces.msg import ParameterType
+
+    (omega,) = client.get_parameters("/mechanism_node", "omega")
+    assert omega[0] == ParameterType.PARAMETER_DOUBLE
+    _, listener = four_bar
+    first = decode(listener.by_topic["/joint_states"][0], FOUR_BAR_TOPICS["joint_states"])
+    if omega[1] == 2.0:  # not changed yet by another test
+        assert first.velocity[first.name.index("crank")] == 2.0
 
 
-def test_a_phi0_that_cannot_be_assembled_is_rejected(ros: dict[str, Any]) -> None:
-    node = make_node(ros, scene=str(ROCKING_SCENE))
-    result = set_param(ros, node, "phi0", math.pi)
-    assert not result.successful and "cannot be assembled" in result.reason
+def test_parameters_are_accepted_and_rejected_with_a_reason_while_publishing(four_bar: Any, client: Client) -> None:
+    _, listener = four_bar
+    (ok,) = client.set_parameters("/mechanism_node", omega=-1.5)
+    assert ok.successful, ok.reason
+    (as_int,) = client.set_parameters("/mechanism_node", epsilon=0)  # an integer for a double
+    assert as_int.successful, as_int.reason
+    (bad,) = client.set_parameters("/mechanism_node", rate_hz=-1.0)
+    assert not bad.successful and "rate_hz" in bad.reason
+    (missing,) = client.set_parameters("/mechanism_node", record_mcap="/no/such/folder/x.mcap")
+    assert not missing.successful and "does not exist" in missing.reason
+    (unknown,) = client.set_parameters("/mechanism_node", scene="no_such_mechanism")
+    assert not unknown.successful and "unknown scene 'no_such_mechanism'" in unknown.reason
+    assert [v for _, v in client.get_parameters("/mechanism_node", "omega", "epsilon", "rate_hz")] == [-1.5, 0.0, 100.0]
+    wait_for_ticks(client, listener, "/joint_states", 20)  # still publishing
+    js = decode(listener.by_topic["/joint_states"][-1], FOUR_BAR_TOPICS["joint_states"])
+    assert js.velocity[js.name.index("crank")] == -1.5
+    (back,) = client.set_parameters("/mechanism_node", omega=2.0)
+    assert back.successful
 
 
-def test_an_omega_change_starts_a_new_segment_with_phi_continuous(ros: dict[str, Any]) -> None:
-    node = make_node(ros, omega=1.0, phi0=0.0)
-    start = node.clock.ns
-    node.fire_timer()
-    node.clock.ns = start + NS
-    assert set_param(ros, node, "omega", -3.0).successful
-    motion = node.runtime.engine.motion
-    assert len(motion.segments) == 2
-    assert motion.segments[-1].t0 == pytest.approx(1.0)
-    assert motion.segments[-1].phi0 == pytest.approx(1.0, abs=TOL)
-    node.clock.ns = start + 3 * NS // 2
-    node.fire_timer()
-    js = last(node, "joint_states")
-    assert js.position[js.name.index("drum")] == pytest.approx(1.0 - 1.5, abs=TOL)
-    assert set_param(ros, node, "epsilon", 2.0).successful
-    assert motion.segments[-1].omega0 == pytest.approx(-3.0, abs=TOL)
+def test_diagnostics_come_about_once_a_second(four_bar: Any, client: Client) -> None:
+    _, listener = four_bar
+    wait_for_ticks(client, listener, "/joint_states", 150)
+    stamps = [stamp("/joint_states", d) for d in listener.by_topic["/joint_states"]]
+    seconds = (stamps[-1] - stamps[0]) / NS
+    diagnostics = listener.by_topic["/diagnostics"]
+    assert 1 <= len(diagnostics) <= seconds + 2
+    status = decode(diagnostics[-1], FOUR_BAR_TOPICS["diagnostics"]).status[0]
+    assert status.name == "linkage_ros: four_bar" and status.message == "ok"
 
 
-def test_a_rate_change_restarts_the_timer(ros: dict[str, Any]) -> None:
-    node = make_node(ros)
-    assert set_param(ros, node, "rate_hz", 250.0).successful
-    (timer,) = node.timers
-    assert timer.period == pytest.approx(1 / 250.0)
-
-
-def test_a_scene_change_republishes_and_the_points_follow_the_outputs(ros: dict[str, Any]) -> None:
-    node = make_node(ros)
-    node.fire_timer()
-    assert set_param(ros, node, "scene", "four_bar").successful
-    assert "points/A/position" in node.publishers_by_topic
-    assert "points/C/position" not in node.publishers_by_topic
-    node.clock.ns += NS // 100
-    node.fire_timer()  # the followed points reach the parameter on the next tick
-    assert node.get_parameter("points").value == ["A", "B"]
-    assert last(node, "joint_states").name[:3] == ["crank", "coupler", "rocker"]
-
-
-def test_choosing_points_changes_the_point_topics(ros: dict[str, Any]) -> None:
-    node = make_node(ros)
-    assert set_param(ros, node, "points", ["C"]).successful
-    point_topics = sorted(t for t in node.publishers_by_topic if t.startswith("points/"))
-    assert point_topics == ["points/C/acceleration", "points/C/position", "points/C/velocity"]
-
-
-def test_an_unassemblable_position_is_logged_once_and_never_published_as_nan(ros: dict[str, Any]) -> None:
-    node = make_node(ros, scene=str(ROCKING_SCENE), omega=1.0, rate_hz=100.0)
-    start = node.clock.ns
-    for k in range(300):
-        node.clock.ns = start + k * NS // 100
-        node.fire_timer()
-    warnings = [text for level, text in node.logger.records if level == "warning"]
-    assert len(warnings) == 1 and "cannot be assembled for φ in (78.58" in warnings[0]
-    diagnostics = node.publishers_by_topic["diagnostics"].published
-    levels = [d.status[0].level for d in diagnostics]
-    S = ros["diagnostic_msgs.msg"].DiagnosticStatus
-    assert levels[0] == S.OK and levels[-1] == S.ERROR
-    for message in node.publishers_by_topic["joint_states"].published:
-        assert all(math.isfinite(x) for x in [*message.position, *message.velocity])
-
-
-def test_recording_is_plugged_in_through_the_recorder_factory(
-    ros: dict[str, Any], tmp_path: Any, monkeypatch: pytest.MonkeyPatch
+def test_sigint_finishes_the_recording_with_whole_ticks_equal_to_the_wire(
+    four_bar: Any, client: Client, recording: Path, tmp_path: Path
 ) -> None:
-    opened: list[Any] = []
+    from rosbags.highlevel import AnyReader
 
-    class StubRecorder:
-        def __init__(self, path: str, topics: Any) -> None:
-            self.path, self.topics, self.writes, self.closed = path, list(topics), [], False
-            opened.append(self)
+    from linkage_ros.record.mcap import read_mcap
+    from linkage_ros.record.replay import run_data_from_mcap
 
-        def write(self, stamp_ns: int, messages: Any) -> None:
-            self.writes.append((stamp_ns, [t for t, _ in messages]))
+    process, listener = four_bar
+    wait_for_ticks(client, listener, "/joint_states", 20)
+    assert process.stop(signal.SIGINT) == 0
+    output = process.output()
+    assert "Traceback" not in output and "RCLError" not in output, output
+    client.spin_for(0.3)
+    contents = read_mcap(recording)
+    assert contents.complete  # finished: footer written
+    recorded: dict[tuple[str, int], bytes] = {(m.topic, m.log_time): m.data for m in contents.messages}
+    stamps_by_topic: dict[str, set[int]] = defaultdict(set)
+    for topic, s in recorded:
+        stamps_by_topic[topic].add(s)
+    per_tick = [stamps_by_topic[t] for t in absolute("/", {t: "" for t in PER_TICK})]
+    assert all(s == per_tick[0] for s in per_tick) and len(per_tick[0]) >= 20  # whole ticks only
+    # every message that went over the wire is in the file, byte for byte
+    for topic, data in listener.messages:
+        assert recorded[topic, stamp(topic, data)] == data, topic
+    # rosbags' AnyReader decodes every message
+    counts: dict[str, int] = defaultdict(int)
+    with AnyReader([recording]) as reader:
+        for connection, _, raw in reader.messages():
+            reader.deserialize(raw, connection.msgtype)
+            counts[connection.topic] += 1
+    assert counts["/joint_states"] == len(per_tick[0])
+    # linkage-view reads it, with the names of the metadata record on what the markers draw
+    data, _ = run_data_from_mcap(recording)
+    assert data.scene == "four_bar" and {"A", "B"} <= set(data.positions)
+    assert {name for name, _ in data.links} and set(data.fixed) == {"O", "C"}
+    view = subprocess.run(
+        [str(Path(sys.prefix) / "bin" / "linkage-view"), str(recording), "-o", str(tmp_path / "n1.rrd")],
+        capture_output=True, text=True, timeout=120,
+    )
+    assert view.returncode == 0, view.stdout + view.stderr
+    assert (tmp_path / "n1.rrd").stat().st_size > 0
 
-        def close(self) -> None:
-            self.closed = True
 
-    monkeypatch.setattr(ros["node"], "mcap_recorder", lambda namespace: StubRecorder)
-    node = make_node(ros)
-    target = str(tmp_path / "run.mcap")
-    assert set_param(ros, node, "record_mcap", target).successful
-    node.fire_timer()
-    (recorder,) = opened
-    assert recorder.path == target
-    assert recorder.topics == topic_types(node.runtime.engine)
-    assert recorder.writes == [(node.clock.ns, [t for t, _ in recorder.topics])]
-    assert set_param(ros, node, "record_mcap", "").successful
-    assert recorder.closed
+# ---------------------------------------------------------------------------------------- sim time
+def test_sim_time_from_a_clock_publisher_drives_phi_on_the_50_digit_reference(start_node: Any, client: Client) -> None:
+    """use_sim_time: stamps are the /clock times; with ω = the reference grid's step and 1 s
+    clock steps, tick n is at the grid's φ_n, where B is compared with the 50-digit values."""
+    from builtin_interfaces.msg import Time
+    from rosgraph_msgs.msg import Clock
+
+    step = float(REFERENCE["phi"][1])
+    names = ("joint_states", "points/B/position", "points/B/velocity")
+    topics = absolute("/sim", {t: FOUR_BAR_TOPICS[t] for t in names})
+    listener = client.listen(topics)
+    process = start_node("-r", "__ns:=/sim", "-p", "use_sim_time:=true", "-p", "scene:=four_bar",
+                         "-p", f"omega:={step!r}", "-p", "rate_hz:=100.0")
+    clock = client.node.create_publisher(Clock, "/clock", 10)
+    try:
+        t0 = 1_000 * NS
+        length = float(REFERENCE["scale_length"])
+        for n in range(6):
+            now = t0 + n * NS
+
+            def answered(now: int = now, topic: str = "/sim/points/B/velocity") -> bool:
+                return any(stamp(topic, d) == now for d in listener.by_topic[topic])
+
+            def tick(now: int = now) -> bool:
+                clock.publish(Clock(clock=Time(sec=now // NS, nanosec=now % NS)))
+                return client.spin_until(answered, 0.3)
+
+            assert any(tick() for _ in range(60)), f"no tick at clock {now}:\n" + process.output()
+            client.spin_for(0.05)
+            got = {t.rsplit("/sim/", 1)[1]: next(d for d in listener.by_topic[t] if stamp(t, d) == now) for t in topics}
+            js = decode(got["joint_states"], FOUR_BAR_TOPICS["joint_states"])
+            phi = js.position[js.name.index("crank")]
+            assert phi == pytest.approx(float(REFERENCE["phi"][n]), abs=1e-15)
+            b = decode(got["points/B/position"], FOUR_BAR_TOPICS["points/B/position"]).point
+            ref_b = [float(x) for x in REFERENCE["points"]["B"]["position"][n]]
+            np.testing.assert_allclose([b.x, b.y], ref_b, rtol=0, atol=TOL_POS)
+            v = decode(got["points/B/velocity"], FOUR_BAR_TOPICS["points/B/velocity"]).vector
+            ref_v = np.array([float(x) for x in REFERENCE["points"]["B"]["d_dphi"][n]]) * step
+            scale = max(np.abs(ref_v).max(), length * step)
+            np.testing.assert_allclose([v.x, v.y], ref_v, rtol=0, atol=TOL_REL * scale)
+    finally:
+        client.node.destroy_publisher(clock)
+        assert process.stop(signal.SIGTERM) == 0
 
 
-def test_main_spins_the_node_inside_init_and_shuts_down(ros: dict[str, Any]) -> None:
-    assert ros["node"].main(args=[]) == 0
-    state = ros["rclpy"].state
-    assert state["shutdown"] and len(state["spun"]) == 1
-    (node,) = state["spun"]
-    assert node.destroyed
-    assert len(node.publishers_by_topic["joint_states"].published) == 3
+# ---------------------------------------------------------------------------------------- unassemblable
+def test_unassemblable_stops_then_reverses_and_never_publishes_non_finite(start_node: Any, client: Client) -> None:
+    topics = absolute("/rock", {t: FOUR_BAR_TOPICS[t] for t in ("joint_states", "diagnostics")})
+    listener = client.listen(topics)
+    process = start_node("-r", "__ns:=/rock", "-p", f"scene:={DOUBLE_ROCKER}", "-p", "omega:=5.0",
+                         "-p", "rate_hz:=100.0")
+    try:
+        def error_seen(text: str) -> bool:
+            return any(
+                s.level == b"\x02" and text in s.message
+                for d in listener.by_topic["/rock/diagnostics"]
+                for s in decode(d, FOUR_BAR_TOPICS["diagnostics"]).status
+            )
+
+        assert client.spin_until(lambda: error_seen("stopped"), WAIT_S), process.output()
+        assert error_seen("cannot be assembled for φ in (113.9")
+        wait_for_ticks(client, listener, "/rock/joint_states", 10)
+        held = [decode(d, FOUR_BAR_TOPICS["joint_states"]) for d in listener.by_topic["/rock/joint_states"][-5:]]
+        assert len({m.position[0] for m in held}) == 1 and all(v == 0.0 for m in held for v in m.velocity)
+        (ok,) = client.set_parameters("/rock/mechanism_node", on_unassemblable="reverse")
+        assert ok.successful
+        (ok,) = client.set_parameters("/rock/mechanism_node", omega=4.0)  # moves into the gap again
+        assert ok.successful
+        assert client.spin_until(lambda: error_seen("reversed"), WAIT_S), process.output()
+        wait_for_ticks(client, listener, "/rock/joint_states", 10)
+        after = decode(listener.by_topic["/rock/joint_states"][-1], FOUR_BAR_TOPICS["joint_states"])
+        assert after.velocity[0] == pytest.approx(-4.0)
+        for data in listener.by_topic["/rock/joint_states"]:
+            message = decode(data, FOUR_BAR_TOPICS["joint_states"])
+            assert all(math.isfinite(x) for x in [*message.position, *message.velocity])
+    finally:
+        assert process.stop(signal.SIGTERM) == 0
 
 
-def test_main_reports_unusable_start_values(ros: dict[str, Any], monkeypatch: pytest.MonkeyPatch) -> None:
-    node_module = ros["node"]
-    original = node_module.MechanismNode
+# ---------------------------------------------------------------------------------------- signals
+def test_sigterm_at_1khz_exits_0_with_a_finished_recording_of_whole_ticks(
+    start_node: Any, client: Client, tmp_path: Path
+) -> None:
+    from mcap.reader import make_reader
 
-    def with_bad_scene(**kwargs: Any) -> Any:
-        Parameter = ros["rclpy.parameter"].Parameter
-        return original(parameter_overrides=[Parameter("scene", value="no_such_mechanism")])
+    target = tmp_path / "term.mcap"
+    listener = client.listen(absolute("/term", {"joint_states": FOUR_BAR_TOPICS["joint_states"]}))
+    process: NodeProcess = start_node("-r", "__ns:=/term", "-p", "scene:=four_bar", "-p", "rate_hz:=1000.0",
+                                      "-p", f"record_mcap:={target}")
+    try:
+        assert client.spin_until(lambda: len(listener.by_topic["/term/joint_states"]) >= 200, WAIT_S), process.output()
+    finally:
+        code = process.stop(signal.SIGTERM)
+    output = process.output()
+    assert code == 0 and "Traceback" not in output and "RCLError" not in output, output
+    with open(target, "rb") as fh:
+        reader = make_reader(fh)
+        summary = reader.get_summary()
+        assert summary is not None and summary.statistics is not None
+        counts = {summary.channels[c].topic: n for c, n in summary.statistics.channel_message_counts.items()}
+        stamps: dict[str, set[int]] = defaultdict(set)
+        for _, channel, message in reader.iter_messages():
+            stamps[channel.topic].add(message.log_time)
+    per_tick = [stamps[f"/term/{t}"] for t in PER_TICK]
+    assert all(s == per_tick[0] for s in per_tick), {t: counts.get(f"/term/{t}") for t in PER_TICK}
+    assert len(per_tick[0]) >= 200
 
-    monkeypatch.setattr(node_module, "MechanismNode", with_bad_scene)
-    assert node_module.main(args=[]) == 1
-    (logger,) = ros["rclpy"].state["loggers"].values()
-    assert "no_such_mechanism" in logger.records[-1][1]
+
+# ---------------------------------------------------------------------------------------- start errors
+@pytest.mark.parametrize(
+    ("args", "reason"),
+    [
+        (("-p", "rate_hz:=0.0"), "cannot start: rate_hz must be > 0"),
+        (("-p", "scene:=no_such_mechanism"), "cannot start: unknown scene 'no_such_mechanism'"),
+        (("-p", "record_mcap:=/no/such/folder/run.mcap"), "does not exist"),
+        (("-p", "omega:=fast"), "cannot start: omega must be a finite number"),
+    ],
+)
+def test_unusable_start_values_give_one_line_and_exit_1(start_node: Any, args: tuple[str, ...], reason: str) -> None:
+    process = start_node("-r", "__ns:=/bad", *args)
+    code = process.wait()
+    output = process.output()
+    assert code == 1, output
+    lines = [line for line in output.splitlines() if "cannot start:" in line]
+    assert len(lines) == 1 and reason in lines[0], output
+    assert "Traceback" not in output

@@ -1,4 +1,5 @@
-"""The node's logic without rclpy: parameter checks, atomic updates, the run clock, recording."""
+"""The node's logic without rclpy: parameter checks, atomic updates, the run clock, what a tick
+sends (CDR bytes, diagnostics about once a second), recording."""
 
 from __future__ import annotations
 
@@ -10,7 +11,8 @@ from typing import Any
 import pytest
 from rosbags.typesys import Stores, get_typestore
 
-from linkage_ros.runtime import PARAMETERS, Runtime, validate_parameter
+from linkage_ros.messages import DIAGNOSTICS
+from linkage_ros.runtime import DIAGNOSTICS_PERIOD_S, PARAMETERS, Runtime, validate_parameter
 
 STORE = get_typestore(Stores.ROS2_JAZZY)
 NS = 1_000_000_000
@@ -98,27 +100,69 @@ def test_unassemblable_events_are_reported_once() -> None:
     assert len(events) == 1 and "stopped" in events[0]
 
 
-def test_the_recorder_gets_every_message_of_every_tick(tmp_path: Path) -> None:
-    written: list[tuple[int, list[str]]] = []
+def test_the_recorder_gets_the_bytes_of_every_tick(tmp_path: Path) -> None:
+    written: list[tuple[int, list[tuple[str, bytes]]]] = []
     closed: list[bool] = []
 
     class Stub:
-        def __init__(self, path: str, topics: Any) -> None:
+        def __init__(self, path: str, topics: Any, *, engine: Any, frame_id: str) -> None:
             self.topics = list(topics)
+            assert engine.scene.name == "harvester_finger" and frame_id == "world"
 
-        def write(self, stamp_ns: int, messages: Any) -> None:
-            written.append((stamp_ns, [t for t, _ in messages]))
+        def write_serialized(self, stamp_ns: int, messages: Any) -> None:
+            written.append((stamp_ns, list(messages)))
 
         def close(self) -> None:
             closed.append(True)
 
     runtime = Runtime({"record_mcap": str(tmp_path / "a.mcap")}, STORE.types, recorder_factory=Stub)
-    runtime.tick(T0)
-    runtime.tick(T0 + NS // 100)
+    first = runtime.tick(T0)
+    second = runtime.tick(T0 + NS // 100)
     assert [s for s, _ in written] == [T0, T0 + NS // 100]
-    assert written[0][1] == [t for t, _ in runtime.topics]
+    assert [t for t, _ in first] == [t for t, _ in runtime.topics]
+    assert written[0][1] == first and written[1][1] == second  # what is sent is what is recorded
     runtime.close()
     assert closed == [True]
+
+
+def test_a_tick_is_cdr_bytes_that_decode_to_the_frame() -> None:
+    runtime = Runtime({"scene": "four_bar", "omega": 2.0, "frame_id": "base"}, STORE.types)
+    runtime.tick(T0)
+    messages = dict(runtime.tick(T0 + NS // 4))
+    frame = runtime.last_frame
+    assert frame is not None
+    js = STORE.deserialize_cdr(messages["joint_states"], "sensor_msgs/msg/JointState")
+    assert (js.header.stamp.sec, js.header.stamp.nanosec, js.header.frame_id) == (1_700_000_000, NS // 4, "base")
+    assert js.position[js.name.index("crank")] == frame.phi == pytest.approx(0.5, abs=TOL)
+    b = STORE.deserialize_cdr(messages["points/B/velocity"], "geometry_msgs/msg/Vector3Stamped")
+    assert (b.vector.x, b.vector.y) == tuple(frame.points["B"].velocity)
+
+
+def test_diagnostics_go_out_about_once_a_second_and_on_a_change_of_status() -> None:
+    runtime = Runtime({"scene": str(ROCKING), "omega": 1.0, "rate_hz": 100.0}, STORE.types)
+    sent = []
+    for k in range(400):
+        messages = dict(runtime.tick(T0 + k * NS // 100))
+        if DIAGNOSTICS in messages:
+            sent.append(k)
+    frames_status_change = 1  # the stop at the unassemblable interval
+    assert sent[0] == 0 and len(sent) <= 400 / 100 / DIAGNOSTICS_PERIOD_S + 1 + frames_status_change
+    assert all(b - a <= 100 for a, b in zip(sent, sent[1:]))
+    last = STORE.deserialize_cdr(runtime.tick(T0 + 500 * NS // 100)[-1][1], "diagnostic_msgs/msg/DiagnosticArray")
+    assert last.status[0].level == b"\x02"[0] and "stopped" in last.status[0].message
+
+
+def test_recording_into_a_missing_directory_is_refused_with_a_reason(tmp_path: Path) -> None:
+    def factory(path: str, topics: Any, **kwargs: Any) -> Any:
+        raise AssertionError("the recorder must not be opened")
+
+    runtime = Runtime({}, STORE.types, recorder_factory=factory)
+    target = tmp_path / "missing" / "a.mcap"
+    reason = runtime.update({"record_mcap": str(target)}, T0)
+    assert reason is not None and "does not exist" in reason and str(target.parent) in reason
+    assert not target.parent.exists()
+    with pytest.raises(ValueError, match="does not exist"):
+        Runtime({"record_mcap": str(target)}, STORE.types, recorder_factory=factory)
 
 
 def test_recording_without_a_recorder_is_refused_with_a_reason(tmp_path: Path) -> None:

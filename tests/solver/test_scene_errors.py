@@ -56,7 +56,10 @@ def _set(path: str, value: Any):  # type: ignore[no-untyped-def]
         (_set("groups/0/length", 0), r"groups\[0\]\.length: length must be positive, got 0"),
         (_set("groups/1/M", 2), r"groups\[1\]\.M: assembly mode must be \+1 or -1, got 2"),
         (_set("groups/1/M", KeyError), r"groups\[1\]\.M: missing required field"),
-        (_set("groups/1/type", "rrrr"), r"groups\[1\]\.type: unknown group type 'rrrr'; known types: .*rrr"),
+        (
+            _set("groups/1/type", "rrrr"),
+            r"groups\[1\]\.type: unknown group type 'rrrr' \(did you mean 'rrr'\?\); known types: .*rrr",
+        ),
         (_set("units/length", "inch"), r"units\.length: unknown length unit 'inch'"),
         (_set("units", KeyError), r"bad\.yaml: units: missing required field"),
         (_set("outputs/points", ["Q"]), r"outputs\.points: unknown point 'Q'"),
@@ -90,7 +93,7 @@ def test_missing_file_lists_the_shipped_scenes() -> None:
 def test_invalid_yaml_is_a_scene_error(tmp_path: Path) -> None:
     path = tmp_path / "broken.yaml"
     path.write_text("groups: [unclosed\n", encoding="utf-8")
-    with pytest.raises(solver.SceneError, match=r"broken\.yaml: not valid YAML"):
+    with pytest.raises(solver.SceneError, match=r"broken\.yaml:\d+: not valid YAML"):
         solver.load_scene(path)
 
 

@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from urdf_scene_lists import EXPORTABLE
+from urdf_scene_lists import SINGLE_INPUT
 
 import solver
 from linkage_ros.urdf import build_model, frame_tree_joint_states, generate_urdf, kinematics_tree_joint_states
@@ -25,7 +25,7 @@ CYCLE = 360
 #: A non-trivial motion law for the checks (rad/s, rad/s²).
 OMEGA, EPSILON = 1.7, 0.3
 
-SCENES = EXPORTABLE
+SCENES = SINGLE_INPUT  # several inputs: tests/multi/test_multi_urdf.py
 
 
 def _exportable(name: str) -> solver.Scene:

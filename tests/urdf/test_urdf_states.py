@@ -8,7 +8,7 @@ import types
 
 import numpy as np
 import pytest
-from urdf_scene_lists import EXPORTABLE
+from urdf_scene_lists import SINGLE_INPUT
 
 import solver
 from linkage_ros.urdf import (
@@ -26,7 +26,7 @@ TOL_DIFF = 1e-7
 #: One frame against the same sample of a sweep: the same formulas, scalar against numpy.
 TOL_SAME = 64 * EPS
 
-SCENES = EXPORTABLE
+SCENES = SINGLE_INPUT  # several inputs: tests/multi/test_multi_urdf.py
 
 
 def _exportable(name: str) -> solver.Scene:

@@ -1,0 +1,332 @@
+"""Topic mode without rclpy: a JointState in, the input state read off it, the frame solved.
+
+The node's topic mode (``input_source: topic``) hands every ``sensor_msgs/JointState`` that
+arrives on ``input_joint_states`` to :meth:`Relay.answer` and publishes what comes back. Nothing
+here imports rclpy; the tests drive it with plain lists (``tests/relay``), the node with the
+message's fields. See ``docs/relay.md`` for the graph and every decision.
+
+API (kept stable for the node)::
+
+    relay = Relay(engine, input_joint=None, epsilon="zero", max_gap=0.25)
+    answer = relay.answer(names, positions, velocities, stamp_ns)
+    answer.kind            # "frame" | "dropped" | "unassemblable" | "ignored"   (ANSWER_*)
+    answer.frame           # engine.Frame at φ, ω, ε read off the message (kind "frame" only)
+    answer.reason          # why dropped / why unassemblable (group and φ interval); "" for a frame
+    answer.stamp_ns        # the message's stamp, to put on every message of the answer
+    answer.phi, .omega, .epsilon          # the input state read (None when dropped)
+    answer.omega_from      # "message" | "positions" | "none"        (OMEGA_* constants)
+    answer.epsilon_from    # "zero" | "velocities"                    (EPSILON_FROM_* constants)
+    answer.interval        # (lo, hi) rad of the gap containing φ (kind "unassemblable"), else None
+    relay.published_joints                # joint_states names in topic mode (a tuple of str)
+    relay.joint_states(frame)             # (names, positions, velocities): tuples, in that order
+    relay.input_joint                     # the joint read from the messages
+    relay.reset()                         # forget the previous message (e.g. on a mode switch)
+
+* ``engine``: a :class:`~linkage_ros.engine.Engine` (its motion law is not used; frames come from
+  :meth:`Engine.frame_at <linkage_ros.engine.Engine.frame_at>`).
+* ``input_joint``: the name the driver publishes. ``None`` or ``""``: the scene's input joint
+  (φ itself).
+  It may also be a URDF-style ``revolute`` joint of the scene (``docs/scenes.md``) whose child
+  link is the input crank and whose parent link is fixed: then
+  ``φ = θ_parent + sign·(q − offset)`` (minus π when the child line runs point → centre),
+  ``ω = sign·q̇``, ``ε = sign·q̈``. Any other name is a :class:`ValueError` that says which names are accepted.
+* The frame's ``t`` is the stamp in seconds; its φ is exactly the position read (not wrapped).
+
+Decisions (``docs/relay.md`` states what each costs):
+
+* **ω** is the input joint's velocity in the message. When the message has no velocities (an
+  empty array, as joint_state_publisher_gui sends), ω is the backward difference of the last two
+  positions (wrapped to (−π, π], over their stamps) when the previous accepted message is newer
+  than ``max_gap`` s ago; otherwise ω = 0. ``omega_from`` says which.
+* **ε** (``epsilon=``): ``"zero"`` (the default) — ε = 0: positions and velocities exact, the
+  accelerations lack the term ``v_q·ε`` (exact at constant speed); no noise is amplified.
+  ``"difference"`` — ε = (ω_k − ω_{k−1})/(t_k − t_{k−1}) from the velocities of two successive
+  accepted messages (both from the message, stamps increasing, gap ≤ ``max_gap``), else 0: the
+  term is there, but lags by half a sample (error ≈ ε̇·Δt/2) and velocity noise σ becomes
+  ε noise ≈ √2·σ/Δt.
+* **Dropped**: the input joint absent, no position for it, a non-finite position or velocity,
+  arrays shorter than the names. A dropped message leaves the previous state as it was.
+* **Ignored**: a message without the input joint whose names are all joints this relay publishes:
+  its own joint_states coming back (the driver and the node share ``/joint_states`` so that
+  robot_state_publisher hears both, ``docs/relay.md``). Publish nothing, warn about nothing.
+* **Unassemblable**: no frame (nothing non-finite is ever returned); the reason names the group
+  and the φ interval that contains the input. The next message is answered normally.
+* **Joint states in topic mode**: every scene joint and every tree joint (``linkage-urdf``) but
+  the one the driver publishes, so the two streams merge without a duplicate name.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from solver.errors import AssemblyError, format_intervals
+
+from .engine import Engine, Frame
+from .urdf import exportable_model, frame_tree_joint_states
+
+__all__ = [
+    "ANSWER_DROPPED",
+    "ANSWER_FRAME",
+    "ANSWER_IGNORED",
+    "ANSWER_UNASSEMBLABLE",
+    "DEFAULT_MAX_GAP",
+    "EPSILON_DIFFERENCE",
+    "EPSILON_FROM_VELOCITIES",
+    "EPSILON_FROM_ZERO",
+    "EPSILON_RULES",
+    "EPSILON_ZERO",
+    "OMEGA_FROM_MESSAGE",
+    "OMEGA_FROM_NONE",
+    "OMEGA_FROM_POSITIONS",
+    "Answer",
+    "Relay",
+]
+
+ANSWER_FRAME = "frame"
+ANSWER_DROPPED = "dropped"
+ANSWER_UNASSEMBLABLE = "unassemblable"
+ANSWER_IGNORED = "ignored"
+
+#: The ε rules (``Relay(epsilon=...)``).
+EPSILON_ZERO = "zero"
+EPSILON_DIFFERENCE = "difference"
+EPSILON_RULES = (EPSILON_ZERO, EPSILON_DIFFERENCE)
+
+#: Where an answer's ω came from.
+OMEGA_FROM_MESSAGE = "message"
+OMEGA_FROM_POSITIONS = "positions"
+OMEGA_FROM_NONE = "none"
+#: Where an answer's ε came from.
+EPSILON_FROM_ZERO = "zero"
+EPSILON_FROM_VELOCITIES = "velocities"
+
+#: Two messages further apart than this (s) are not differenced (for ω without velocities, or ε).
+DEFAULT_MAX_GAP = 0.25
+
+NS_PER_S = 1_000_000_000
+TWO_PI = 2.0 * math.pi
+
+
+@dataclass(frozen=True, slots=True)
+class Answer:
+    """What one JointState message gets: a frame, or the reason it gets none."""
+
+    kind: str
+    stamp_ns: int
+    frame: Frame | None = None
+    reason: str = ""
+    phi: float | None = None
+    omega: float | None = None
+    epsilon: float | None = None
+    omega_from: str = OMEGA_FROM_NONE
+    epsilon_from: str = EPSILON_FROM_ZERO
+    #: The φ interval (rad) where the mechanism cannot be assembled, for kind "unassemblable".
+    interval: tuple[float, float] | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class _InputMap:
+    """φ = shift + sign·q for the joint the driver publishes (q its coordinate)."""
+
+    name: str
+    sign: float
+    shift: float
+
+
+@dataclass(slots=True)
+class _Previous:
+    stamp_ns: int
+    q: float
+    dq: float | None  # the message's velocity (None: the message had none)
+
+
+class Relay:
+    """Answers JointState messages with frames of ``engine``'s scene (see the module docstring)."""
+
+    def __init__(
+        self,
+        engine: Engine,
+        *,
+        input_joint: str | None = None,
+        epsilon: str = EPSILON_ZERO,
+        max_gap: float = DEFAULT_MAX_GAP,
+    ) -> None:
+        if epsilon not in EPSILON_RULES:
+            raise ValueError(f"epsilon must be one of {', '.join(EPSILON_RULES)}; got {epsilon!r}")
+        if not (isinstance(max_gap, (int, float)) and math.isfinite(max_gap) and max_gap > 0.0):
+            raise ValueError(f"max_gap must be a finite number of seconds > 0; got {max_gap!r}")
+        self.engine = engine
+        self.scene = engine.scene
+        self.epsilon_rule = epsilon
+        self.max_gap_ns = int(round(float(max_gap) * NS_PER_S))
+        self._map = _input_map(self.scene, input_joint)
+        self.input_joint: str = self._map.name
+        self._tree = exportable_model(self.scene)
+        tree_names = () if self._tree is None else tuple(self._tree.joint_names)
+        self._scene_joints = tuple(n for n in engine.joint_names if n != self.input_joint)
+        self._tree_mask = tuple(n != self.input_joint for n in tree_names)
+        self.published_joints: tuple[str, ...] = (
+            *self._scene_joints,
+            *(n for n, keep in zip(tree_names, self._tree_mask) if keep),
+        )
+        self._own = frozenset(self.published_joints)
+        self._previous: _Previous | None = None
+
+    # ------------------------------------------------------------------ one message
+    def answer(
+        self,
+        names: Sequence[str],
+        positions: Sequence[float],
+        velocities: Sequence[float],
+        stamp_ns: int,
+    ) -> Answer:
+        """The answer to one JointState (its ``name``, ``position``, ``velocity`` and
+        ``header.stamp`` in integer ns)."""
+        stamp_ns = int(stamp_ns)
+        name = self.input_joint
+        try:
+            i = list(names).index(name)
+        except ValueError:
+            if len(names) and self._own.issuperset(names):
+                return Answer(ANSWER_IGNORED, stamp_ns, reason="carries only joints this relay publishes")
+            return Answer(ANSWER_DROPPED, stamp_ns, reason=f"no joint '{name}' in the message")
+        if i >= len(positions):
+            return Answer(
+                ANSWER_DROPPED, stamp_ns,
+                reason=f"joint '{name}' has no position ({len(names)} names, {len(positions)} positions)",
+            )
+        q = float(positions[i])
+        if not math.isfinite(q):
+            return Answer(ANSWER_DROPPED, stamp_ns, reason=f"joint '{name}' position is {q}")
+        dq: float | None = None
+        if len(velocities):
+            if i >= len(velocities):
+                return Answer(
+                    ANSWER_DROPPED, stamp_ns,
+                    reason=f"joint '{name}' has no velocity ({len(names)} names, {len(velocities)} velocities)",
+                )
+            dq = float(velocities[i])
+            if not math.isfinite(dq):
+                return Answer(ANSWER_DROPPED, stamp_ns, reason=f"joint '{name}' velocity is {dq}")
+        omega_q, omega_from, eps_q, eps_from = self._rates(stamp_ns, q, dq)
+        m = self._map
+        phi = m.shift + m.sign * q
+        omega = m.sign * omega_q
+        eps = m.sign * eps_q
+        result = self.engine.frame_at(phi, omega, eps, t=stamp_ns / NS_PER_S)
+        common = {
+            "phi": phi, "omega": omega, "epsilon": eps, "omega_from": omega_from, "epsilon_from": eps_from,
+        }
+        if isinstance(result, AssemblyError):
+            interval = _interval_containing(result.intervals, phi)
+            where = f"φ in {format_intervals([interval])}" if interval is not None else f"φ = {phi:.6g} rad"
+            reason = f"group '{result.group}' {result.reason} for {where} ({name} = {q:.6g})"
+            return Answer(ANSWER_UNASSEMBLABLE, stamp_ns, reason=reason, interval=interval, **common)
+        return Answer(ANSWER_FRAME, stamp_ns, frame=result, **common)
+
+    def reset(self) -> None:
+        """Forget the previous message (e.g. when the node switches back to topic mode)."""
+        self._previous = None
+
+    # ------------------------------------------------------------------ outgoing joints
+    def joint_states(self, frame: Frame) -> tuple[tuple[str, ...], tuple[float, ...], tuple[float, ...]]:
+        """``(names, positions, velocities)`` for joint_states in topic mode: the names of
+        :attr:`published_joints`, in that order."""
+        joints = frame.joints
+        q = [joints[n].position for n in self._scene_joints]
+        dq = [joints[n].velocity for n in self._scene_joints]
+        if self._tree is not None:
+            tree = frame_tree_joint_states(self._tree, frame)
+            q += [v for v, keep in zip(tree.position, self._tree_mask) if keep]
+            dq += [v for v, keep in zip(tree.velocity, self._tree_mask) if keep]
+        return self.published_joints, tuple(q), tuple(dq)
+
+    # ------------------------------------------------------------------ helpers
+    def _rates(self, stamp_ns: int, q: float, dq: float | None) -> tuple[float, str, float, str]:
+        """ω and ε in the driver joint's coordinate, and where each came from; remembers the
+        message for the next one."""
+        prev = self._previous
+        dt_ns = stamp_ns - prev.stamp_ns if prev is not None else 0
+        near = prev is not None and 0 < dt_ns <= self.max_gap_ns
+        dt = dt_ns / NS_PER_S
+        if dq is not None:
+            omega, omega_from = dq, OMEGA_FROM_MESSAGE
+        elif near:
+            assert prev is not None
+            omega, omega_from = _wrap(q - prev.q) / dt, OMEGA_FROM_POSITIONS
+        else:
+            omega, omega_from = 0.0, OMEGA_FROM_NONE
+        eps, eps_from = 0.0, EPSILON_FROM_ZERO
+        if self.epsilon_rule == EPSILON_DIFFERENCE and near and dq is not None:
+            assert prev is not None
+            if prev.dq is not None:
+                eps, eps_from = (dq - prev.dq) / dt, EPSILON_FROM_VELOCITIES
+        if prev is None or dt_ns > 0:  # an older (reordered) message does not replace a newer one
+            self._previous = _Previous(stamp_ns, q, dq)
+        return omega, omega_from, eps, eps_from
+
+
+def _input_map(scene: Any, input_joint: str | None) -> _InputMap:
+    """How φ follows from the joint the driver publishes (see :class:`Relay`)."""
+    own = str(scene.input_joint)
+    if not input_joint or input_joint == own:  # None or "" (a ROS parameter's empty default)
+        return _InputMap(own, 1.0, 0.0)
+    mapped = _revolute_input(scene, input_joint)
+    if mapped is not None:
+        return mapped
+    accepted = [own, *_revolute_inputs(scene)]
+    raise ValueError(
+        f"input_joint '{input_joint}' does not drive scene '{scene.name}': the driver's joint must be "
+        f"the scene's input joint or a revolute joint of the input crank against the frame; "
+        f"accepted: {', '.join(accepted)}"
+    )
+
+
+def _revolute_inputs(scene: Any) -> list[str]:
+    return [g.name for g in scene.ordered if _revolute_input(scene, g.name) is not None]
+
+
+def _revolute_input(scene: Any, name: str) -> _InputMap | None:
+    """The map of a URDF-style ``revolute`` scene joint whose child is the input crank (both its
+    points) and whose parent is fixed, else None."""
+    group = next((g for g in scene.ordered if g.name == name and getattr(g, "kind", "") == "joint"), None)
+    if group is None or getattr(group, "expression", "") != "revolute":
+        return None
+    crank = next((g for g in scene.ordered if getattr(g, "drives", False)), None)
+    center, point = getattr(crank, "center", None), getattr(crank, "point", None)
+    if center is None or point is None:
+        return None
+    parent, child = group.points[:2], group.points[2:4]
+    fixed = scene.fixed_points
+    if not all(p in fixed for p in parent):
+        return None
+    if tuple(child) == (center, point):
+        turn = 0.0
+    elif tuple(child) == (point, center):
+        turn = math.pi
+    else:
+        return None
+    d = fixed[parent[1]] - fixed[parent[0]]
+    theta_p = math.atan2(float(d[1]), float(d[0]))
+    sign = float(group.sign)
+    return _InputMap(name, sign, theta_p - turn - sign * float(group.offset))
+
+
+def _wrap(x: float) -> float:
+    """``x`` wrapped to (−π, π]."""
+    y = math.remainder(x, TWO_PI)
+    return math.pi if y == -math.pi else y
+
+
+def _interval_containing(
+    intervals: Sequence[tuple[float, float]], phi: float
+) -> tuple[float, float] | None:
+    """The interval (rad) that contains φ modulo 2π, shifted next to φ."""
+    for lo, hi in intervals:
+        shift = math.floor((phi - lo) / TWO_PI) * TWO_PI
+        if lo + shift <= phi <= hi + shift:
+            return (lo + shift, hi + shift)
+    return None

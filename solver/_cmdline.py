@@ -1,0 +1,129 @@
+"""What every command of the project shares: one-line errors, numbers, output paths, pipes.
+
+* :class:`Parser`: argparse whose errors are one line (``prog: error: …; see prog --help``) with
+  exit status 2, and which takes ``-1e3`` as a number, not an option;
+* :func:`finite`, :func:`positive`, :func:`count`: argument types whose messages name the value;
+* :func:`check_output`: an output path must be a file in an existing folder (nothing is created
+  on the user's behalf; only the default ``runs/`` folder is, by the command that owns it);
+* :func:`quiet_pipe`: a closed pipe (``… | head``) ends the command quietly (status 141, as a
+  command killed by SIGPIPE), Ctrl-C with status 130 and no traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import math
+import os
+import re
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, NoReturn
+
+__all__ = ["Parser", "finite", "positive", "count", "check_output", "quiet_pipe", "EXIT_PIPE", "one_line"]
+
+EXIT_PIPE = 141  # 128 + SIGPIPE, what a shell reports for a command whose reader went away
+EXIT_INTERRUPTED = 130
+
+#: ``-5``, ``-0.5``, ``-.5``, ``-1e3``, ``-1.5E-3``, ``-inf``, ``-nan``: values, not options.
+_NEGATIVE = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
+
+
+def one_line(text: str, limit: int = 400) -> str:
+    text = " ".join(str(text).split())
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+class Parser(argparse.ArgumentParser):
+    """An ArgumentParser with one-line errors and negative numbers in exponent form."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = _NEGATIVE
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {one_line(message)} (see {self.prog} --help)\n")
+
+
+def _number(text: str, what: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number{what}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number")
+    return value
+
+
+def finite(text: str) -> float:
+    """A finite number."""
+    return _number(text, "")
+
+
+def positive(text: str) -> float:
+    """A finite number > 0."""
+    value = _number(text, " > 0")
+    if value <= 0.0:
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
+    return value
+
+
+def count(text: str) -> int:
+    """A whole number ≥ 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number ≥ 1") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {text}")
+    return value
+
+
+def check_output(path: str | os.PathLike[str], what: str = "output") -> Path:
+    """``path`` if a file can be written there without creating folders; else ValueError."""
+    p = Path(path)
+    if str(path) == "" or p.name in ("", ".", ".."):
+        raise ValueError(f"{what} {str(path)!r}: not a file name")
+    if p.is_dir():
+        raise ValueError(f"{what} {p}: is a directory; give a file name")
+    parent = p.parent
+    if not parent.exists():
+        blocker = next((q for q in [parent, *parent.parents] if q.exists() and not q.is_dir()), None)
+        if blocker is not None:
+            raise ValueError(f"{what} {p}: {blocker} is a file, not a folder")
+        raise ValueError(f"{what} {p}: the folder {parent} does not exist (create it first)")
+    if not parent.is_dir():
+        raise ValueError(f"{what} {p}: {parent} is a file, not a folder")
+    if not os.access(parent, os.W_OK | os.X_OK) or (p.exists() and not os.access(p, os.W_OK)):
+        raise ValueError(f"{what} {p}: permission denied")
+    return p
+
+
+def quiet_pipe(main: Callable[..., int]) -> Callable[..., int]:
+    """Wrap a command's ``main``: a closed stdout ends it quietly, Ctrl-C without a traceback."""
+
+    @functools.wraps(main)
+    def wrapper(*args: Any, **kwargs: Any) -> int:
+        try:
+            code = main(*args, **kwargs)
+            sys.stdout.flush()
+            return code
+        except BrokenPipeError:
+            _silence_stdout()
+            return EXIT_PIPE
+        except KeyboardInterrupt:
+            print(file=sys.stderr)
+            return EXIT_INTERRUPTED
+
+    return wrapper
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null so that the interpreter's final flush does not fail again."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):  # not a real file (a test's capture): nothing to silence
+        pass
