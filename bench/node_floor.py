@@ -17,7 +17,9 @@ After ``--warmup`` seconds it measures, over ``--seconds``: each process's CPU (
 ``/proc/PID/stat``, as a fraction of one core) and the ticks delivered (distinct stamps received /
 RATE × the stamp span; for the floor, whose stamps never change, messages received / RATE ×
 the window). ``--alternate`` runs node and floor one after the other instead of together (on a
-2-core machine two 1 kHz publishers and a subscriber compete for the cores).
+2-core machine two 1 kHz publishers and a subscriber compete for the cores). ``--all-topics``
+subscribes to every topic of both, not only ``joint_states`` (each matched reliable reader adds
+to what a publish costs, in the node and in the floor alike).
 
 Prints one line per process and a ``RESULT`` line: node CPU / floor CPU (target ≤ 1.25) and the
 node's delivered ticks (target ≥ 99 %).
@@ -147,6 +149,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--rate", type=float, default=1000.0, help="rate_hz of both publishers")
     parser.add_argument("--scene", default="four_bar")
     parser.add_argument("--alternate", action="store_true", help="node and floor one after the other")
+    parser.add_argument("--all-topics", action="store_true", help="subscribe to every topic, not only joint_states")
     parser.add_argument("--floor", action="store_true", help=argparse.SUPPRESS)
     opts, ros_args = parser.parse_known_args(argv)
     if opts.floor:
@@ -169,7 +172,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     import rclpy
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.qos import QoSProfile, ReliabilityPolicy
-    from sensor_msgs.msg import JointState
+
+    from linkage_ros.messages import topic_types
+    from linkage_ros.node import message_classes
+    from linkage_ros.runtime import Runtime
 
     rclpy.init()
     node = rclpy.create_node("node_floor_bench")
@@ -177,8 +183,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     executor.add_node(node)
     counters = {name: Counter() for name in commands}
     qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
+    topics = dict(topic_types(Runtime({"scene": opts.scene}).engine))
+    classes = message_classes(sorted(set(topics.values())))
     for name, counter in counters.items():
-        node.create_subscription(JointState, f"/{name}/joint_states", counter, qos, raw=True)
+        for topic, typename in topics.items():
+            if topic == "joint_states":
+                node.create_subscription(classes[typename], f"/{name}/{topic}", counter, qos, raw=True)
+            elif opts.all_topics:
+                node.create_subscription(classes[typename], f"/{name}/{topic}", lambda data: None, qos, raw=True)
     groups = [["node"], ["floor"]] if opts.alternate else [["node", "floor"]]
     results: dict[str, dict[str, float]] = {}
     processes: dict[str, subprocess.Popen[bytes]] = {}
@@ -204,7 +216,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     mode = "one after the other" if opts.alternate else "side by side"
     print(f"{opts.scene} at {opts.rate:g} Hz, {opts.seconds:g} s after {opts.warmup:g} s warm-up, {mode}, "
-          f"{os.cpu_count()} cores, subscriber on joint_states")
+          f"{os.cpu_count()} cores, subscriber on {'every topic' if opts.all_topics else 'joint_states'}")
     for name in ("node", "floor"):
         r = results[name]
         print(f"  {name:5s}  CPU {100 * r['cpu']:6.1f} % of a core   delivered {100 * r['delivered']:6.2f} %"

@@ -23,7 +23,17 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from solver._cmdline import Parser, check_output, finite, one_line, positive, quiet_pipe
+from solver._cmdline import (
+    EPSILON_MAX,
+    OMEGA_MAX,
+    PHI_MAX,
+    Parser,
+    bounded,
+    check_output,
+    one_line,
+    positive,
+    quiet_pipe,
+)
 
 __all__ = ["mcap_main", "run_main", "view_main"]
 
@@ -63,11 +73,11 @@ def _run_parser() -> argparse.ArgumentParser:
     span.add_argument("--cycles", type=positive, metavar="N",
                       help="turns of the input (> 0; default 1 when --duration is not given)")
     p.add_argument("--rate", type=positive, default=100.0, metavar="HZ", help="ticks per second (100)")
-    p.add_argument("--omega", type=finite, default=2 * math.pi, metavar="W",
+    p.add_argument("--omega", type=bounded(OMEGA_MAX), default=2 * math.pi, metavar="W",
                    help="input angular velocity, rad/s (2π: one turn per second)")
-    p.add_argument("--epsilon", type=finite, default=0.0, metavar="E",
+    p.add_argument("--epsilon", type=bounded(EPSILON_MAX), default=0.0, metavar="E",
                    help="input angular acceleration, rad/s² (0)")
-    p.add_argument("--phi0", type=finite, default=0.0, metavar="RAD", help="input angle at t = 0")
+    p.add_argument("--phi0", type=bounded(PHI_MAX), default=0.0, metavar="RAD", help="input angle at t = 0")
     p.add_argument("--points", metavar="P,Q", help="published points (default: the scene's outputs)")
     p.add_argument("--on-unassemblable", choices=("stop", "reverse"), default="stop")
     p.add_argument("--mcap", type=Path, metavar="FILE",
@@ -248,7 +258,8 @@ def view_main(argv: Sequence[str] | None = None) -> int:
         _err(_os_error(exc), "linkage-view")
         return EXIT_USAGE
     except (ValueError, KeyError, IndexError, TypeError) as exc:
-        _err(f"{args.mcap}: not a readable linkage_ros recording ({one_line(str(exc), 200)})", "linkage-view")
+        why = one_line(str(exc), 200).removeprefix(f"{args.mcap}: ")
+        _err(f"{args.mcap}: not a readable linkage_ros recording ({why})", "linkage-view")
         return EXIT_USAGE
     try:
         write_rrd(data, out, spawn=args.spawn)

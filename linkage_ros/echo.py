@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import array
 import importlib
+import os
 import signal
 import sys
 import time
@@ -40,8 +41,8 @@ def format_message(msg: Any, indent: str = "") -> str:
         ):
             lines.append(f"{indent}{name}:")
             for item in value:
-                body = format_message(item, indent + "  ").lstrip()
-                lines.append(f"{indent}- {body}".replace("\n", "\n  "))
+                body = format_message(item, indent + "  ")
+                lines.append(f"{indent}- {body[len(indent) + 2:]}")
         elif isinstance(value, (list, tuple, array.array)):
             lines.append(f"{indent}{name}: [{', '.join(repr(v) for v in value)}]")
         else:
@@ -100,8 +101,11 @@ def main(argv: Sequence[str] | None = None, *, out: TextIO | None = None) -> int
 
         qos = QoSProfile(depth=100, reliability=ReliabilityPolicy.BEST_EFFORT)
         node.create_subscription(_message_class(typename), topic, show, qos)
-        while not stopped[0] and (opts.count <= 0 or seen[0] < opts.count):
-            rclpy.spin_once(node, timeout_sec=WAIT_STEP_S)
+        try:
+            while not stopped[0] and (opts.count <= 0 or seen[0] < opts.count):
+                rclpy.spin_once(node, timeout_sec=WAIT_STEP_S)
+        except BrokenPipeError:  # e.g. | head: the reader has gone
+            sys.stdout = open(os.devnull, "w")  # nothing more is printed
         return 0
     finally:
         rclpy.try_shutdown()

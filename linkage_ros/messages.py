@@ -132,6 +132,7 @@ class MessageBuilder:
         frame_id: str = "world",
         path_period: float = PATH_PERIOD,
         diagnostic_name: str | None = None,
+        omit_joints: Iterable[str] = (),
     ) -> None:
         if not isinstance(types, MessageTypes):
             types = MessageTypes(types)
@@ -174,6 +175,8 @@ class MessageBuilder:
         self._fixed_point_by_name = {name: self._point(v) for name, v in self._fixed.items()}
         self._fixed_points = list(self._fixed_point_by_name.values())
         self._joint_names = tuple(engine.joint_names)
+        # joints left out of joint_states (topic mode: the driver publishes the input joint)
+        self.omit_joints = frozenset(omit_joints)
         # the URDF tree's joints (linkage-urdf) ride along on joint_states, so that
         # robot_state_publisher moves the closed chain; None for scenes without a URDF export
         self._tree = exportable_model(scene)
@@ -217,6 +220,8 @@ class MessageBuilder:
             if wanted is None or JOINT_KINEMATICS in wanted:
                 out.append((JOINT_KINEMATICS, jk))
         for name, (pos, vel, acc) in self._point_topics:
+            if wanted is not None and not {pos, vel, acc} & wanted:
+                continue
             ps = frame.points[name]
             if wanted is None or pos in wanted:
                 out.append((pos, self._PointStamped(header=header, point=tick.point(name))))
@@ -267,21 +272,22 @@ class MessageBuilder:
             ]
         )
         names = list(self._joint_names)
-        if self._tree is None:
+        if self._tree is None and not self.omit_joints:
             state = self._JointState(
                 header=header, name=names, position=positions, velocity=velocities, effort=self._empty
             )
         else:
             if tree is None:
-                tree = frame_tree_joint_states(self._tree, frame)
-            tree_q, tree_dq = self.types.float64_rows(
-                [
-                    [*(j.position for j in joints), *tree.position],
-                    [*(j.velocity for j in joints), *tree.velocity],
-                ]
-            )
+                tree = self.tree_states(frame)
+            all_names = [*names, *(tree.names if tree else ())]
+            all_q = [*(j.position for j in joints), *(tree.position if tree else ())]
+            all_dq = [*(j.velocity for j in joints), *(tree.velocity if tree else ())]
+            if self.omit_joints:
+                keep = [n not in self.omit_joints for n in all_names]
+                all_names, all_q, all_dq = ([v for v, k in zip(row, keep) if k] for row in (all_names, all_q, all_dq))
+            tree_q, tree_dq = self.types.float64_rows([all_q, all_dq])
             state = self._JointState(
-                header=header, name=[*names, *tree.names], position=tree_q, velocity=tree_dq, effort=self._empty
+                header=header, name=all_names, position=tree_q, velocity=tree_dq, effort=self._empty
             )
         point = self._JointTrajectoryPoint(
             positions=positions,

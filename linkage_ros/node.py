@@ -9,8 +9,14 @@ the runtime renders (``Publisher.publish(bytes)``; QoS depth 10, reliable) and v
 parameter changes in a callback. Integer values for double parameters (``-p omega:=2``, or
 ``ros2 param set ... omega 3``) are converted to doubles, at start and at run time.
 
+Topic mode (``-p input_source:=topic``, switchable at run time): the timer stops, and every
+``sensor_msgs/JointState`` on the relative topic ``input_joint_states`` (best-effort subscription,
+so reliable and best-effort publishers both reach it) is answered with the same topics, under
+the message's ``header.stamp`` (:meth:`Runtime.answer`); dropped and unassemblable messages are
+logged as warnings, at most one a second.
+
 SIGINT and SIGTERM end the node between two ticks: the MCAP recording is finished, the exit
-status is 0. This is the only module of the package that imports rclpy.
+status is 0. This module and :mod:`linkage_ros.echo` are the ones that import rclpy.
 """
 
 from __future__ import annotations
@@ -46,12 +52,18 @@ __all__ = [
     "MechanismNode",
     "QOS_DEPTH",
     "coerce_parameter",
+    "input_qos_profile",
     "main",
     "message_classes",
     "qos_profile",
 ]
 
 QOS_DEPTH = 10
+#: Topic mode: the incoming JointState topic (relative, so it can be remapped), its queue depth.
+INPUT_TOPIC = "input_joint_states"
+INPUT_QOS_DEPTH = 100
+#: Topic mode: at most one warning about dropped / unassemblable input per this many seconds.
+WARNING_THROTTLE_S = 1.0
 #: Longest wait of the spin loop (s): how soon a signal is acted on when no timer is due.
 SPIN_TIMEOUT_S = 0.1
 
@@ -69,6 +81,16 @@ def qos_profile() -> QoSProfile:
         history=HistoryPolicy.KEEP_LAST,
         depth=QOS_DEPTH,
         reliability=ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.VOLATILE,
+    )
+
+
+def input_qos_profile() -> QoSProfile:
+    """Best effort, keep last 100: matches reliable and best-effort JointState publishers."""
+    return QoSProfile(
+        history=HistoryPolicy.KEEP_LAST,
+        depth=INPUT_QOS_DEPTH,
+        reliability=ReliabilityPolicy.BEST_EFFORT,
         durability=DurabilityPolicy.VOLATILE,
     )
 
@@ -150,12 +172,15 @@ class MechanismNode(Node):
         self._topic_publishers: dict[str, Any] = {}
         self._sync_publishers()
         self._tick_timer = self.create_timer(self.runtime.period_s, self._on_timer)
+        self._input_subscription: Any = None
+        self._sync_input()
         self._pending_parameters: list[Parameter] = []
         self.add_pre_set_parameters_callback(self._coerce_parameters)
         self.add_on_set_parameters_callback(self._on_set_parameters)
+        where = (f"answering {self.resolve_topic_name(INPUT_TOPIC)}" if self.runtime.topic_mode
+                 else f"at {self.runtime.settings['rate_hz']:g} Hz")
         self.get_logger().info(
-            f"scene {self.runtime.engine.scene.name}: publishing {len(self._topic_publishers)} topics "
-            f"at {self.runtime.settings['rate_hz']:g} Hz"
+            f"scene {self.runtime.engine.scene.name}: publishing {len(self._topic_publishers)} topics {where}"
         )
 
     # ------------------------------------------------------------------ callbacks
@@ -170,6 +195,17 @@ class MechanismNode(Node):
         if self._pending_parameters:
             pending, self._pending_parameters = self._pending_parameters, []
             self.set_parameters(pending)
+
+    def _on_input(self, message: Any) -> None:
+        stamp = message.header.stamp
+        messages = self.runtime.answer(message.name, message.position, message.velocity,
+                                       stamp.sec * 1_000_000_000 + stamp.nanosec)
+        publishers = self._topic_publishers
+        for topic, data in messages:
+            publishers[topic].publish(data)
+        if self.runtime.input_warnings:
+            for warning in self.runtime.take_input_warnings():
+                self.get_logger().warning(warning, throttle_duration_sec=WARNING_THROTTLE_S)
 
     def _coerce_parameters(self, parameters: list[Parameter]) -> list[Parameter]:
         out = []
@@ -191,6 +227,7 @@ class MechanismNode(Node):
         if self.runtime.settings["rate_hz"] != old_rate:
             self.destroy_timer(self._tick_timer)
             self._tick_timer = self.create_timer(self.runtime.period_s, self._on_timer)
+        self._sync_input()
         points = list(self.runtime.settings["points"])
         if "points" not in changes and points != old_points:
             # The points followed a change of scene: show it in the parameter (next tick).
@@ -208,6 +245,23 @@ class MechanismNode(Node):
                 self._topic_publishers[topic] = self.create_publisher(
                     classes[typename], topic, self._qos_profile
                 )
+
+    def _sync_input(self) -> None:
+        """Topic mode: the input subscription, no timer; clock mode: the timer, no subscription."""
+        if self.runtime.topic_mode:
+            self._tick_timer.cancel()
+            if self._input_subscription is None:
+                from sensor_msgs.msg import JointState
+
+                self._input_subscription = self.create_subscription(
+                    JointState, INPUT_TOPIC, self._on_input, input_qos_profile()
+                )
+        else:
+            if self._input_subscription is not None:
+                self.destroy_subscription(self._input_subscription)
+                self._input_subscription = None
+            if self._tick_timer.is_canceled():
+                self._tick_timer.reset()
 
     def destroy_node(self) -> None:
         self.runtime.close()
@@ -230,8 +284,12 @@ def main(args: Sequence[str] | None = None) -> int:
     stop = _StopRequest()
     previous = {sig: signal.signal(sig, stop) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
-        rclpy.init(args=None if args is None else list(args),
-                   signal_handler_options=SignalHandlerOptions.NO)
+        try:
+            rclpy.init(args=None if args is None else list(args),
+                       signal_handler_options=SignalHandlerOptions.NO)
+        except RuntimeError as error:  # rclpy's RCLError: unparsable --ros-args
+            rclpy.logging.get_logger("mechanism_node").error(f"cannot start: {error}")
+            return 1
         try:
             return _run(stop)
         finally:

@@ -5,6 +5,11 @@ parameter changes to :meth:`Runtime.update` and timer ticks to :meth:`Runtime.ti
 publishes the CDR bytes that come back (the recorder writes the same bytes). Everything here is
 plain Python and tested without ROS.
 
+Topic mode (``input_source: topic``, issue 12): the node answers every
+``sensor_msgs/JointState`` on ``input_joint_states`` through :meth:`Runtime.answer` instead of
+ticking (:mod:`linkage_ros.relay` reads the input state off the message); ``joint_states`` then
+leaves out the input joint, which the driver publishes.
+
 What a tick sends: every topic of :func:`~linkage_ros.messages.topic_types` except that
 ``diagnostics`` goes out on the first tick, whenever the status changes (ok / near singular /
 unassemblable, or a new unassemblable event) and otherwise every :data:`DIAGNOSTICS_PERIOD_S`
@@ -25,12 +30,14 @@ import solver
 from solver.errors import SolverError
 
 from .engine import ON_UNASSEMBLABLE, STATUS_UNASSEMBLABLE, Engine, Frame
-from .messages import MessageBuilder, MessageTypes, topic_types
+from .messages import DIAGNOSTICS, MessageBuilder, MessageTypes, topic_types
 from .motion import Motion
+from .relay import ANSWER_DROPPED, ANSWER_FRAME, ANSWER_UNASSEMBLABLE, Relay
 from .wire import TickSerializer
 
 __all__ = [
     "DIAGNOSTICS_PERIOD_S",
+    "INPUT_SOURCES",
     "PARAMETERS",
     "ParameterSpec",
     "Recorder",
@@ -47,6 +54,8 @@ MAX_RATE_HZ = 1.0e4
 MIN_RATE_HZ = 1.0e-3
 #: Clock seconds between two diagnostics messages while the status stays the same.
 DIAGNOSTICS_PERIOD_S = 1.0
+#: Accepted values of ``input_source``.
+INPUT_SOURCES = ("clock", "topic")
 
 _FRAME_ID = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_./-]*\Z")
 _POINT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
@@ -110,7 +119,20 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
     ),
     ParameterSpec(
         "record_mcap", "string", "",
-        "MCAP file to record every published message to (rosbag2 profile); empty: off.",
+        "MCAP file to record every published message to (rosbag2 profile); empty: off. "
+        "The directory must exist.",
+    ),
+    ParameterSpec(
+        "input_source", "string", "clock",
+        "Where the input comes from: clock (phi(t) from omega and epsilon at rate_hz) or topic "
+        "(every sensor_msgs/JointState on input_joint_states is answered under its stamp).",
+        constraints="clock or topic",
+    ),
+    ParameterSpec(
+        "input_joint", "string", "",
+        "Topic mode: the joint of the incoming JointState that drives the mechanism; empty: the "
+        "scene's input joint.",
+        constraints="empty, the scene's input joint, or a URDF-style revolute joint of the scene",
     ),
 )
 
@@ -160,6 +182,8 @@ def validate_parameter(name: str, value: Any) -> str | None:
             return f"frame_id must be non-empty (letters, digits, _ . / -), got {value!r}"
     elif name == "on_unassemblable" and value not in ON_UNASSEMBLABLE:
         return f"on_unassemblable must be one of {', '.join(ON_UNASSEMBLABLE)}, got {value!r}"
+    elif name == "input_source" and value not in INPUT_SOURCES:
+        return f"input_source must be one of {', '.join(INPUT_SOURCES)}, got {value!r}"
     return None
 
 
@@ -228,9 +252,11 @@ class Runtime:
         self.last_frame: Frame | None = None
         self._last_event = ""
         self.events: list[str] = []
+        self.input_warnings: list[str] = []
         self.engine = self._engine(settings, t0=0.0)
         self.settings["points"] = list(self.engine.published_points)
-        self.builder, self.wire = self._builder(self.engine, settings["frame_id"])
+        self.relay = self._relay(self.engine, settings)
+        self.builder, self.wire = self._builder(self.engine, settings["frame_id"], self.relay)
         self.recorder: Recorder | None = None
         if settings["record_mcap"]:
             self.recorder = self._open_recorder(settings["record_mcap"], self.engine, settings["frame_id"])
@@ -240,6 +266,11 @@ class Runtime:
     def topics(self) -> list[tuple[str, str]]:
         """``[(relative topic, type name)]`` published now."""
         return topic_types(self.engine)
+
+    @property
+    def topic_mode(self) -> bool:
+        """Whether the input comes from ``input_joint_states`` (not from the clock)."""
+        return self.relay is not None
 
     @property
     def period_s(self) -> float:
@@ -260,7 +291,7 @@ class Runtime:
         A clock that jumps backwards restarts the run at ``phi0``.
         """
         now_ns = int(now_ns)
-        if now_ns <= 0:
+        if now_ns <= 0 or self.relay is not None:
             return []
         if self.start_ns is None:
             self.start_ns = now_ns
@@ -268,7 +299,7 @@ class Runtime:
             self.events.append("clock jumped backwards: restarting the run at phi0")
             self.start_ns = now_ns
             self.engine = self._engine(self.settings, t0=0.0)
-            self.builder, self.wire = self._builder(self.engine, self.settings["frame_id"])
+            self.builder, self.wire = self._builder(self.engine, self.settings["frame_id"], None)
         self._last_ns = now_ns
         frame = self.engine.frame(self.run_time(now_ns))
         self.last_frame = frame
@@ -280,6 +311,46 @@ class Runtime:
         if self.recorder is not None:
             self.recorder.write_serialized(now_ns, messages)
         return messages
+
+    def answer(self, names: Sequence[str], positions: Sequence[float], velocities: Sequence[float],
+               stamp_ns: int) -> list[tuple[str, bytes]]:
+        """Topic mode: the messages that answer one incoming JointState, under its stamp (the
+        recorder gets the same bytes); nothing in clock mode.
+
+        A frame: every topic (joint_states without the input joint). Unassemblable: only
+        diagnostics, level ERROR with the group and the φ interval (nothing non-finite, no
+        joint_states). Dropped (no input joint, a non-finite value): nothing, and a line in
+        :attr:`input_warnings`. The relay's own joint_states coming back: nothing.
+        """
+        if self.relay is None:
+            return []
+        answer = self.relay.answer(names, positions, velocities, stamp_ns)
+        stamp = answer.stamp_ns
+        if answer.kind == ANSWER_FRAME:
+            frame = answer.frame
+            assert frame is not None
+            self.last_frame = frame
+            messages = self.wire.render(frame, stamp, paths=self.builder.wants_paths(frame.t),
+                                        diagnostics=self._wants_diagnostics(frame, stamp))
+        elif answer.kind == ANSWER_UNASSEMBLABLE:
+            self.input_warnings.append(answer.reason)
+            state = Frame(t=stamp / NS_PER_S, phi=float(answer.phi or 0.0), omega=float(answer.omega or 0.0),
+                          epsilon=float(answer.epsilon or 0.0), points={}, joints={},
+                          status=STATUS_UNASSEMBLABLE, conditioning=0.0, message=answer.reason)
+            self._diagnostics_key = None  # the next frame reports again
+            messages = self.wire.generic(state, stamp, [DIAGNOSTICS])
+        else:
+            if answer.kind == ANSWER_DROPPED:
+                self.input_warnings.append(f"JointState dropped: {answer.reason}")
+            return []
+        if self.recorder is not None:
+            self.recorder.write_serialized(stamp, messages)
+        return messages
+
+    def take_input_warnings(self) -> list[str]:
+        """Topic mode: dropped and unassemblable messages since the last call."""
+        warnings, self.input_warnings = self.input_warnings, []
+        return warnings
 
     def _wants_diagnostics(self, frame: Frame, now_ns: int) -> bool:
         """First tick, a change of status (or a new unassemblable event), or a period passed."""
@@ -301,7 +372,9 @@ class Runtime:
 
         ``omega`` / ``epsilon`` start a new motion segment at the current run time; ``scene``,
         ``points`` and ``phi0`` rebuild the engine (``scene`` and ``phi0`` restart the motion at
-        ``phi0``); ``record_mcap`` closes the current recorder and opens the new one.
+        ``phi0``); ``record_mcap`` closes the current recorder and opens the new one;
+        ``input_source`` switches between clock and topic mode (back to clock, the run restarts
+        at ``phi0`` on the next tick); ``input_joint`` is checked against the scene.
         """
         ours = {k: v for k, v in changes.items() if k in _SPECS}
         for name, value in ours.items():
@@ -324,6 +397,16 @@ class Runtime:
             except (SolverError, ValueError) as error:
                 return str(error)
             new["points"] = list(engine.published_points)
+        if "input_source" in changed and new["input_source"] == "clock":
+            engine = self._engine(new, t0=0.0)  # the run restarts at phi0
+        relay = self.relay
+        if new["input_source"] == "clock":
+            relay = None
+        elif relay is None or engine is not self.engine or "input_joint" in changed:
+            try:
+                relay = self._relay(engine, new)
+            except ValueError as error:
+                return str(error)
         recorder = self.recorder
         if "record_mcap" in changed and new["record_mcap"]:
             try:
@@ -338,9 +421,12 @@ class Runtime:
             elif "epsilon" in changed:
                 motion.set_epsilon(t, float(new["epsilon"]))
         engine.on_unassemblable = new["on_unassemblable"]
-        if engine is not self.engine or "frame_id" in changed:
-            self.builder, self.wire = self._builder(engine, new["frame_id"])
+        if engine is not self.engine or "frame_id" in changed or relay is not self.relay:
+            self.builder, self.wire = self._builder(engine, new["frame_id"], relay)
             self._diagnostics_key = None
+        if "input_source" in changed and new["input_source"] == "clock":
+            self.start_ns = self._last_ns = None
+        self.relay = relay
         if recorder is not self.recorder or (not new["record_mcap"] and self.recorder):
             if self.recorder is not None:
                 self.recorder.close()
@@ -376,9 +462,17 @@ class Runtime:
             scene = solver.load_scene(settings["scene"])
         return Engine(scene, motion, points=points, on_unassemblable=settings["on_unassemblable"])
 
-    def _builder(self, engine: Engine, frame_id: str) -> tuple[MessageBuilder, TickSerializer]:
-        builder = MessageBuilder(engine, self.types, frame_id=frame_id)
+    def _builder(self, engine: Engine, frame_id: str, relay: Relay | None) -> tuple[MessageBuilder, TickSerializer]:
+        omit = () if relay is None else (relay.input_joint,)
+        builder = MessageBuilder(engine, self.types, frame_id=frame_id, omit_joints=omit)
         return builder, TickSerializer(builder, self._serialize)
+
+    @staticmethod
+    def _relay(engine: Engine, settings: Mapping[str, Any]) -> Relay | None:
+        """The topic mode's relay (None in clock mode); ValueError for an unknown input_joint."""
+        if settings["input_source"] != "topic":
+            return None
+        return Relay(engine, input_joint=settings["input_joint"] or None)
 
     def _open_recorder(self, path: str, engine: Engine, frame_id: str) -> Recorder:
         if self._recorder_factory is None:

@@ -143,6 +143,12 @@ class TickSerializer:
                    for t, data in out]
         return out
 
+    def generic(self, frame: Frame, stamp_ns: int, topics: Sequence[str]) -> list[tuple[str, bytes]]:
+        """``topics`` of ``frame`` built and serialised the ordinary way (e.g. the diagnostics of
+        an input state that has no frame: ``frame`` may then carry no points or joints)."""
+        built = self.builder.build_topics(frame, stamp_ns, topics, include_paths=False)
+        return [(t, pad4(self.serialize(m, self.types[t]))) for t, m in built]
+
     def verify(self, frame: Frame, stamp_ns: int) -> list[str]:
         """Topics whose template rendering of ``frame`` differs from the builder's output (they
         are built the ordinary way from then on); empty when every template is exact."""

@@ -21,7 +21,10 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, NoReturn
 
-__all__ = ["Parser", "finite", "positive", "count", "check_output", "quiet_pipe", "EXIT_PIPE", "one_line"]
+__all__ = [
+    "Parser", "finite", "positive", "count", "bounded", "check_output", "quiet_pipe", "EXIT_PIPE", "one_line",
+    "OMEGA_MAX", "EPSILON_MAX", "PHI_MAX",
+]
 
 EXIT_PIPE = 141  # 128 + SIGPIPE, what a shell reports for a command whose reader went away
 EXIT_INTERRUPTED = 130
@@ -61,6 +64,25 @@ def finite(text: str) -> float:
     return _number(text, "")
 
 
+#: Largest |ω| (rad/s), |ε| (rad/s²) and |φ| (rad) taken on a command line: beyond, ω²·a_q and the
+#: angle's reduction lose meaning long before float64 overflows (an analog of 1e9 m at ω = 1e6
+#: rad/s is an acceleration of 1e21 m/s², still finite).
+OMEGA_MAX, EPSILON_MAX, PHI_MAX = 1e6, 1e12, 1e6
+
+
+def bounded(limit: float) -> Callable[[str], float]:
+    """An argument type: a finite number with |x| ≤ ``limit``."""
+
+    def parse(text: str) -> float:
+        value = _number(text, "")
+        if abs(value) > limit:
+            raise argparse.ArgumentTypeError(f"|{text}| is beyond {limit:g}")
+        return value
+
+    parse.__name__ = "number"
+    return parse
+
+
 def positive(text: str) -> float:
     """A finite number > 0."""
     value = _number(text, " > 0")
@@ -83,10 +105,10 @@ def count(text: str) -> int:
 def check_output(path: str | os.PathLike[str], what: str = "output") -> Path:
     """``path`` if a file can be written there without creating folders; else ValueError."""
     p = Path(path)
-    if str(path) == "" or p.name in ("", ".", ".."):
-        raise ValueError(f"{what} {str(path)!r}: not a file name")
     if p.is_dir():
         raise ValueError(f"{what} {p}: is a directory; give a file name")
+    if str(path) == "" or p.name in ("", ".", ".."):
+        raise ValueError(f"{what} {str(path)!r}: not a file name")
     parent = p.parent
     if not parent.exists():
         blocker = next((q for q in [parent, *parent.parents] if q.exists() and not q.is_dir()), None)

@@ -127,9 +127,10 @@ class Entry:
         if key not in self.data:
             if default is MISSING:
                 near = [k for k in self.data if isinstance(k, str) and k not in self.used and suggest(k, [key])]
-                if near:
-                    hint = f"'{near[0][:30]}' is not a field (did you mean '{key}'?)"
-                    raise self.error(f"missing required field; {hint}", key)
+                if near:  # a misspelt key: name it, not the field its absence leaves missing
+                    text = f"unknown field '{near[0][:30]}' (did you mean '{key}'?)"
+                    line = self.line_of(near[0])
+                    raise SceneError(text, file=self.file, entry=self.where or None, line=line)
                 raise self.error("missing required field", key)
             return default
         return self.data[key]

@@ -56,7 +56,8 @@ def check_drivers(top: Entry, groups: Sequence[Group]) -> None:
     for g in groups:
         for n in g.provides():
             other = by.get(n)
-            if other is not None and (other.drives or g.drives):
+            named_twice = n in g.joints() or (other is not None and n in other.joints())
+            if other is not None and (other.drives or g.drives) and not named_twice:  # a point, not a name clash
                 crank = other if other.drives else g
                 rest = g if crank is other else other
                 raise top.error(

@@ -101,6 +101,7 @@ def _parse_scene(data: Any, *, file: str | None, default_name: str = "scene") ->
     groups.extend(_joints(top, _rigid_pairs(groups), units, dim))
     check_drivers(top, groups)  # several inputs: over-determined points, drivers (solver._inputs)
     _check_names(top, fixed, groups, dim)
+    _check_fixed_joints(top, fixed, groups)
     inputs = [g for g in groups if g.drives]
     if not inputs:
         raise top.error(
@@ -149,7 +150,7 @@ def _descriptions(top: Entry, names: set[str]) -> dict[str, str]:
     for key in d.data:
         if key not in names:
             known = ", ".join(sorted(names)[:20])
-            raise d.error(f"'{show(key, 40)}' is not a point or joint of the scene; known: {known}", str(key))
+            raise d.error(f"{show(key, 40)} is not a point or joint of the scene; known: {known}", str(key))
         text = d.raw(key)
         if not isinstance(text, str) or not text.strip():
             raise d.error(f"must be a one-line text, got {show(text)}", str(key))
@@ -241,7 +242,9 @@ def _joints(top: Entry, rigid: Mapping[frozenset[str], float], units: Units, dim
         kinds = [k for k in spec.data if k in JOINT_KINDS or k in URDF_JOINT_KINDS]
         if len(kinds) != 1 or len(spec.data) != 1:
             known = (*JOINT_KINDS, *URDF_JOINT_KINDS)
-            raise spec.error(f"must be one of {{{', '.join(f'{k}: …' for k in known)}}}, got {show(spec.data)}")
+            near = [m for k in spec.data if isinstance(k, str) and k not in known for m in suggest(k, known)[:1]]
+            hint = f" (did you mean '{near[0]}'?)" if near else ""
+            raise spec.error(f"must be one of {{{', '.join(f'{k}: …' for k in known)}}}, got {show(spec.data)}{hint}")
         kind = kinds[0]
         if kind in URDF_JOINT_KINDS:  # URDF-style: {revolute: {parent, child, ...}} / {prismatic: {...}}
             if dim != 2:
@@ -254,6 +257,16 @@ def _joints(top: Entry, rigid: Mapping[frozenset[str], float], units: Units, dim
         length = rigid.get(frozenset(pts)) if kind == "angle" else None
         out.append(JointExpression(name=str(name), expression=kind, points=pts, rigid_length=length))
     return out
+
+
+def _check_fixed_joints(top: Entry, fixed: Mapping[str, Any], groups: list[Group]) -> None:
+    """An angle or distance between two fixed points at one place has no direction: refused on load."""
+    for g in groups:
+        if isinstance(g, JointExpression) and g.expression in ("angle", "distance") and len(g.points) == 2:
+            p, q = g.points
+            if p in fixed and q in fixed and np.all(np.asarray(fixed[p]) == np.asarray(fixed[q])):
+                what = f"{g.expression} of [{p}, {q}], two fixed points at one place"
+                raise top.error(f"joint '{g.name}': {what}", "joints")
 
 
 def _check_names(top: Entry, fixed: Mapping[str, Any], groups: list[Group], dim: int) -> None:

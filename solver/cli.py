@@ -6,12 +6,12 @@ import argparse
 import math
 import sys
 from collections.abc import Sequence
-from typing import TextIO
+from typing import Any, TextIO
 
 import numpy as np
 
 from . import assembly, classify
-from ._cmdline import Parser, check_output, count, finite, one_line, quiet_pipe
+from ._cmdline import EPSILON_MAX, OMEGA_MAX, PHI_MAX, Parser, bounded, check_output, count, one_line, quiet_pipe
 from .errors import SolverError, format_intervals
 from .kinematics import Kinematics
 from .scene import Scene, load_scene
@@ -32,9 +32,15 @@ def _parser() -> argparse.ArgumentParser:
     grid.add_argument("--phi-count", type=count, default=360, metavar="N", help="N angles over one turn (default 360)")
     grid.add_argument("--phi", type=_floats, metavar="V1,V2,...", help="these input angles (rad, or deg with --deg)")
     p.add_argument("--deg", action="store_true", help="--phi values are in degrees (the summary always shows degrees)")
-    p.add_argument("--omega", type=finite, default=1.0, metavar="W", help="input angular velocity, rad/s (default 1)")
     p.add_argument(
-        "--epsilon", type=finite, default=0.0, metavar="E", help="input angular acceleration, rad/s² (default 0)"
+        "--omega", type=bounded(OMEGA_MAX), default=1.0, metavar="W", help="input angular velocity, rad/s (default 1)"
+    )
+    p.add_argument(
+        "--epsilon",
+        type=bounded(EPSILON_MAX),
+        default=0.0,
+        metavar="E",
+        help="input angular acceleration, rad/s² (default 0)",
     )
     p.add_argument("--csv", metavar="FILE|-", help="write the table as CSV (SI units, phi in rad) to FILE or stdout")
     p.add_argument(
@@ -47,7 +53,7 @@ def _parser() -> argparse.ArgumentParser:
 
 def _floats(text: str) -> list[float]:
     try:
-        values = [finite(v) for v in text.split(",") if v.strip()]
+        values = [bounded(PHI_MAX)(v) for v in text.split(",") if v.strip()]
     except argparse.ArgumentTypeError as exc:
         raise argparse.ArgumentTypeError(f"not a comma-separated list of finite numbers: {text!r} ({exc})") from None
     if not values:
@@ -98,11 +104,11 @@ def summary(scene: Scene, k: Kinematics, *, deg: bool = True, periodic: bool = F
     if scene.provenance:
         lines.append(f"  ({scene.provenance.split('. ')[0].rstrip('.')}.)")  # its first sentence
     desc = getattr(scene, "descriptions", {})
-    points = [Output(p, *(x[valid] for x in k.point(p)), description=desc.get(p, "")) for p in scene.output_points]
-    joints = [
-        Output(j, *(x[valid] for x in k.joint(j)), unit=scene.joint_units.get(j, "rad"), description=desc.get(j, ""))
-        for j in scene.output_joints
-    ]
+    def output(name: str, m: Any, unit: str = "m") -> Output:
+        return Output(name, m.position[valid], m.velocity[valid], m.acceleration[valid], unit, desc.get(name, ""))
+
+    points = [output(p, k.point(p)) for p in scene.output_points]
+    joints = [output(j, k.joint(j), scene.joint_units.get(j, "rad")) for j in scene.output_joints]
     lines += summary_lines(Sweep(phi=phi, points=points, joints=joints, periodic=periodic and bool(valid.all())))
     lines.extend(stability_lines(scene, k))
     return "\n".join(lines)
@@ -139,9 +145,11 @@ def stability_lines(scene: Scene, k: Kinematics) -> list[str]:
     for g in scene.plan.groups:
         mu = classify.transmission_range(scene, g)
         if mu is not None:
-            a, c = g.ends
+            dyad: Any = g  # an RRR dyad (transmission_range is None for any other group)
+            a, c = dyad.ends
+            b = dyad.point
             lines.append(
-                f"  transmission angle of {g.name} (between {_link(a, g.point)} and {_link(c, g.point)}): "
+                f"  transmission angle of {g.name} (between {_link(a, b)} and {_link(c, b)}): "
                 f"{math.degrees(mu[0]):.4f}° … {math.degrees(mu[1]):.4f}°"
             )
         grashof = classify.grashof(scene, g)

@@ -42,7 +42,8 @@ def _parser() -> argparse.ArgumentParser:
         description="Exact kinematics of a linkage scene with several inputs over a grid of its inputs.",
     )
     p.add_argument("scene", help="scene file, or the name of a shipped scene (e.g. five_bar)")
-    p.add_argument("--count", type=count, default=36, metavar="N", help="values of each input on the grid (36)")
+    p.add_argument("--count", "--phi-count", type=count, default=36, metavar="N",
+                   help="values of each input on the grid (36)")
     p.add_argument("--range", action="append", default=[], metavar="Q=LO:HI",
                    help="an input's range on the grid, both ends included (default one turn, end excluded)")
     p.add_argument("--samples", metavar="Q1,Q2;Q1,Q2;...", help="these rows of input values instead of a grid")

@@ -10,6 +10,7 @@ and its angular analogs, and the motion of a vector of fixed length turning with
 
 from __future__ import annotations
 
+import math
 from typing import Any, NamedTuple
 
 from ._backend import Backend
@@ -48,6 +49,15 @@ class Direction(NamedTuple):
     w1: Num  # (r'/r)' = r''/r − (r'/r)²
 
 
+_NAN = complex(math.nan, math.nan)
+
+
+def _nonzero(x: Num) -> bool:
+    """False only for a Python float 0: per tick, r = 0 at a sample the caller has flagged (mask
+    mode) gives NaN, as numpy does on the vectorised path, instead of a ZeroDivisionError."""
+    return x.__class__ is not float or x != 0.0
+
+
 def direction(r: Jet, xp: Backend) -> Direction:
     """Direction of ``r`` (complex jet), from ``ln r = ln ρ + jθ``.
 
@@ -57,16 +67,17 @@ def direction(r: Jet, xp: Backend) -> Direction:
     z = r.value
     rho2 = z.real * z.real + z.imag * z.imag
     rho = xp.sqrt(rho2)
-    inv = z.conjugate() / rho2  # 1/r
+    inv = z.conjugate() / rho2 if _nonzero(rho2) else _NAN  # 1/r
     w = r.d1 * inv
     w1 = r.d2 * inv - w * w
-    return Direction(z / rho, rho, w, w1)
+    return Direction(z / rho if _nonzero(rho) else _NAN, rho, w, w1)
 
 
 def angle_of(r: Jet, xp: Backend) -> Jet:
     """Angle θ = arg r in (−π, π] with θ' = Im(r'/r), θ'' = Im((r'/r)')."""
     z = r.value
-    inv = z.conjugate() / (z.real * z.real + z.imag * z.imag)  # 1/r
+    rho2 = z.real * z.real + z.imag * z.imag
+    inv = z.conjugate() / rho2 if _nonzero(rho2) else _NAN  # 1/r
     w = r.d1 * inv
     w1 = r.d2 * inv - w * w
     return Jet(xp.arg(z), _imag(w), _imag(w1))

@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -62,8 +63,10 @@ class Sweep:
     extra: Mapping[str, str] = field(default_factory=dict)
 
 
-def format_phi(phi: float) -> str:
-    """φ as an angle in the turn, degrees in [0, 360)."""
+def format_phi(phi: Any) -> str:
+    """φ as an angle in the turn, degrees in [0, 360); several inputs as a tuple of them."""
+    if np.ndim(phi):
+        return "(" + ", ".join(format_phi(p) for p in np.asarray(phi, float).reshape(-1)) + ")"
     deg = math.degrees(float(phi)) % 360.0
     return f"{0.0 if round(deg, 2) == 360.0 else deg:.2f}°"
 

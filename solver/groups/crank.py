@@ -76,6 +76,8 @@ class Crank(Group):
         point = ctx.values[self.center].value + arm
         if type(u) is float and u == 0.0 and type(s) is float and s == 0.0:
             ctx.values[self.point] = Jet(point, 0.0, 0.0)
+        elif type(u) is float and u == 1.0 and type(s) is float and s == 0.0:  # a unit direction
+            ctx.values[self.point] = Jet(point, 1j * arm, ctx.xp.negative(arm))
         else:
             ja = 1j * arm
             acc = arm * (-(u * u))

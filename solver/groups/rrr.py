@@ -121,7 +121,8 @@ class RRR(Group):
         d = c_ - a_
         dd = abs2(d)
         ctx.require(self, dd > 0.0, reason="has its two ends on one point")
-        half_inv = 0.5 / dd
+        # (per tick in mask mode the sample is flagged above and solved on: inf as numpy gives)
+        half_inv = 0.5 / dd if dd.__class__ is not float or dd != 0.0 else math.inf
         a = l1 * l1 - l2 * l2 + dd
         a *= half_inv
         # h²·4D⁴ = ((l₁+l₂)² − D²)(D² − (l₁−l₂)²): the factored form is exactly 0 at a toggle

@@ -22,6 +22,7 @@ Conditioning: |A₁ × A₂| / (|A₁|·|A₂|) = |sin| of the angle between the
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -78,7 +79,9 @@ def analogs(k: Jet, deps: list[Dep], xp: Backend) -> tuple[tuple[Num, Num], tupl
             r1 = r1 - d.sign * d.r1 * d.u
         if d.ang_of is None and not is_zero(d.a1):
             r1 = r1 - 1j * z * d.a1
-    inv = 1.0 / det
+    # an exact dead centre on the per-tick path: ±inf as numpy gives on the vectorised path (the
+    # sample is flagged singular by its conditioning 0), not a ZeroDivisionError
+    inv = 1.0 / det if det.__class__ is not float or det != 0.0 else math.copysign(math.inf, det)
     x = (cross(r1, a2) * inv, cross(a1, r1) * inv)
     r2: Num = 0.0 if is_zero(k.d2) else -k.d2
     for d, z in zip(deps, zs):

@@ -173,3 +173,21 @@ def test_bad_shapes_of_phi_and_rates_are_named() -> None:
         scene.solve([0.5, math.nan])
     with pytest.raises(solver.SolverError, match=r"epsilon must be finite"):
         scene.solve(Q[:2], epsilon=[0.0, math.inf])
+
+
+def test_jacobian_and_hessian_are_evaluated_on_first_access_only(monkeypatch: pytest.MonkeyPatch) -> None:
+    import solver.multi as multi
+
+    calls: list[int] = []
+    real = multi._sweep_derivatives
+
+    def counting(scene: solver.Scene, phi: np.ndarray) -> object:
+        calls.append(len(phi))
+        return real(scene, phi)
+
+    monkeypatch.setattr(multi, "_sweep_derivatives", counting)
+    k = solver.load_scene("five_bar").solve(Q, omega=OMEGA, epsilon=EPSILON)
+    k.point("P").velocity, k.joint("left_distal").acceleration
+    assert calls == []
+    k.point("P").jacobian, k.joint("left_distal").hessian, k.point("P").hessian
+    assert calls == [len(Q)]

@@ -99,3 +99,19 @@ def test_urdf_cut_frames_coincide_over_a_two_input_sweep_and_an_engine_run() -> 
     )
     assert np.allclose(one.position, row.position[0], rtol=0, atol=TOL_SAME * 10)
     assert np.allclose(one.velocity, row.velocity[0], rtol=TOL_SAME, atol=TOL_SAME * 10)
+
+
+def test_reverse_policy_turns_every_input_back_at_the_last_valid_tick() -> None:
+    from multi_builders import five_bar
+
+    def run() -> Engine:
+        return Engine(five_bar(distal=0.2), Motions.of(2, phi0=(math.pi / 2, math.pi / 2), omega=(1.0, -1.0)),
+                      on_unassemblable="reverse")
+
+    engine = run()
+    frames = [engine.frame(t) for t in np.linspace(0.0, 3.0, 121)]
+    events = [f for f in frames if f.status == STATUS_UNASSEMBLABLE]
+    assert len(events) == 1 and "; reversed at t = " in events[0].message
+    assert frames[-1].omega == (-1.0, 1.0)
+    whole = list(run().frames(np.linspace(0.0, 3.0, 121)))
+    assert [f.phi for f in whole] == [f.phi for f in frames]

@@ -153,13 +153,29 @@ def test_summary_gives_range_and_maxima_with_where_they_occur() -> None:
     acc[3] = (0.0, -2.0)
     data = RunData("demo", 2, t, 2 * t, np.ones(5), np.zeros(5), {"P": pos}, {"P": vel},
                    {"P": acc}, {"J": (t, -3 * t, t)}, [], {})
-    lines = summary_lines(data, ["P"], ["J"], {"J": "m"})
-    assert lines[0] == "point P: x ∈ [0, 1] m, y ∈ [-1, 0] m"
-    assert lines[1].startswith("  max |v| = 5 m/s at t = 0.2500 s, φ = 0.5000 rad")
-    assert lines[2].startswith("  max |a| = 2 m/s² at t = 0.7500 s")
-    assert lines[3] == "joint J: position ∈ [0, 1] m"
-    assert lines[4].startswith("  max |velocity| = 3 m/s at t = 1.0000 s")
-    assert summary_lines(data, ["P"], ["J"])[3] == "joint J: position ∈ [0, 1] rad"
+    lines = summary_lines(data, ["P"], ["J"], {"J": "m"}, descriptions={"P": "the tip"})
+    assert lines[0] == "  point P — the tip"
+    assert lines[1] == "    position: x 0 … 1 m, y -1 … 0 m"
+    assert lines[2] == "    velocity: max speed |v| = 5 m/s at t = 0.25 s (φ = 28.65°)"
+    assert lines[3].startswith("    acceleration: max |a| = 2 m/s² at t = 0.75 s")
+    assert lines[5] == "    position: 0 … 1 m"
+    assert lines[6].startswith("    velocity: max |velocity| = 3 m/s at t = 1 s")
+
+
+def test_summary_of_a_run_says_full_turn_and_constant_speed() -> None:
+    t = np.linspace(0.0, 1.0, 101)
+    phi = 2 * np.pi * t
+    z = np.exp(1j * phi)
+    pos, vel, acc = (np.stack([w.real, w.imag], axis=1) for w in (z, 2 * np.pi * 1j * z, -(2 * np.pi) ** 2 * z))
+    q = np.angle(z)  # wraps at ±180°
+    data = RunData("demo", 2, t, phi, np.full(101, 2 * np.pi), np.zeros(101), {"B": pos}, {"B": vel},
+                   {"B": acc}, {"q": (q, np.full(101, 2 * np.pi), np.zeros(101))}, [], {})
+    text = "\n".join(summary_lines(data, ["B"], ["q"]))
+    assert "speed |v| constant 6.28319 m/s" in text
+    assert "|a| constant 39.4784 m/s²" in text
+    assert "makes a full turn over the run (+360.0°" in text
+    assert "velocity: |velocity| constant 6.28319 rad/s" in text
+    assert "acceleration: zero" in text
 
 
 def test_cli_writes_default_files_under_runs_and_prints_a_summary(
@@ -170,7 +186,7 @@ def test_cli_writes_default_files_under_runs_and_prints_a_summary(
     mcaps, rrds = list(Path("runs").glob("slider_crank-*.mcap")), list(Path("runs").glob("*.rrd"))
     assert len(mcaps) == 1 and len(rrds) == (1 if HAVE_RERUN else 0)
     assert read_mcap(mcaps[0]).complete
-    assert "max |v|" in out and "max |a|" in out and "ticks in" in out
+    assert "max speed |v|" in out and "max |a|" in out and "ticks in" in out and "wall-clock" in out
 
 
 def test_without_rerun_the_run_still_records_mcap_and_says_why_there_is_no_rrd(

@@ -41,12 +41,17 @@ CALL_TIMEOUT_S = 10.0
 
 
 def node_executable() -> str:
-    """The venv's mechanism_node console script (beside this Python), else the one on PATH."""
-    beside = Path(sys.prefix) / "bin" / "mechanism_node"
-    found = str(beside) if beside.is_file() else shutil.which("mechanism_node")
-    if found is None:
-        pytest.fail("mechanism_node is not installed (pip install -e '.[ros]')")
-    return found
+    """The venv's mechanism_node console script (beside this Python), else the one on PATH, else
+    a ROS workspace's ``lib/linkage_ros/mechanism_node`` (AMENT_PREFIX_PATH)."""
+    candidates = [Path(sys.prefix) / "bin" / "mechanism_node"]
+    on_path = shutil.which("mechanism_node")
+    candidates += [Path(on_path)] if on_path else []
+    candidates += [Path(p) / "lib" / "linkage_ros" / "mechanism_node"
+                   for p in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]
+    for candidate in candidates:
+        if candidate.is_file():
+            return str(candidate)
+    pytest.fail("mechanism_node is not installed (pip install -e '.[ros]')")
 
 
 class NodeProcess:

@@ -180,6 +180,20 @@ def test_diagnostics_come_about_once_a_second(four_bar: Any, client: Client) -> 
     assert status.name == "linkage_ros: four_bar" and status.message == "ok"
 
 
+def test_linkage_echo_prints_what_the_node_publishes(four_bar: Any) -> None:
+    echo = subprocess.run(
+        [str(Path(sys.prefix) / "bin" / "linkage-echo"), "joint_states", "--count", "2", "--timeout", "10"],
+        capture_output=True, text=True, timeout=60,
+    )
+    assert echo.returncode == 0, echo.stderr
+    assert echo.stdout.count("---") == 2 and "name: ['crank', 'coupler', 'rocker'" in echo.stdout, echo.stdout
+    missing = subprocess.run(
+        [str(Path(sys.prefix) / "bin" / "linkage-echo"), "no_such_topic", "--timeout", "1"],
+        capture_output=True, text=True, timeout=60,
+    )
+    assert missing.returncode == 1 and "no publisher of /no_such_topic" in missing.stderr
+
+
 def test_sigint_finishes_the_recording_with_whole_ticks_equal_to_the_wire(
     four_bar: Any, client: Client, recording: Path, tmp_path: Path
 ) -> None:
@@ -340,6 +354,7 @@ def test_sigterm_at_1khz_exits_0_with_a_finished_recording_of_whole_ticks(
         (("-p", "scene:=no_such_mechanism"), "cannot start: unknown scene 'no_such_mechanism'"),
         (("-p", "record_mcap:=/no/such/folder/run.mcap"), "does not exist"),
         (("-p", "omega:=fast"), "cannot start: omega must be a finite number"),
+        (("-p",), "cannot start: failed to initialize rcl"),
     ],
 )
 def test_unusable_start_values_give_one_line_and_exit_1(start_node: Any, args: tuple[str, ...], reason: str) -> None:

@@ -170,3 +170,39 @@ def test_recording_without_a_recorder_is_refused_with_a_reason(tmp_path: Path) -
     reason = runtime.update({"record_mcap": str(tmp_path / "a.mcap")}, T0)
     assert reason is not None and "no MCAP recorder" in reason
     assert runtime.settings["record_mcap"] == ""
+
+
+def test_topic_mode_answers_a_joint_state_under_its_stamp_without_the_input_joint() -> None:
+    runtime = Runtime({"scene": "four_bar", "input_source": "topic"}, STORE.types)
+    assert runtime.topic_mode and runtime.tick(T0) == []  # no clock ticks in topic mode
+    messages = dict(runtime.answer(["crank"], [0.7], [2.5], T0 + 123))
+    assert set(messages) == {t for t, _ in runtime.topics}
+    js = STORE.deserialize_cdr(messages["joint_states"], "sensor_msgs/msg/JointState")
+    assert "crank" not in js.name and (js.header.stamp.sec, js.header.stamp.nanosec) == (1_700_000_000, 123)
+    jk = STORE.deserialize_cdr(messages["joint_kinematics"], "trajectory_msgs/msg/JointTrajectory")
+    assert jk.joint_names[0] == "crank" and jk.points[0].positions[0] == 0.7
+    assert runtime.answer(["elbow"], [0.7], [2.5], T0 + 456) == []
+    assert runtime.take_input_warnings() == ["JointState dropped: no joint 'crank' in the message"]
+
+
+def test_topic_mode_reports_an_unassemblable_input_in_diagnostics_only() -> None:
+    runtime = Runtime({"scene": str(ROCKING), "input_source": "topic"}, STORE.types)
+    messages = runtime.answer(["crank"], [math.pi], [1.0], T0)
+    assert [t for t, _ in messages] == [DIAGNOSTICS]
+    (status,) = STORE.deserialize_cdr(messages[0][1], "diagnostic_msgs/msg/DiagnosticArray").status
+    assert status.level == 2 and "cannot be assembled for φ in (" in status.message
+    (warning,) = runtime.take_input_warnings()
+    assert "cannot be assembled" in warning
+
+
+def test_switching_back_to_the_clock_restarts_the_run_at_phi0() -> None:
+    runtime = Runtime({"scene": "four_bar", "phi0": 0.25, "omega": 1.0}, STORE.types)
+    runtime.tick(T0)
+    runtime.tick(T0 + NS)
+    assert runtime.update({"input_source": "topic"}, T0 + NS) is None
+    assert runtime.tick(T0 + 2 * NS) == [] and runtime.answer(["crank"], [1.0], [0.0], T0 + 2 * NS)
+    assert runtime.update({"input_source": "clock"}, T0 + 3 * NS) is None
+    runtime.tick(T0 + 4 * NS)
+    assert runtime.last_frame is not None and runtime.last_frame.phi == 0.25
+    reason = runtime.update({"input_source": "topic", "input_joint": "elbow"}, T0 + 5 * NS)
+    assert reason is not None and "elbow" in reason and not runtime.topic_mode
