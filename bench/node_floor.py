@@ -12,7 +12,13 @@ Starts two processes on localhost, in a ROS domain of their own:
   paths and the diagnostics once a second) — as bytes rendered once before it starts, from a
   plain timer at RATE (namespace ``/floor``). It is what publishing alone costs in rclpy.
 
-This process subscribes to both ``joint_states`` (raw bytes, reliable) and counts what arrives.
+Executors: the node spins rclpy's EventsExecutor by default (``linkage_ros.node.make_executor``),
+the floor the SingleThreadedExecutor that ``rclpy.spin`` uses (the plain rclpy node).
+``--node-executor`` and ``--floor-executor`` (``events`` | ``single``) choose; with the same
+executor on both sides the ratio isolates the node's own work per tick.
+
+This process subscribes to both ``joint_states`` (raw bytes, reliable; EventsExecutor, so that it
+keeps up) and counts what arrives.
 After ``--warmup`` seconds it measures, over ``--seconds``: each process's CPU (utime + stime from
 ``/proc/PID/stat``, as a fraction of one core) and the ticks delivered (distinct stamps received /
 RATE × the stamp span; for the floor, whose stamps never change, messages received / RATE ×
@@ -45,14 +51,13 @@ TARGET_DELIVERED = 0.99
 
 
 # ------------------------------------------------------------------------------- the floor node
-def floor_main(scene: str, rate: float, ros_args: Sequence[str]) -> int:
+def floor_main(scene: str, rate: float, ros_args: Sequence[str], executor_kind: str) -> int:
     """A minimal rclpy node: pre-rendered bytes of the same topics, published from a timer."""
     import rclpy
-    from rclpy.executors import SingleThreadedExecutor
     from rclpy.node import Node
     from rclpy.signals import SignalHandlerOptions
 
-    from linkage_ros.node import message_classes, qos_profile
+    from linkage_ros.node import make_executor, message_classes, qos_profile
     from linkage_ros.runtime import Runtime
 
     runtime = Runtime({"scene": scene, "rate_hz": rate})
@@ -81,7 +86,7 @@ def floor_main(scene: str, rate: float, ros_args: Sequence[str]) -> int:
                 publishers[topic].publish(data)
 
         node.create_timer(1.0 / rate, on_timer)
-        executor = SingleThreadedExecutor()
+        executor = make_executor(executor_kind)
         executor.add_node(node)
         while not stop[0] and executor.context.ok():
             executor.spin_once(timeout_sec=0.1)
@@ -150,10 +155,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--scene", default="four_bar")
     parser.add_argument("--alternate", action="store_true", help="node and floor one after the other")
     parser.add_argument("--all-topics", action="store_true", help="subscribe to every topic, not only joint_states")
+    parser.add_argument("--node-executor", choices=("events", "single"), default="events")
+    parser.add_argument("--floor-executor", choices=("events", "single"), default="single")
     parser.add_argument("--floor", action="store_true", help=argparse.SUPPRESS)
     opts, ros_args = parser.parse_known_args(argv)
     if opts.floor:
-        return floor_main(opts.scene, opts.rate, ros_args)
+        return floor_main(opts.scene, opts.rate, ros_args, opts.floor_executor)
     if ros_args:
         parser.error(f"unrecognised arguments: {' '.join(ros_args)}")
 
@@ -166,20 +173,20 @@ def main(argv: Sequence[str] | None = None) -> int:
         "node": [node_exe, "--ros-args", "-r", "__ns:=/node", "-p", f"scene:={opts.scene}",
                  "-p", f"rate_hz:={float(opts.rate)!r}"],
         "floor": [sys.executable, "-m", "bench.node_floor", "--floor", "--scene", opts.scene,
-                  "--rate", repr(float(opts.rate)), "--ros-args", "-r", "__ns:=/floor"],
+                  "--rate", repr(float(opts.rate)), "--floor-executor", opts.floor_executor,
+                  "--ros-args", "-r", "__ns:=/floor"],
     }
 
     import rclpy
-    from rclpy.executors import SingleThreadedExecutor
     from rclpy.qos import QoSProfile, ReliabilityPolicy
 
     from linkage_ros.messages import topic_types
-    from linkage_ros.node import message_classes
+    from linkage_ros.node import make_executor, message_classes
     from linkage_ros.runtime import Runtime
 
     rclpy.init()
     node = rclpy.create_node("node_floor_bench")
-    executor = SingleThreadedExecutor()
+    executor = make_executor("events")  # the subscriber must keep up with two 1 kHz publishers
     executor.add_node(node)
     counters = {name: Counter() for name in commands}
     qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
@@ -198,8 +205,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         for group in groups:
             for name in group:
+                env = {**os.environ, "LINKAGE_ROS_EXECUTOR": opts.node_executor}
                 processes[name] = subprocess.Popen(commands[name], cwd=root, stdout=subprocess.DEVNULL,
-                                                   stderr=subprocess.DEVNULL)
+                                                   stderr=subprocess.DEVNULL, env=env)
             results.update(measure(group, processes, counters, executor, seconds=opts.seconds,
                                    rate=opts.rate, warmup=opts.warmup))
             for name in group:
@@ -216,7 +224,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     mode = "one after the other" if opts.alternate else "side by side"
     print(f"{opts.scene} at {opts.rate:g} Hz, {opts.seconds:g} s after {opts.warmup:g} s warm-up, {mode}, "
-          f"{os.cpu_count()} cores, subscriber on {'every topic' if opts.all_topics else 'joint_states'}")
+          f"{os.cpu_count()} cores, subscriber on {'every topic' if opts.all_topics else 'joint_states'}; "
+          f"executors: node {opts.node_executor}, floor {opts.floor_executor}")
     for name in ("node", "floor"):
         r = results[name]
         print(f"  {name:5s}  CPU {100 * r['cpu']:6.1f} % of a core   delivered {100 * r['delivered']:6.2f} %"

@@ -108,6 +108,7 @@ def _parse_scene(data: Any, *, file: str | None, default_name: str = "scene") ->
             "a scene needs exactly one input (a crank), found 0 (or one crank per input for several, docs/inputs.md)",
             "groups",
         )
+    _check_moving(top, fixed, groups)
     input_joint = inputs[0].input_joint()
     assert input_joint is not None
     out = top.child("outputs", top.raw("outputs"))
@@ -267,6 +268,24 @@ def _check_fixed_joints(top: Entry, fixed: Mapping[str, Any], groups: list[Group
             if p in fixed and q in fixed and np.all(np.asarray(fixed[p]) == np.asarray(fixed[q])):
                 what = f"{g.expression} of [{p}, {q}], two fixed points at one place"
                 raise top.error(f"joint '{g.name}': {what}", "joints")
+
+
+#: Groups that close a loop: between fixed points only, they would not move with the input.
+_CLOSURES = ("rrr", "rrp", "slotted")
+
+
+def _check_moving(top: Entry, fixed: Mapping[str, Any], groups: list[Group]) -> None:
+    """A dyad or slotted link that reads only fixed points is a rigid part of the frame, not a
+    group of the mechanism: refused on load (give its point as a fixed point instead)."""
+    for g in groups:
+        needs = g.requires()
+        if g.kind in _CLOSURES and needs and all(n in fixed for n in needs):
+            made = ", ".join(n for n in g.provides() if n not in g.joints())
+            raise top.error(
+                f"{g.kind} '{g.name}' reads only fixed points ({', '.join(needs)}): it does not move with the "
+                f"input; give {made or 'its point'} as {'fixed points' if ', ' in made else 'a fixed point'} instead",
+                "groups",
+            )
 
 
 def _check_names(top: Entry, fixed: Mapping[str, Any], groups: list[Group], dim: int) -> None:

@@ -74,7 +74,8 @@ class Context:
             return
         if bool(np.all(ok)):
             return
-        bad = ~np.asarray(ok, dtype=bool)
+        # (a constant ``ok`` — a group between fixed points — fails at every sample of the block)
+        bad = np.broadcast_to(~np.asarray(ok, dtype=bool), np.shape(self.phi))
         if self.mask:
             self.invalid = self.invalid | bad
             return

@@ -92,6 +92,7 @@ def main(argv: list[str] | None = None) -> int:
         path.write_bytes(raw)
         counts["files"] += 1
         counts[kind] += 1
+        counts["with a duplicate key"] += dup
         state, done = _run(
             [sys.executable, str(HERE / "run_fuzzer.py"), "--one", str(path)], args.timeout, args.memory_mb
         )
@@ -132,7 +133,10 @@ def main(argv: list[str] | None = None) -> int:
         f"shipped scenes, seed {args.seed}) in {elapsed:.0f} s; timeout {args.timeout:g} s, memory limit "
         f"{args.memory_mb} MB per process"
     )
-    print(f"loaded {counts['loaded']}, refused with one SceneError line {counts['rejected']}")
+    print(
+        f"loaded {counts['loaded']}, refused with one SceneError line {counts['rejected']} "
+        f"({counts['with a duplicate key']} files with a key given twice)"
+    )
     print(", ".join(f"{name} {counts[name]}" for name in BAD))
     for name in BAD:
         for line in examples.get(name, [])[:5]:

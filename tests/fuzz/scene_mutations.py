@@ -357,6 +357,17 @@ def special_cases(*, big: bool = True) -> Iterator[Mutation]:
     yoke = texts["vectors/pl2_scotch_yoke"]
     yield "parallel slides", yoke.replace("YA: {r: unknown, alpha: 90}", "YA: {r: unknown, alpha: 0}").encode(), False
     yield "huge file", b"a: " + b"x" * (5 << 20) + b"\n", False
+    fixed_dyad = base.replace("  C: [0.4, 0.0]\n", "  C: [0.4, 0.0]\n  F: [5.0, 0.0]\n").replace(
+        "groups:\n", "groups:\n  - {type: rrr, name: tri, ends: [O, F], point: T, lengths: [0.4, 0.3], M: +1}\n"
+    )
+    yield "a dyad between fixed points", fixed_dyad.encode(), False
+    yield (
+        "two fixed points at one place as a joint",
+        base.replace("  C: [0.4, 0.0]\n", "  C: [0.4, 0.0]\n  P: [0.0, 0.0]\n")
+        .replace("  rocker: {angle: [C, B]}\n", "  rocker: {angle: [C, B]}\n  zero: {angle: [O, P]}\n")
+        .encode(),
+        False,
+    )
     yield "recursive alias", ("a: &a [*a]\n" + base).encode(), False
     if big:
         yield "chain 4000", _chain(4000), False

@@ -160,3 +160,12 @@ def test_linkage_urdf_errors_are_one_line(tmp_path: Path, capsys: pytest.Capture
     assert "does not exist" in _one_line(capsys)[1]
     assert _exit(urdf_main, ["no_such_scene"]) == 2
     assert "no such scene file" in _one_line(capsys)[1]
+
+
+def test_dev_says_in_its_own_words_when_python_cannot_be_run(tmp_path: Path) -> None:
+    dev = Path(__file__).resolve().parents[2] / "dev"
+    env = {"PATH": "/usr/bin:/bin", "PYTHON": str(tmp_path / "python3.12"), "HOME": str(tmp_path)}
+    done = subprocess.run(["bash", str(dev), "run"], capture_output=True, text=True, env=env, timeout=60)
+    assert done.returncode == 127
+    assert f"./dev: PYTHON={tmp_path / 'python3.12'} cannot be run" in done.stderr
+    assert "set PYTHON to a Python 3.11 or 3.12 interpreter" in done.stderr

@@ -169,6 +169,19 @@ def test_parameters_are_accepted_and_rejected_with_a_reason_while_publishing(fou
     assert back.successful
 
 
+def test_a_new_rate_takes_effect_at_run_time(four_bar: Any, client: Client) -> None:
+    _, listener = four_bar
+    (ok,) = client.set_parameters("/mechanism_node", rate_hz=50)  # an integer, taken as 50.0
+    assert ok.successful, ok.reason
+    client.spin_for(0.2)
+    start = len(listener.by_topic["/joint_states"])
+    wait_for_ticks(client, listener, "/joint_states", 15)
+    stamps = [stamp("/joint_states", d) for d in listener.by_topic["/joint_states"][start:]]
+    assert float(np.median(np.diff(stamps))) == pytest.approx(NS / 50, rel=0.1)
+    (ok,) = client.set_parameters("/mechanism_node", rate_hz=100.0)
+    assert ok.successful, ok.reason
+
+
 def test_diagnostics_come_about_once_a_second(four_bar: Any, client: Client) -> None:
     _, listener = four_bar
     wait_for_ticks(client, listener, "/joint_states", 150)
@@ -346,6 +359,20 @@ def test_sigterm_at_1khz_exits_0_with_a_finished_recording_of_whole_ticks(
     assert len(per_tick[0]) >= 200
 
 
+def test_the_single_threaded_executor_still_runs_the_node(start_node: Any, client: Client) -> None:
+    import os
+
+    listener = client.listen(absolute("/single", {"joint_states": FOUR_BAR_TOPICS["joint_states"]}))
+    process = start_node("-r", "__ns:=/single", "-p", "scene:=four_bar",
+                         env={**os.environ, "LINKAGE_ROS_EXECUTOR": "single"})
+    try:
+        assert client.spin_until(lambda: len(listener.by_topic["/single/joint_states"]) >= 5, WAIT_S), process.output()
+        (ok,) = client.set_parameters("/single/mechanism_node", omega=3.0)
+        assert ok.successful
+    finally:
+        assert process.stop(signal.SIGINT) == 0
+
+
 # ---------------------------------------------------------------------------------------- start errors
 @pytest.mark.parametrize(
     ("args", "reason"),
@@ -358,7 +385,17 @@ def test_sigterm_at_1khz_exits_0_with_a_finished_recording_of_whole_ticks(
     ],
 )
 def test_unusable_start_values_give_one_line_and_exit_1(start_node: Any, args: tuple[str, ...], reason: str) -> None:
-    process = start_node("-r", "__ns:=/bad", *args)
+    expect_one_line_and_exit_1(start_node("-r", "__ns:=/bad", *args), reason)
+
+
+def test_an_unknown_executor_is_refused_with_one_line(start_node: Any) -> None:
+    import os
+
+    process = start_node("-r", "__ns:=/bad", env={**os.environ, "LINKAGE_ROS_EXECUTOR": "fast"})
+    expect_one_line_and_exit_1(process, "cannot start: LINKAGE_ROS_EXECUTOR must be one of events, single")
+
+
+def expect_one_line_and_exit_1(process: NodeProcess, reason: str) -> None:
     code = process.wait()
     output = process.output()
     assert code == 1, output

@@ -211,7 +211,8 @@ def test_a_misspelt_key_is_reported_before_what_its_absence_breaks(tmp_path: Pat
     # without `lengths` the dyad would fail on a missing field: the typo is the fault named
     with pytest.raises(solver.SceneError, match=r"unknown field 'lenghts' \(did you mean 'lengths'\?\)"):
         _load_text(tmp_path, FOUR_BAR.replace("lengths:", "lenghts:").replace("M: +1", "M: 7"))
-    with pytest.raises(solver.SceneError, match=r"bad\.yaml:6: units: unknown field 'lenght' \(did you mean 'length'\?\)"):
+    misspelt_unit = r"bad\.yaml:6: units: unknown field 'lenght' \(did you mean 'length'\?\)"
+    with pytest.raises(solver.SceneError, match=misspelt_unit):
         _load_text(tmp_path, FOUR_BAR.replace("{length: m,", "{lenght: m,"))
 
 
@@ -245,3 +246,11 @@ def test_a_merge_key_may_be_overridden_without_a_duplicate_key_error(tmp_path: P
     assert scene.solve(1.0).point("B").position == pytest.approx(
         solver.load_scene("four_bar").solve(1.0).point("B").position
     )
+
+
+def test_a_dyad_between_fixed_points_is_refused_on_load(tmp_path: Path) -> None:
+    text = FOUR_BAR.replace("  C: [0.4, 0.0]\n", "  C: [0.4, 0.0]\n  F: [5.0, 0.0]\n").replace(
+        "groups:\n", "groups:\n  - {type: rrr, name: tri, ends: [O, F], point: T, lengths: [0.4, 0.3], M: +1}\n"
+    )
+    with pytest.raises(solver.SceneError, match=r"rrr 'tri' reads only fixed points \(O, F\): it does not move"):
+        _load_text(tmp_path, text)
