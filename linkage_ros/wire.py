@@ -112,6 +112,7 @@ class TickSerializer:
                 self._templates[topic] = template
         self._consts = consts
         self._verified = False
+        self._every_tick = self._fast_path()
 
     # ------------------------------------------------------------------ public
     @property
@@ -127,6 +128,8 @@ class TickSerializer:
         if not self._verified:
             self.verify(frame, stamp_ns)
         values = self._numbers(frame, stamp_ns)
+        if self._every_tick is not None and not paths and not diagnostics:  # most ticks
+            return [(topic, pack(*args(values))) for topic, pack, args in self._every_tick]
         templates = self._templates
         out: list[tuple[str, bytes]] = []
         generic: list[str] = []
@@ -163,9 +166,18 @@ class TickSerializer:
                 bad.append(topic)
         for topic in bad:
             del self._templates[topic]
+        self._every_tick = self._fast_path()
         return bad
 
     # ------------------------------------------------------------------ helpers
+    def _fast_path(self) -> list[_Template] | None:
+        """The templates of a tick without paths and diagnostics, in topic order; None when some
+        such topic has no template (those ticks take the general path of :meth:`render`)."""
+        topics = [t for t in self.types if t != DIAGNOSTICS]
+        if any(t not in self._templates for t in topics):
+            return None
+        return [self._templates[t] for t in topics]
+
     def _numbers(self, frame: Frame, stamp_ns: int) -> list[Any]:
         """The frame's numbers in sentinel order, then the templates' constant byte runs."""
         sec, nanosec = divmod(int(stamp_ns), NS_PER_S)

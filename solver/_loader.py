@@ -203,6 +203,10 @@ def _group(e: Entry, units: Units, fixed: Mapping[str, Any]) -> Group:
         near = suggest(kind, GROUP_TYPES)
         hint = f" (did you mean '{near[0]}'?)" if near else ""
         raise e.error(f"unknown group type '{kind}'{hint}; known types: {', '.join(sorted(GROUP_TYPES))}", "type")
+    planar = all(isinstance(v, complex) for v in fixed.values())
+    if bool(getattr(cls, "spatial", False)) == planar:
+        need, have = ("spatial [x, y, z]", "planar") if planar else ("planar [x, y]", "spatial")
+        raise e.error(f"a {kind} group needs {need} fixed points; this scene's are {have}", "type")
     try:
         group = cls.from_entry(e, units, fixed)
     except SceneError:  # a misspelt key first: it is the likelier cause of a missing or odd field

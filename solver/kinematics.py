@@ -41,17 +41,27 @@ class Motion(NamedTuple):
 
 class Derivatives:
     """The exact first and second partial derivatives of a solve's outputs in its inputs,
-    evaluated on first use (``compute() -> {name: (jacobian, hessian)}``) and kept."""
+    evaluated on first use and kept: for every output at once (``compute() -> {name: (jacobian,
+    hessian)}``, a sweep), or output by output (``each(name) -> (jacobian, hessian)``, one instant,
+    where only the groups that output needs run)."""
 
-    __slots__ = ("_compute", "_cache")
+    __slots__ = ("_compute", "_each", "_cache")
 
-    def __init__(self, compute: Callable[[], Mapping[str, tuple[np.ndarray, np.ndarray]]]) -> None:
+    def __init__(
+        self,
+        compute: Callable[[], Mapping[str, tuple[np.ndarray, np.ndarray]]] | None = None,
+        *,
+        each: Callable[[str], tuple[np.ndarray, np.ndarray]] | None = None,
+    ) -> None:
         self._compute = compute
-        self._cache: Mapping[str, tuple[np.ndarray, np.ndarray]] | None = None
+        self._each = each
+        self._cache: dict[str, tuple[np.ndarray, np.ndarray]] | None = None
 
     def of(self, name: str) -> tuple[np.ndarray, np.ndarray]:
         if self._cache is None:
-            self._cache = self._compute()
+            self._cache = {} if self._compute is None else dict(self._compute())
+        if name not in self._cache and self._each is not None:
+            self._cache[name] = self._each(name)
         return self._cache[name]
 
 

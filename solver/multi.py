@@ -251,7 +251,7 @@ def _solve_instant(scene: Scene, q: tuple[float, ...], omega: list[Any], epsilon
         joints=scene.output_joints,
         conditioning=ctx.conditioning,
         valid=np.array(not ctx.invalid) if mask else None,
-        derivatives=Derivatives(lambda: _instant_derivatives(scene, q)),
+        derivatives=Derivatives(each=lambda name: _instant_derivatives(scene, q, name)),
         inputs=scene.inputs,
     )
 
@@ -314,15 +314,17 @@ def _put(target: np.ndarray, index: tuple[Any, ...], x: Any, planar: bool, m: in
         target[index] = np.broadcast_to(x, (m,))
 
 
-def _instant_derivatives(scene: Scene, q: tuple[float, ...]) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-    """J and H of every output at one instant, in Python floats, as arrays at the end."""
+def _instant_derivatives(scene: Scene, q: tuple[float, ...], name: str) -> tuple[np.ndarray, np.ndarray]:
+    """J and H of the output ``name`` at one instant, in Python floats (arrays at the end), from
+    the part of the plan that computes it."""
     k = len(q)
     zero = [0.0] * k
-    names = _outputs(scene)
+    names = [(name, name in scene.output_points)]
+    plan = scene.plan_for((name,))
     jac: dict[str, list[Any]] = {name: [0.0] * k for name, _ in names}
     hess: dict[str, list[list[Any]]] = {name: [[0.0] * k for _ in range(k)] for name, _ in names}
     for moved, u in _directions(k):
-        values = scene.plan.run(_context(scene, q, _seeds(scene, q, u, zero), True, False)).values
+        values = plan.run(_context(scene, q, _seeds(scene, q, u, zero), True, False)).values
         for name, _ in names:
             jet = values[name]
             if len(moved) == 1:
@@ -344,7 +346,7 @@ def _instant_derivatives(scene: Scene, q: tuple[float, ...]) -> dict[str, tuple[
             )
         else:
             out[name] = (np.array(jac[name], float), np.array(hess[name], float))
-    return out
+    return out[names[0][0]]
 
 
 # -- the assemblable region ------------------------------------------------------------------------

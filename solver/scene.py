@@ -300,6 +300,13 @@ class Scene:
             inputs=self.inputs,
         )
 
+    def plan_for(self, names: tuple[str, ...]) -> Plan:
+        """The part of this scene's plan that computes ``names`` (kept per set of names)."""
+        plans = self.__dict__.setdefault("_plans_for", {})
+        if names not in plans:
+            plans[names] = build_plan(self.plan.groups, self.plan.fixed, names)
+        return plans[names]  # type: ignore[no-any-return]
+
     def _intervals(self, group: str) -> list[tuple[float, float]]:
         from .assembly import unassemblable_intervals
 

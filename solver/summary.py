@@ -77,7 +77,7 @@ def motion_line(omega: float, epsilon: float) -> str:
     if omega == 1.0 and epsilon == 0.0:
         text += " (velocities and accelerations are the analogs d/dφ, d²/dφ², per rad of the input)"
     elif omega != 0.0 and epsilon == 0.0:
-        text += f" ({abs(omega) / TWO_PI:.4g} turns/s)"
+        text += f" ({abs(omega) / TWO_PI:.4g} turn/s)"
     return text + "; angles in degrees, everything else SI"
 
 

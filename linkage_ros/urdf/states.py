@@ -22,6 +22,7 @@ two points, or a constant); its angular velocity is ``ω = (r × ṙ)/|r|²``.
 from __future__ import annotations
 
 import math
+import weakref
 from collections.abc import Callable, Mapping
 from typing import Any, NamedTuple
 
@@ -43,34 +44,110 @@ class TreeJointStates(NamedTuple):
     velocity: Any
 
 
-class _Source:
-    """Point and joint values of one frame (scalars) or a sweep (arrays).
+class _Functions(NamedTuple):
+    """The elementary functions of one evaluation: :mod:`math` on floats, numpy on arrays."""
 
-    ``point(P)`` gives ``(position, velocity)`` of P as complex numbers (arrays), ``joint(J)``
-    ``(position, velocity)`` of a scene joint; both are read once and cached."""
+    atan2: Callable[[Any, Any], Any]
+    sin: Callable[[Any], Any]
+    cos: Callable[[Any], Any]
+    floor: Callable[[Any], Any]
 
-    def __init__(
-        self,
-        point: Callable[[str], tuple[Any, Any]],
-        joint: Callable[[str], tuple[Any, Any]],
-        vectorised: bool,
-    ) -> None:
-        self._point, self._joint = point, joint
-        self._cache: dict[str, tuple[Any, Any]] = {}
-        self.vectorised = vectorised
-        self.atan2 = np.arctan2 if vectorised else math.atan2
-        self.sin = np.sin if vectorised else math.sin
-        self.cos = np.cos if vectorised else math.cos
-        self.floor = np.floor if vectorised else math.floor
 
-    def point(self, name: str) -> tuple[Any, Any]:
-        hit = self._cache.get(name)
-        if hit is None:
-            hit = self._cache[name] = self._point(name)
-        return hit
+_SCALAR = _Functions(math.atan2, math.sin, math.cos, math.floor)
+_ARRAYS = _Functions(np.arctan2, np.sin, np.cos, np.floor)
+#: ``(o, ȯ, r, ṙ, ω)`` of the base: at the origin, x axis along x, at rest.
+_BASE_POSE = (0j, 0j, 1 + 0j, 0j, 0.0)
 
-    def joint(self, name: str) -> tuple[Any, Any]:
-        return self._joint(name)
+
+class _Body(NamedTuple):
+    """How to read one planar body's pose off the point and joint values (resolved once)."""
+
+    name: str
+    #: The x axis before the turn: two point names (tail, head), a scene joint's name (its
+    #: position is the axis' absolute angle), or a constant complex direction.
+    axis: tuple[str, str] | str | complex
+    #: ``e^{j·turn}``; None when the body is not turned.
+    turn: complex | None
+    #: Whether the origin is needed (a slide's bodies; a pin reads directions only).
+    locate: bool
+    #: The point the origin is read at (``anchor`` None) or located from.
+    origin: str | None
+    #: A point of the body that locates the origin, and its place ``x`` in the body frame.
+    anchor: str | None
+    x: complex
+
+
+class _Plan:
+    """A model's tree joints resolved once: the bodies whose poses the joints read, each joint's
+    rule with its constants, and which points and scene joints the evaluation reads."""
+
+    def __init__(self, model: TreeModel) -> None:
+        self.names = model.joint_names
+        base = model.bodies[BASE_LINK].local
+        self.fixed = {n: complex(v[0], v[1]) for n, v in base.items()}
+        located: dict[str, bool] = {}  # body -> whether its origin is needed
+        self.joints: list[tuple[str, tuple[Any, ...]]] = []
+        joint_inputs: list[str] = []
+        for j in model.joints:
+            if j.rule == "planar_pin":
+                unwrap = None if j.data[0] is None else str(j.data[0])
+                for body in (j.parent, j.child):
+                    located.setdefault(body, False)
+                joint_inputs += [unwrap] if unwrap is not None else []
+                args: tuple[Any, ...] = (j.parent, j.child, unwrap)
+            elif j.rule == "planar_slide":
+                x0v, beta = j.data
+                located[j.parent] = located[j.child] = True
+                args = (j.parent, j.child, complex(x0v[0], x0v[1]),  # type: ignore[index]
+                        complex(math.cos(beta), math.sin(beta)))  # type: ignore[arg-type]
+            elif j.rule == "joint_value":
+                args = (str(j.data[0]),)
+                joint_inputs += args
+            elif j.rule == "spherical_ring":
+                shaft, cage, alpha = j.data
+                args = (str(shaft), str(cage), math.cos(alpha), math.sin(alpha))  # type: ignore[arg-type]
+                joint_inputs += args[:2]
+            else:  # pragma: no cover - the model only makes the rules above
+                raise ValueError(f"unknown tree-joint rule {j.rule!r}")
+            self.joints.append((j.rule, args))
+        self.bodies = [_body(model, name, locate) for name, locate in located.items() if name != BASE_LINK]
+        points: list[str] = []
+        for b in self.bodies:
+            if isinstance(b.axis, tuple):
+                points += b.axis
+            elif isinstance(b.axis, str):
+                joint_inputs.append(b.axis)
+            if b.locate:
+                points.append(b.anchor if b.anchor is not None else b.origin)  # type: ignore[arg-type]
+        self.points = tuple(dict.fromkeys(points))
+        self.joint_inputs = tuple(dict.fromkeys(joint_inputs))
+
+
+def _body(model: TreeModel, name: str, locate: bool) -> _Body:
+    b = model.bodies[name]
+    assert b.origin is not None
+    axis: tuple[str, str] | str | complex
+    if isinstance(b.axis, (tuple, str)):
+        axis = b.axis
+    else:
+        axis = complex(b.axis)  # type: ignore[arg-type]
+    turn = complex(math.cos(b.turn), math.sin(b.turn)) if b.turn else None
+    anchor = None if b.anchor is None or b.anchor == b.origin else b.anchor
+    x = 0j if anchor is None else complex(b.local[anchor][0], b.local[anchor][1])
+    return _Body(name, axis, turn, locate, b.origin, anchor, x)
+
+
+#: Plans by ``id`` of their model, made on a model's first evaluation and dropped with the model
+#: (models are not changed once built).
+_PLANS: dict[int, _Plan] = {}
+
+
+def _plan(model: TreeModel) -> _Plan:
+    plan = _PLANS.get(id(model))
+    if plan is None:
+        plan = _PLANS[id(model)] = _Plan(model)
+        weakref.finalize(model, _PLANS.pop, id(model), None)
+    return plan
 
 
 def _cross(a: Any, b: Any) -> Any:
@@ -81,124 +158,115 @@ def _dot(a: Any, b: Any) -> Any:
     return a.real * b.real + a.imag * b.imag
 
 
-def _pose(model: TreeModel, body: str, src: _Source, *, locate: bool = True) -> tuple[Any, Any, Any, Any]:
-    """``(o, ȯ, r, ṙ)`` of a planar body: origin and a vector along its x axis (``o, ȯ`` are
-    ``None`` unless ``locate``: a pin reads directions only)."""
-    if body == BASE_LINK:
-        return 0j, 0j, 1 + 0j, 0j
-    b = model.bodies[body]
-    assert b.origin is not None
-    if isinstance(b.axis, tuple):
-        (pt, vt), (ph, vh) = src.point(b.axis[0]), src.point(b.axis[1])
+def _omega(r: Any, dr: Any) -> Any:
+    """``ω = (r × ṙ)/|r|²`` (written out: it runs once per body and tick)."""
+    return (r.real * dr.imag - r.imag * dr.real) / (r.real * r.real + r.imag * r.imag)
+
+
+Values = Mapping[str, tuple[Any, Any]]
+
+
+def _pose(b: _Body, points: Values, joints: Values, f: _Functions) -> tuple[Any, Any, Any, Any, Any]:
+    """``(o, ȯ, r, ṙ, ω)`` of a planar body: origin, a vector along its x axis and the angular
+    velocity (``o, ȯ`` are ``None`` unless the body is located: a pin reads directions only).
+    ``points``: position and velocity of each point as complex numbers (arrays); ``joints``: those
+    of the scene joints."""
+    axis = b.axis
+    if isinstance(axis, tuple):
+        (pt, vt), (ph, vh) = points[axis[0]], points[axis[1]]
         r, dr = ph - pt, vh - vt
-    elif isinstance(b.axis, str):  # a scene joint: the absolute angle of the axis
-        q, dq = src.joint(b.axis)
-        r = src.cos(q) + 1j * src.sin(q)
+    elif isinstance(axis, str):  # a scene joint: the absolute angle of the axis
+        q, dq = joints[axis]
+        r = f.cos(q) + 1j * f.sin(q)
         dr = 1j * dq * r
     else:
-        r, dr = complex(b.axis), 0j  # type: ignore[arg-type]
-    if b.turn:
-        rot = complex(math.cos(b.turn), math.sin(b.turn))
-        r, dr = r * rot, dr * rot
-    if not locate:
-        return None, None, r, dr
-    if b.anchor is None or b.anchor == b.origin:
-        o, do = src.point(b.origin)
+        r, dr = axis, 0j
+    if b.turn is not None:
+        r, dr = r * b.turn, dr * b.turn
+    w = _omega(r, dr)
+    if not b.locate:
+        return None, None, r, dr, w
+    if b.anchor is None:
+        o, do = points[b.origin]  # type: ignore[index]
     else:  # o = P − u·x, ȯ = Ṗ − j·ω·u·x with x the anchor's place in the body frame
-        pa, va = src.point(b.anchor)
-        x = complex(b.local[b.anchor][0], b.local[b.anchor][1])
+        pa, va = points[b.anchor]
         u = r / abs(r)
-        o, do = pa - u * x, va - 1j * _omega(r, dr) * u * x
-    return o, do, r, dr
+        o, do = pa - u * b.x, va - 1j * w * u * b.x
+    return o, do, r, dr, w
 
 
-def _omega(r: Any, dr: Any) -> Any:
-    return _cross(r, dr) / _dot(r, r)
-
-
-def _evaluate(model: TreeModel, src: _Source) -> tuple[list[Any], list[Any]]:
-    poses: dict[tuple[str, bool], tuple[Any, Any, Any, Any]] = {}
-
-    def pose(name: str, locate: bool = True) -> tuple[Any, Any, Any, Any]:
-        key = (name, locate)
-        if key not in poses:
-            poses[key] = _pose(model, name, src, locate=locate)
-        return poses[key]
-
+def _evaluate(plan: _Plan, points: Values, joints: Values, f: _Functions) -> tuple[list[Any], list[Any]]:
+    """Positions and velocities of the tree joints, in URDF order (the rules: module docstring)."""
+    poses = {BASE_LINK: _BASE_POSE}
+    for b in plan.bodies:
+        poses[b.name] = _pose(b, points, joints, f)
     qs: list[Any] = []
     dqs: list[Any] = []
-    for j in model.joints:
-        if j.rule == "planar_pin":
-            _, _, rp, drp = pose(j.parent, False)
-            _, _, rc, drc = pose(j.child, False)
-            q = src.atan2(_cross(rp, rc), _dot(rp, rc))
-            unwrap = j.data[0]
+    for rule, args in plan.joints:
+        if rule == "planar_pin":
+            parent, child, unwrap = args
+            _, _, rp, _, wp = poses[parent]
+            _, _, rc, _, wc = poses[child]
+            q = f.atan2(_cross(rp, rc), _dot(rp, rc))
             if unwrap is not None:
-                phi = src.joint(str(unwrap))[0]
-                q = q + TWO_PI * src.floor((phi - q) / TWO_PI + 0.5)
-            dq = _omega(rc, drc) - _omega(rp, drp)
-        elif j.rule == "planar_slide":
-            x0v, beta = j.data
-            x0 = complex(x0v[0], x0v[1])  # type: ignore[index]
-            op, dop, rp, drp = pose(j.parent)
-            oc, doc, _, _ = pose(j.child)
+                phi = joints[unwrap][0]
+                q = q + TWO_PI * f.floor((phi - q) / TWO_PI + 0.5)
+            dq = wc - wp
+        elif rule == "planar_slide":
+            parent, child, x0, turn = args
+            op, dop, rp, _, wp = poses[parent]
+            oc, doc, _, _, _ = poses[child]
             up = rp / abs(rp)
-            wp = _omega(rp, drp)
-            a = up * complex(math.cos(beta), math.sin(beta))  # type: ignore[arg-type]
+            a = up * turn
             q = _dot(oc - (op + up * x0), a)
             dq = _dot(doc - (dop + 1j * wp * up * x0), a)
-        elif j.rule == "joint_value":
-            q, dq = src.joint(str(j.data[0]))
-        elif j.rule == "spherical_ring":
-            shaft, cage, alpha = j.data
-            phi, dphi = src.joint(str(shaft))
-            psi, dpsi = src.joint(str(cage))
-            ca, sa = math.cos(alpha), math.sin(alpha)  # type: ignore[arg-type]
-            sf, cf, sp, cp = src.sin(phi), src.cos(phi), src.sin(psi), src.cos(psi)
+        elif rule == "joint_value":
+            q, dq = joints[args[0]]
+        else:  # spherical_ring
+            shaft, cage, ca, sa = args
+            phi, dphi = joints[shaft]
+            psi, dpsi = joints[cage]
+            sf, cf, sp, cp = f.sin(phi), f.cos(phi), f.sin(psi), f.cos(psi)
             s = -ca * sp - sa * sf * cp
             c = cf * cp
             ds = -ca * cp * dpsi - sa * (cf * cp * dphi - sf * sp * dpsi)
             dc = -sf * cp * dphi - cf * sp * dpsi
-            q = src.atan2(s, c)
+            q = f.atan2(s, c)
             dq = (c * ds - s * dc) / (s * s + c * c)
-        else:  # pragma: no cover - the model only makes the rules above
-            raise ValueError(f"unknown tree-joint rule {j.rule!r}")
         qs.append(q)
         dqs.append(dq)
     return qs, dqs
 
 
-def _fixed_lookup(model: TreeModel) -> dict[str, complex]:
-    base = model.bodies[BASE_LINK].local
-    return {n: complex(v[0], v[1]) for n, v in base.items()}
-
-
 def frame_tree_joint_states(model: TreeModel, frame: Any) -> TreeJointStates:
     """Tree joint states of one engine frame (``frame.points[P].position/.velocity`` sequences of
-    dim floats, ``frame.joints[J].position/.velocity`` floats): tuples of floats."""
-    points: Mapping[str, Any] = frame.points
-    joints: Mapping[str, Any] = frame.joints
-
-    def point(n: str) -> tuple[complex, complex]:
-        ps = points.get(n)
+    dim floats, ``frame.joints[J].position/.velocity`` floats): tuples of floats. The node calls
+    this every tick: the model is resolved once (:class:`_Plan`), a call reads only the points
+    and joints the rules need."""
+    plan = _plan(model)
+    frame_points: Mapping[str, Any] = frame.points
+    frame_joints: Mapping[str, Any] = frame.joints
+    points: dict[str, tuple[complex, complex]] = {}
+    for n in plan.points:
+        ps = frame_points.get(n)
         if ps is None:
-            return _fixed_lookup(model)[n], 0j
-        p, v = ps.position, ps.velocity
-        return complex(p[0], p[1]), complex(v[0], v[1])
-
-    def joint(n: str) -> tuple[float, float]:
-        js = joints[n]
-        return float(js.position), float(js.velocity)
-
-    q, dq = _evaluate(model, _Source(point, joint, False))
-    return TreeJointStates(model.joint_names, tuple(map(float, q)), tuple(map(float, dq)))
+            points[n] = (plan.fixed[n], 0j)
+        else:
+            p, v = ps.position, ps.velocity
+            points[n] = (complex(p[0], p[1]), complex(v[0], v[1]))
+    joints: dict[str, tuple[float, float]] = {}
+    for n in plan.joint_inputs:
+        js = frame_joints[n]
+        joints[n] = (float(js.position), float(js.velocity))
+    q, dq = _evaluate(plan, points, joints, _SCALAR)
+    return TreeJointStates(plan.names, tuple(q), tuple(dq))  # floats: math on floats and complex
 
 
 def kinematics_tree_joint_states(model: TreeModel, k: Any) -> TreeJointStates:
     """Tree joint states of a solve (:class:`solver.Kinematics` of the scene with every point and
     joint as outputs, e.g. ``scene.everything().solve(phi, omega=..., epsilon=...)``):
     ``(N, J)`` arrays (``(J,)`` for a scalar φ)."""
-    fixed = _fixed_lookup(model)
+    plan = _plan(model)
     n = np.shape(k.valid)  # the samples' shape: φ's, or (N,) of (N, k) inputs (docs/inputs.md)
     known = set(k.points)
 
@@ -206,18 +274,18 @@ def kinematics_tree_joint_states(model: TreeModel, k: Any) -> TreeJointStates:
         xy = np.asarray(xy, dtype=np.float64)
         return xy[..., 0] + 1j * xy[..., 1]
 
-    def point(p: str) -> tuple[Any, Any]:
+    points: dict[str, tuple[Any, Any]] = {}
+    for p in plan.points:
         if p not in known:
-            return np.full(n, fixed[p]), np.zeros(n, complex)
-        m = k.point(p)
-        return as_complex(m.position), as_complex(m.velocity)
-
-    def joint(j: str) -> tuple[Any, Any]:
+            points[p] = (np.full(n, plan.fixed[p]), np.zeros(n, complex))
+        else:
+            m = k.point(p)
+            points[p] = (as_complex(m.position), as_complex(m.velocity))
+    joints: dict[str, tuple[Any, Any]] = {}
+    for j in plan.joint_inputs:
         m = k.joint(j)
-        return np.asarray(m.position, dtype=np.float64), np.asarray(m.velocity, dtype=np.float64)
-
-    src = _Source(point, joint, True)
-    q, dq = _evaluate(model, src)
+        joints[j] = (np.asarray(m.position, dtype=np.float64), np.asarray(m.velocity, dtype=np.float64))
+    q, dq = _evaluate(plan, points, joints, _ARRAYS)
     shape = n + (len(q),)
     position = np.empty(shape)
     velocity = np.empty(shape)
