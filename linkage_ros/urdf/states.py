@@ -70,6 +70,8 @@ class _Body(NamedTuple):
     turn: complex | None
     #: Whether the origin is needed (a slide's bodies; a pin reads directions only).
     locate: bool
+    #: Whether the angular velocity is needed (a pin's bodies, a slide's parent, an anchor).
+    spin: bool
     #: The point the origin is read at (``anchor`` None) or located from.
     origin: str | None
     #: A point of the body that locates the origin, and its place ``x`` in the body frame.
@@ -86,6 +88,7 @@ class _Plan:
         base = model.bodies[BASE_LINK].local
         self.fixed = {n: complex(v[0], v[1]) for n, v in base.items()}
         located: dict[str, bool] = {}  # body -> whether its origin is needed
+        spinning: set[str] = set()  # bodies whose angular velocity a joint reads
         self.joints: list[tuple[str, tuple[Any, ...]]] = []
         joint_inputs: list[str] = []
         for j in model.joints:
@@ -93,11 +96,13 @@ class _Plan:
                 unwrap = None if j.data[0] is None else str(j.data[0])
                 for body in (j.parent, j.child):
                     located.setdefault(body, False)
+                    spinning.add(body)
                 joint_inputs += [unwrap] if unwrap is not None else []
                 args: tuple[Any, ...] = (j.parent, j.child, unwrap)
             elif j.rule == "planar_slide":
                 x0v, beta = j.data
                 located[j.parent] = located[j.child] = True
+                spinning.add(j.parent)
                 args = (j.parent, j.child, complex(x0v[0], x0v[1]),  # type: ignore[index]
                         complex(math.cos(beta), math.sin(beta)))  # type: ignore[arg-type]
             elif j.rule == "joint_value":
@@ -110,7 +115,8 @@ class _Plan:
             else:  # pragma: no cover - the model only makes the rules above
                 raise ValueError(f"unknown tree-joint rule {j.rule!r}")
             self.joints.append((j.rule, args))
-        self.bodies = [_body(model, name, locate) for name, locate in located.items() if name != BASE_LINK]
+        self.bodies = [_body(model, name, locate, name in spinning)
+                       for name, locate in located.items() if name != BASE_LINK]
         points: list[str] = []
         for b in self.bodies:
             if isinstance(b.axis, tuple):
@@ -123,7 +129,7 @@ class _Plan:
         self.joint_inputs = tuple(dict.fromkeys(joint_inputs))
 
 
-def _body(model: TreeModel, name: str, locate: bool) -> _Body:
+def _body(model: TreeModel, name: str, locate: bool, spin: bool) -> _Body:
     b = model.bodies[name]
     assert b.origin is not None
     axis: tuple[str, str] | str | complex
@@ -134,7 +140,7 @@ def _body(model: TreeModel, name: str, locate: bool) -> _Body:
     turn = complex(math.cos(b.turn), math.sin(b.turn)) if b.turn else None
     anchor = None if b.anchor is None or b.anchor == b.origin else b.anchor
     x = 0j if anchor is None else complex(b.local[anchor][0], b.local[anchor][1])
-    return _Body(name, axis, turn, locate, b.origin, anchor, x)
+    return _Body(name, axis, turn, locate, spin or (locate and anchor is not None), b.origin, anchor, x)
 
 
 #: Plans by ``id`` of their model, made on a model's first evaluation and dropped with the model
@@ -163,12 +169,14 @@ def _omega(r: Any, dr: Any) -> Any:
     return (r.real * dr.imag - r.imag * dr.real) / (r.real * r.real + r.imag * r.imag)
 
 
-Values = Mapping[str, tuple[Any, Any]]
+#: Position and velocity by name: complex numbers (arrays) for points, floats (arrays) for joints.
+_Values = Mapping[str, tuple[Any, Any]]
 
 
-def _pose(b: _Body, points: Values, joints: Values, f: _Functions) -> tuple[Any, Any, Any, Any, Any]:
+def _pose(b: _Body, points: _Values, joints: _Values, f: _Functions) -> tuple[Any, Any, Any, Any, Any]:
     """``(o, ȯ, r, ṙ, ω)`` of a planar body: origin, a vector along its x axis and the angular
-    velocity (``o, ȯ`` are ``None`` unless the body is located: a pin reads directions only).
+    velocity (``o, ȯ`` are ``None`` unless the body is located: a pin reads directions only;
+    ``ω`` is ``None`` unless a joint or the anchor reads it).
     ``points``: position and velocity of each point as complex numbers (arrays); ``joints``: those
     of the scene joints."""
     axis = b.axis
@@ -183,7 +191,7 @@ def _pose(b: _Body, points: Values, joints: Values, f: _Functions) -> tuple[Any,
         r, dr = axis, 0j
     if b.turn is not None:
         r, dr = r * b.turn, dr * b.turn
-    w = _omega(r, dr)
+    w = _omega(r, dr) if b.spin else None
     if not b.locate:
         return None, None, r, dr, w
     if b.anchor is None:
@@ -195,7 +203,7 @@ def _pose(b: _Body, points: Values, joints: Values, f: _Functions) -> tuple[Any,
     return o, do, r, dr, w
 
 
-def _evaluate(plan: _Plan, points: Values, joints: Values, f: _Functions) -> tuple[list[Any], list[Any]]:
+def _evaluate(plan: _Plan, points: _Values, joints: _Values, f: _Functions) -> tuple[list[Any], list[Any]]:
     """Positions and velocities of the tree joints, in URDF order (the rules: module docstring)."""
     poses = {BASE_LINK: _BASE_POSE}
     for b in plan.bodies:
