@@ -175,6 +175,7 @@ class MessageBuilder:
         self._fixed_point_by_name = {name: self._point(v) for name, v in self._fixed.items()}
         self._fixed_points = list(self._fixed_point_by_name.values())
         self._joint_names = tuple(engine.joint_names)
+        self._inputs = tuple(getattr(engine, "inputs", ()) or (scene.input_joint,))
         # joints left out of joint_states (topic mode: the driver publishes the input joint)
         self.omit_joints = frozenset(omit_joints)
         # the URDF tree's joints (linkage-urdf) ride along on joint_states, so that
@@ -370,14 +371,17 @@ class MessageBuilder:
         else:
             level, text = S.ERROR, frame.message or "cannot be assembled"
         KV = self._KeyValue
-        values = [
-            KV(key="status", value=frame.status),
-            KV(key="t", value=f"{frame.t:.9f}"),
-            KV(key="phi", value=repr(frame.phi)),
-            KV(key="omega", value=repr(frame.omega)),
-            KV(key="epsilon", value=repr(frame.epsilon)),
-            KV(key="conditioning", value=f"{frame.conditioning:.6g}"),
-        ]
+        values = [KV(key="status", value=frame.status), KV(key="t", value=f"{frame.t:.9f}")]
+        if isinstance(frame.phi, tuple):  # several inputs: phi/<input>, omega/<input>, epsilon/<input>
+            for key, row in (("phi", frame.phi), ("omega", frame.omega), ("epsilon", frame.epsilon)):
+                values += [KV(key=f"{key}/{name}", value=repr(v)) for name, v in zip(self._inputs, row)]  # type: ignore[call-overload]
+        else:
+            values += [
+                KV(key="phi", value=repr(frame.phi)),
+                KV(key="omega", value=repr(frame.omega)),
+                KV(key="epsilon", value=repr(frame.epsilon)),
+            ]
+        values.append(KV(key="conditioning", value=f"{frame.conditioning:.6g}"))
         status = S(
             level=level,
             name=self.diagnostic_name,

@@ -77,6 +77,7 @@ SPIN_TIMEOUT_S = 0.1
 _PARAMETER_TYPES = {
     "string": ParameterType.PARAMETER_STRING,
     "double": ParameterType.PARAMETER_DOUBLE,
+    "double_array": ParameterType.PARAMETER_DOUBLE_ARRAY,
     "string_array": ParameterType.PARAMETER_STRING_ARRAY,
 }
 _SPECS = {spec.name: spec for spec in PARAMETERS}
@@ -120,17 +121,28 @@ def descriptor(spec: ParameterSpec) -> ParameterDescriptor:
         "additional_constraints": spec.constraints,
         "read_only": False,
     }
-    if spec.float_range is not None:
+    if spec.float_range is not None and spec.kind == "double":  # rclpy checks ranges of doubles only
         lo, hi = spec.float_range
         kwargs["floating_point_range"] = [FloatingPointRange(from_value=lo, to_value=hi, step=0.0)]
     return ParameterDescriptor(**kwargs)
 
 
 def coerce_parameter(name: str, value: Any) -> Any:
-    """An integer given for one of our double parameters, as a float; other values unchanged."""
+    """An integer given for one of our double parameters, as a float; for a double array
+    (``input_omegas``, ...) integers or an empty list of any type (rclpy reads ``[]`` as a byte
+    array; ``[]`` in a params file arrives as None), as a list of floats; other values unchanged."""
     spec = _SPECS.get(name)
     if spec is not None and spec.kind == "double" and isinstance(value, int) and not isinstance(value, bool):
         return float(value)
+    if spec is not None and spec.kind == "double_array" and not isinstance(value, str):
+        if value is None:  # `[]` in a params file arrives unset
+            return []
+        try:
+            items = list(value)
+        except TypeError:
+            return value
+        if not items or all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in items):
+            return [float(v) for v in items]
     return value
 
 
@@ -168,7 +180,11 @@ class MechanismNode(Node):
             reason = validate_parameter(spec.name, value)
             if reason:
                 raise ValueError(reason)
-            self.declare_parameter(spec.name, value, descriptor(spec), ignore_override=True)
+            if spec.kind == "double_array":  # declared by type: rclpy reads an empty list as bytes
+                self.declare_parameter(spec.name, Parameter.Type.DOUBLE_ARRAY, descriptor(spec), ignore_override=True)
+                self.set_parameters([Parameter(spec.name, Parameter.Type.DOUBLE_ARRAY, list(value))])
+            else:
+                self.declare_parameter(spec.name, value, descriptor(spec), ignore_override=True)
             values[spec.name] = self.get_parameter(spec.name).value
         self.runtime = Runtime(values, recorder_factory=mcap_recorder(self.get_namespace()))
         # A non-empty default makes the type a string array ([""] when the scene has no outputs:
@@ -218,7 +234,8 @@ class MechanismNode(Node):
         out = []
         for p in parameters:
             value = coerce_parameter(p.name, p.value)
-            out.append(p if value is p.value else Parameter(p.name, Parameter.Type.DOUBLE, value))
+            kind = Parameter.Type.DOUBLE_ARRAY if isinstance(value, list) else Parameter.Type.DOUBLE
+            out.append(p if value is p.value else Parameter(p.name, kind, value))
         return out
 
     def _on_set_parameters(self, parameters: Sequence[Any]) -> SetParametersResult:

@@ -20,6 +20,7 @@ API (kept stable for the node)::
     relay.published_joints                # joint_states names in topic mode (a tuple of str)
     relay.joint_states(frame)             # (names, positions, velocities): tuples, in that order
     relay.input_joint                     # the joint read from the messages
+    relay.input_joints                    # every joint read: (input_joint,), or scene.inputs (k > 1)
     relay.reset()                         # forget the previous message (e.g. on a mode switch)
 
 * ``engine``: a :class:`~linkage_ros.engine.Engine` (its motion law is not used; frames come from
@@ -53,6 +54,16 @@ Decisions (``docs/relay.md`` states what each costs):
   and the φ interval that contains the input. The next message is answered normally.
 * **Joint states in topic mode**: every scene joint and every tree joint (``linkage-urdf``) but
   the one the driver publishes, so the two streams merge without a duplicate name.
+
+Several inputs (``scene.inputs`` = (q1, …, qk), docs/inputs.md): every input joint is read, by
+its own name, from the same message; ``input_joint`` must be left empty (a ValueError otherwise).
+The message is dropped unless every input joint is present with a finite position (and, when the
+message has velocities, a finite velocity); the reason names the missing ones. ω and ε follow the
+rules above input by input (``omega_from`` is the same for all: the message has velocities or not).
+``answer.phi``, ``.omega``, ``.epsilon`` and the frame's are then k-tuples; an unassemblable
+message's reason names the group and the failing sample ``(q1, …, qk)`` (no φ interval:
+``answer.interval`` is None). ``relay.input_joints`` lists the joints read (``(input_joint,)``
+with one input); joint_states leaves out all of them.
 """
 
 from __future__ import annotations
@@ -118,9 +129,10 @@ class Answer:
     stamp_ns: int
     frame: Frame | None = None
     reason: str = ""
-    phi: float | None = None
-    omega: float | None = None
-    epsilon: float | None = None
+    #: The input state read: floats, or k-tuples with several inputs; None when dropped.
+    phi: float | tuple[float, ...] | None = None
+    omega: float | tuple[float, ...] | None = None
+    epsilon: float | tuple[float, ...] | None = None
     omega_from: str = OMEGA_FROM_NONE
     epsilon_from: str = EPSILON_FROM_ZERO
     #: The φ interval (rad) where the mechanism cannot be assembled, for kind "unassemblable".
@@ -143,6 +155,15 @@ class _Previous:
     dq: float | None  # the message's velocity (None: the message had none)
 
 
+@dataclass(slots=True)
+class _PreviousInputs:
+    """The previous accepted message of a several-input relay: one entry per input."""
+
+    stamp_ns: int
+    q: tuple[float, ...]
+    dq: tuple[float, ...] | None
+
+
 class Relay:
     """Answers JointState messages with frames of ``engine``'s scene (see the module docstring)."""
 
@@ -162,12 +183,26 @@ class Relay:
         self.scene = engine.scene
         self.epsilon_rule = epsilon
         self.max_gap_ns = int(round(float(max_gap) * NS_PER_S))
-        self._map = _input_map(self.scene, input_joint)
+        inputs = tuple(getattr(engine, "inputs", ()) or (self.scene.input_joint,))
+        if len(inputs) > 1:
+            if input_joint:
+                raise ValueError(
+                    f"input_joint '{input_joint}': scene '{self.scene.name}' has {len(inputs)} inputs "
+                    f"({', '.join(inputs)}), each read by its own name from the same message; "
+                    "leave input_joint empty"
+                )
+            self._map = _InputMap(inputs[0], 1.0, 0.0)
+            self.input_joints: tuple[str, ...] = inputs
+        else:
+            self._map = _input_map(self.scene, input_joint)
+            self.input_joints = (self._map.name,)
         self.input_joint: str = self._map.name
+        self._multi: _PreviousInputs | None = None
+        skip = frozenset(self.input_joints)
         self._tree = exportable_model(self.scene)
         tree_names = () if self._tree is None else tuple(self._tree.joint_names)
-        self._scene_joints = tuple(n for n in engine.joint_names if n != self.input_joint)
-        self._tree_mask = tuple(n != self.input_joint for n in tree_names)
+        self._scene_joints = tuple(n for n in engine.joint_names if n not in skip)
+        self._tree_mask = tuple(n not in skip for n in tree_names)
         self.published_joints: tuple[str, ...] = (
             *self._scene_joints,
             *(n for n, keep in zip(tree_names, self._tree_mask) if keep),
@@ -186,6 +221,8 @@ class Relay:
         """The answer to one JointState (its ``name``, ``position``, ``velocity`` and
         ``header.stamp`` in integer ns)."""
         stamp_ns = int(stamp_ns)
+        if len(self.input_joints) > 1:
+            return self._answer_inputs(names, positions, velocities, stamp_ns)
         name = self.input_joint
         try:
             i = list(names).index(name)
@@ -230,6 +267,81 @@ class Relay:
     def reset(self) -> None:
         """Forget the previous message (e.g. when the node switches back to topic mode)."""
         self._previous = None
+        self._multi = None
+
+    def _answer_inputs(
+        self, names: Sequence[str], positions: Sequence[float], velocities: Sequence[float], stamp_ns: int
+    ) -> Answer:
+        """:meth:`answer` for a scene with several inputs (see the module docstring)."""
+        index = {n: i for i, n in enumerate(names)}
+        missing = [n for n in self.input_joints if n not in index]
+        if missing:
+            if len(missing) == len(self.input_joints) and len(names) and self._own.issuperset(names):
+                return Answer(ANSWER_IGNORED, stamp_ns, reason="carries only joints this relay publishes")
+            listed = ", ".join(f"'{n}'" for n in missing)
+            return Answer(
+                ANSWER_DROPPED, stamp_ns,
+                reason=f"no joint {listed} in the message (every input is needed: {', '.join(self.input_joints)})",
+            )
+        where = [index[n] for n in self.input_joints]
+        if max(where) >= len(positions):
+            short = ", ".join(f"'{n}'" for n, i in zip(self.input_joints, where) if i >= len(positions))
+            return Answer(
+                ANSWER_DROPPED, stamp_ns,
+                reason=f"joint {short} has no position ({len(names)} names, {len(positions)} positions)",
+            )
+        q = tuple(float(positions[i]) for i in where)
+        bad = [f"'{n}' position is {v}" for n, v in zip(self.input_joints, q) if not math.isfinite(v)]
+        dq: tuple[float, ...] | None = None
+        if len(velocities):
+            if max(where) >= len(velocities):
+                short = ", ".join(f"'{n}'" for n, i in zip(self.input_joints, where) if i >= len(velocities))
+                return Answer(
+                    ANSWER_DROPPED, stamp_ns,
+                    reason=f"joint {short} has no velocity ({len(names)} names, {len(velocities)} velocities)",
+                )
+            dq = tuple(float(velocities[i]) for i in where)
+            bad += [f"'{n}' velocity is {v}" for n, v in zip(self.input_joints, dq) if not math.isfinite(v)]
+        if bad:
+            return Answer(ANSWER_DROPPED, stamp_ns, reason="joint " + ", ".join(bad))
+        omega, omega_from, eps, eps_from = self._rates_inputs(stamp_ns, q, dq)
+        # Engine.frame_at takes one scalar φ; its body (_tick) takes the k-tuples as they are
+        result = self.engine._tick(stamp_ns / NS_PER_S, q, omega, eps, holding=False)
+        common = {
+            "phi": q, "omega": omega, "epsilon": eps, "omega_from": omega_from, "epsilon_from": eps_from,
+        }
+        if isinstance(result, AssemblyError):
+            sample = ", ".join(f"{v:.6g}" for v in q)
+            reason = (f"group '{result.group}' {result.reason} at ({', '.join(self.input_joints)}) = "
+                      f"({sample}) rad")
+            return Answer(ANSWER_UNASSEMBLABLE, stamp_ns, reason=reason, **common)
+        return Answer(ANSWER_FRAME, stamp_ns, frame=result, **common)
+
+    def _rates_inputs(
+        self, stamp_ns: int, q: tuple[float, ...], dq: tuple[float, ...] | None
+    ) -> tuple[tuple[float, ...], str, tuple[float, ...], str]:
+        """:meth:`_rates` input by input: ω and ε k-tuples, and where they came from."""
+        prev = self._multi
+        dt_ns = stamp_ns - prev.stamp_ns if prev is not None else 0
+        near = prev is not None and 0 < dt_ns <= self.max_gap_ns
+        dt = dt_ns / NS_PER_S
+        zeros = (0.0,) * len(q)
+        omega, omega_from = zeros, OMEGA_FROM_NONE
+        if dq is not None:
+            omega, omega_from = dq, OMEGA_FROM_MESSAGE
+        elif near:
+            assert prev is not None
+            omega = tuple(_wrap(a - b) / dt for a, b in zip(q, prev.q))
+            omega_from = OMEGA_FROM_POSITIONS
+        eps, eps_from = zeros, EPSILON_FROM_ZERO
+        if self.epsilon_rule == EPSILON_DIFFERENCE and near and dq is not None:
+            assert prev is not None
+            if prev.dq is not None:
+                eps = tuple((a - b) / dt for a, b in zip(dq, prev.dq))
+                eps_from = EPSILON_FROM_VELOCITIES
+        if prev is None or dt_ns > 0:  # an older (reordered) message does not replace a newer one
+            self._multi = _PreviousInputs(stamp_ns, q, dq)
+        return omega, omega_from, eps, eps_from
 
     # ------------------------------------------------------------------ outgoing joints
     def joint_states(self, frame: Frame) -> tuple[tuple[str, ...], tuple[float, ...], tuple[float, ...]]:

@@ -10,6 +10,13 @@ Topic mode (``input_source: topic``, issue 12): the node answers every
 ticking (:mod:`linkage_ros.relay` reads the input state off the message); ``joint_states`` then
 leaves out the input joint, which the driver publishes.
 
+Several inputs (a scene with ``scene.inputs`` = (q1, …, qk), docs/inputs.md): ``omega``,
+``epsilon`` and ``phi0`` apply to every input unless the double arrays ``input_omegas``,
+``input_epsilons``, ``input_phi0s`` give one value per input, in the order of ``scene.inputs``
+(empty: the scalar; another length is rejected with a reason naming the inputs); the engine then
+runs a :class:`~linkage_ros.motion.Motions`. In topic mode every input joint is read from the
+same message and joint_states leaves out all of them.
+
 What a tick sends: every topic of :func:`~linkage_ros.messages.topic_types` except that
 ``diagnostics`` goes out on the first tick, whenever the status changes (ok / near singular /
 unassemblable, or a new unassemblable event) and otherwise every :data:`DIAGNOSTICS_PERIOD_S`
@@ -31,7 +38,7 @@ from solver.errors import SolverError
 
 from .engine import ON_UNASSEMBLABLE, STATUS_UNASSEMBLABLE, Engine, Frame
 from .messages import DIAGNOSTICS, MessageBuilder, MessageTypes, topic_types
-from .motion import Motion
+from .motion import Motion, Motions
 from .relay import ANSWER_DROPPED, ANSWER_FRAME, ANSWER_UNASSEMBLABLE, Relay
 from .wire import TickSerializer
 
@@ -39,10 +46,13 @@ __all__ = [
     "DIAGNOSTICS_PERIOD_S",
     "INPUT_SOURCES",
     "PARAMETERS",
+    "PER_INPUT",
     "ParameterSpec",
     "Recorder",
     "RecorderFactory",
     "Runtime",
+    "per_input",
+    "per_input_reason",
     "validate_parameter",
 ]
 
@@ -63,7 +73,8 @@ _POINT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 
 @dataclass(frozen=True)
 class ParameterSpec:
-    """One node parameter: ``kind`` is ``"string"``, ``"double"`` or ``"string_array"``;
+    """One node parameter: ``kind`` is ``"string"``, ``"double"``, ``"double_array"`` or
+    ``"string_array"``;
     ``float_range`` is ``(from, to)`` for a FloatingPointRange."""
 
     name: str
@@ -96,6 +107,26 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
         "phi0", "double", 0.0,
         "Input angle at the first tick, rad. A change restarts the motion there.",
         constraints="finite; the mechanism must be assemblable there",
+    ),
+    ParameterSpec(
+        "input_omegas", "double_array", (),
+        "Scenes with several inputs: angular velocity of each input, rad/s, in the order of the "
+        "scene's inputs; empty: omega for every input. A change starts a new motion segment.",
+        float_range=(-MAX_OMEGA, MAX_OMEGA),
+        constraints="empty, or one finite value per input of the scene",
+    ),
+    ParameterSpec(
+        "input_epsilons", "double_array", (),
+        "Scenes with several inputs: angular acceleration of each input, rad/s^2, in the order of "
+        "the scene's inputs; empty: epsilon for every input. A change starts a new motion segment.",
+        float_range=(-MAX_EPSILON, MAX_EPSILON),
+        constraints="empty, or one finite value per input of the scene",
+    ),
+    ParameterSpec(
+        "input_phi0s", "double_array", (),
+        "Scenes with several inputs: angle of each input at the first tick, rad, in the order of "
+        "the scene's inputs; empty: phi0 for every input. A change restarts the motion there.",
+        constraints="empty, or one finite value per input; the mechanism must be assemblable there",
     ),
     ParameterSpec(
         "rate_hz", "double", 100.0, "Publishing rate, Hz.",
@@ -137,6 +168,8 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
 )
 
 _SPECS = {spec.name: spec for spec in PARAMETERS}
+#: The per-input double arrays and the scalar each one stands in for when empty.
+PER_INPUT = {"input_omegas": "omega", "input_epsilons": "epsilon", "input_phi0s": "phi0"}
 
 
 def _finite_number(value: Any) -> bool:
@@ -160,6 +193,17 @@ def validate_parameter(name: str, value: Any) -> str | None:
             lo, hi = spec.float_range
             if not lo <= value <= hi:
                 return f"{name} must lie in [{lo:g}, {hi:g}], got {value!r}"
+        return None
+    if spec.kind == "double_array":
+        if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
+            return f"{name} must be a list of numbers, got {value!r}"
+        bad = [v for v in value if not _finite_number(v)]
+        if bad:
+            return f"{name} must hold finite numbers, got {list(value)!r}"
+        if spec.float_range is not None:
+            lo, hi = spec.float_range
+            if not all(lo <= v <= hi for v in value):
+                return f"{name}: every value must lie in [{lo:g}, {hi:g}], got {list(value)!r}"
         return None
     if spec.kind == "string_array":
         if isinstance(value, str) or not all(isinstance(v, str) for v in value):
@@ -210,6 +254,35 @@ def _points_of(value: Any) -> tuple[str, ...]:
     return tuple(p for p in (value or ()) if p)
 
 
+def _inputs_of(scene: Any) -> tuple[str, ...]:
+    """The scene's input joints, in order (one for a single-input scene)."""
+    return tuple(getattr(scene, "inputs", ()) or (scene.input_joint,))
+
+
+def per_input_reason(settings: Mapping[str, Any], inputs: Sequence[str]) -> str | None:
+    """Why the per-input arrays of ``settings`` do not fit a scene with ``inputs``, or None."""
+    for name, scalar in PER_INPUT.items():
+        values = settings.get(name) or ()
+        if len(values) and len(values) != len(inputs):
+            return (
+                f"{name} needs {len(inputs)} value(s), one per input of the scene ({', '.join(inputs)}), "
+                f"or none ({scalar} for every input); got {len(values)}: {list(values)!r}"
+            )
+    return None
+
+
+def per_input(settings: Mapping[str, Any], scalar: str, inputs: Sequence[str]) -> Any:
+    """The value of ``omega``, ``epsilon`` or ``phi0`` for a scene with ``inputs``: a float with
+    one input, a k-tuple with several (the array's entries, or the scalar for every input)."""
+    array = next(name for name, s in PER_INPUT.items() if s == scalar)
+    values = settings.get(array) or ()
+    if len(inputs) == 1:
+        return float(values[0]) if len(values) else float(settings[scalar])
+    if len(values):
+        return tuple(float(v) for v in values)
+    return (float(settings[scalar]),) * len(inputs)
+
+
 class Runtime:
     """The node's state: settings, engine, message builder, run clock and optional recorder.
 
@@ -237,6 +310,8 @@ class Runtime:
             reason = validate_parameter(name, value)
             if reason:
                 raise ValueError(reason)
+        for name in PER_INPUT:
+            settings[name] = tuple(float(v) for v in settings[name] or ())
         if types is None or serialize is None:
             store = _jazzy_typestore()
             types = store.types if types is None else types
@@ -334,8 +409,12 @@ class Runtime:
                                         diagnostics=self._wants_diagnostics(frame, stamp))
         elif answer.kind == ANSWER_UNASSEMBLABLE:
             self.input_warnings.append(answer.reason)
-            state = Frame(t=stamp / NS_PER_S, phi=float(answer.phi or 0.0), omega=float(answer.omega or 0.0),
-                          epsilon=float(answer.epsilon or 0.0), points={}, joints={},
+            several = isinstance(answer.phi, tuple)  # several inputs: k-tuples as read
+            state = Frame(t=stamp / NS_PER_S,
+                          phi=answer.phi if several else float(answer.phi or 0.0),  # type: ignore[arg-type]
+                          omega=answer.omega if several else float(answer.omega or 0.0),  # type: ignore[arg-type]
+                          epsilon=answer.epsilon if several else float(answer.epsilon or 0.0),  # type: ignore[arg-type]
+                          points={}, joints={},
                           status=STATUS_UNASSEMBLABLE, conditioning=0.0, message=answer.reason)
             self._diagnostics_key = None  # the next frame reports again
             messages = self.wire.generic(state, stamp, [DIAGNOSTICS])
@@ -375,6 +454,8 @@ class Runtime:
         ``phi0``); ``record_mcap`` closes the current recorder and opens the new one;
         ``input_source`` switches between clock and topic mode (back to clock, the run restarts
         at ``phi0`` on the next tick); ``input_joint`` is checked against the scene.
+        ``input_omegas`` / ``input_epsilons`` act as ``omega`` / ``epsilon``, ``input_phi0s`` as
+        ``phi0``; their lengths are checked against the (new) scene's inputs.
         """
         ours = {k: v for k, v in changes.items() if k in _SPECS}
         for name, value in ours.items():
@@ -383,20 +464,24 @@ class Runtime:
                 return reason
         if not ours:
             return None
+        ours = {k: tuple(float(x) for x in v) if k in PER_INPUT else v for k, v in ours.items()}
         new = {**self.settings, **ours}
         t = self.run_time(now_ns)
         changed = {k for k, v in ours.items() if v != self.settings[k]}
         engine = self.engine
-        if changed & {"scene", "points", "phi0"}:
+        if changed & {"scene", "points", "phi0", "input_phi0s"}:
             if "scene" in changed and "points" not in ours and (
                 _points_of(self.settings["points"]) == tuple(self.engine.scene.output_points)
             ):
                 new["points"] = []  # follow the new scene's outputs
             try:
-                engine = self._engine(new, t0=t, keep_motion=not changed & {"scene", "phi0"})
+                engine = self._engine(new, t0=t, keep_motion=not changed & {"scene", "phi0", "input_phi0s"})
             except (SolverError, ValueError) as error:
                 return str(error)
             new["points"] = list(engine.published_points)
+        reason = per_input_reason(new, _inputs_of(engine.scene))
+        if reason is not None:
+            return reason
         if "input_source" in changed and new["input_source"] == "clock":
             engine = self._engine(new, t0=0.0)  # the run restarts at phi0
         relay = self.relay
@@ -416,10 +501,11 @@ class Runtime:
         # Nothing can fail from here on.
         if engine.motion is self.engine.motion:
             motion = engine.motion
-            if "omega" in changed:
-                motion.set_omega(t, float(new["omega"]), epsilon=float(new["epsilon"]))
-            elif "epsilon" in changed:
-                motion.set_epsilon(t, float(new["epsilon"]))
+            inputs = _inputs_of(engine.scene)
+            if changed & {"omega", "input_omegas"}:
+                motion.set_omega(t, per_input(new, "omega", inputs), epsilon=per_input(new, "epsilon", inputs))
+            elif changed & {"epsilon", "input_epsilons"}:
+                motion.set_epsilon(t, per_input(new, "epsilon", inputs))
         engine.on_unassemblable = new["on_unassemblable"]
         if engine is not self.engine or "frame_id" in changed or relay is not self.relay:
             self.builder, self.wire = self._builder(engine, new["frame_id"], relay)
@@ -453,17 +539,20 @@ class Runtime:
             motion = self.engine.motion
             scene: Any = self.engine.scene
         else:
-            motion = Motion(
-                phi0=float(settings["phi0"]),
-                omega=float(settings["omega"]),
-                epsilon=float(settings["epsilon"]),
-                t0=t0,
-            )
             scene = solver.load_scene(settings["scene"])
+            inputs = _inputs_of(scene)
+            reason = per_input_reason(settings, inputs)
+            if reason is not None:
+                raise ValueError(reason)
+            phi0, omega, epsilon = (per_input(settings, name, inputs) for name in ("phi0", "omega", "epsilon"))
+            if len(inputs) == 1:
+                motion = Motion(phi0=phi0, omega=omega, epsilon=epsilon, t0=t0)
+            else:
+                motion = Motions.of(len(inputs), phi0=phi0, omega=omega, epsilon=epsilon, t0=t0)
         return Engine(scene, motion, points=points, on_unassemblable=settings["on_unassemblable"])
 
     def _builder(self, engine: Engine, frame_id: str, relay: Relay | None) -> tuple[MessageBuilder, TickSerializer]:
-        omit = () if relay is None else (relay.input_joint,)
+        omit = () if relay is None else relay.input_joints
         builder = MessageBuilder(engine, self.types, frame_id=frame_id, omit_joints=omit)
         return builder, TickSerializer(builder, self._serialize)
 
