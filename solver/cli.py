@@ -12,6 +12,8 @@ import numpy as np
 
 from . import assembly, classify
 from ._cmdline import EPSILON_MAX, OMEGA_MAX, PHI_MAX, Parser, bounded, check_output, count, one_line, quiet_pipe
+from .cli_inputs import is_multi_input
+from .cli_inputs import main as main_inputs
 from .errors import SolverError, format_intervals
 from .kinematics import Kinematics
 from .scene import Scene, load_scene
@@ -167,6 +169,9 @@ def _link(p: str, q: str) -> str:
 
 @quiet_pipe
 def main(argv: Sequence[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if is_multi_input(argv):  # several inputs: the grid form (solver/cli_inputs.py, docs/inputs.md)
+        return main_inputs(argv)
     args = _parser().parse_args(argv)
     try:
         if args.csv and args.csv != "-":

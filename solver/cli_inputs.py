@@ -23,7 +23,7 @@ from typing import TextIO
 
 import numpy as np
 
-from ._cmdline import Parser, check_output, count, finite, one_line, quiet_pipe
+from ._cmdline import EPSILON_MAX, OMEGA_MAX, PHI_MAX, Parser, bounded, check_output, count, one_line, quiet_pipe
 from .errors import SolverError
 from .kinematics import Kinematics
 from .multi import assemblable
@@ -32,6 +32,8 @@ from .scene import Scene, load_scene
 __all__ = ["csv_header", "is_multi_input", "main", "region_lines", "samples_of"]
 
 AXES = "xy"
+#: The most samples a grid may have (N^k grows fast; an (N, k) solve keeps every output's arrays).
+MAX_SAMPLES = 4_000_000
 #: Characters of the region map: assemblable, assemblable but singular, not assemblable.
 CELLS = {"ok": "#", "singular": "s", "no": "."}
 
@@ -77,7 +79,7 @@ def is_multi_input(argv: Sequence[str]) -> bool:
         return False
 
 
-def _per_input(scene: Scene, items: Sequence[str], option: str, default: float) -> np.ndarray:
+def _per_input(scene: Scene, items: Sequence[str], option: str, default: float, limit: float) -> np.ndarray:
     """``Q=V`` items to one value per input (``default`` for those not named)."""
     out = {q: default for q in scene.inputs}
     for item in items:
@@ -85,7 +87,7 @@ def _per_input(scene: Scene, items: Sequence[str], option: str, default: float) 
         if not sep or name not in out:
             raise SolverError(f"{option} {item!r}: give INPUT=VALUE with INPUT one of {', '.join(scene.inputs)}")
         try:
-            out[name] = finite(value)
+            out[name] = bounded(limit)(value)
         except argparse.ArgumentTypeError as exc:
             raise SolverError(f"{option} {item!r}: {exc}") from None
     return np.array([out[q] for q in scene.inputs])
@@ -98,12 +100,14 @@ def samples_of(scene: Scene, args: argparse.Namespace) -> tuple[np.ndarray, list
     if args.samples is not None:
         rows = [r for r in args.samples.split(";") if r.strip()]
         try:
-            values = np.array([[finite(v) for v in r.split(",")] for r in rows], float) * unit
+            values = np.array([[bounded(PHI_MAX)(v) for v in r.split(",")] for r in rows], float) * unit
         except (argparse.ArgumentTypeError, ValueError) as exc:
             raise SolverError(f"--samples: rows of {k} comma-separated finite numbers, split by ';' ({exc})") from None
         if values.ndim != 2 or values.shape[1] != k:
             raise SolverError(f"--samples: each row needs {k} values ({', '.join(scene.inputs)})")
         return values, None
+    if args.count**k > MAX_SAMPLES:
+        raise SolverError(f"--count {args.count} gives {args.count}^{k} samples, more than {MAX_SAMPLES:,}")
     axes = {q: np.linspace(0.0, 2.0 * math.pi, args.count, endpoint=False) for q in scene.inputs}
     for item in args.range:
         name, sep, span = item.partition("=")
@@ -111,7 +115,7 @@ def samples_of(scene: Scene, args: argparse.Namespace) -> tuple[np.ndarray, list
         if not sep or not colon or name not in axes:
             raise SolverError(f"--range {item!r}: give INPUT=LO:HI with INPUT one of {', '.join(scene.inputs)}")
         try:
-            axes[name] = np.linspace(finite(lo) * unit, finite(hi) * unit, args.count)
+            axes[name] = np.linspace(bounded(PHI_MAX)(lo) * unit, bounded(PHI_MAX)(hi) * unit, args.count)
         except argparse.ArgumentTypeError as exc:
             raise SolverError(f"--range {item!r}: {exc}") from None
     grid = [axes[q] for q in scene.inputs]
@@ -242,8 +246,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                 raise SolverError("--region maps a grid: use --count and --range, not --samples")
             print("\n".join(region_lines(scene, axes)))
             return 0
-        omega = _per_input(scene, args.omega, "--omega", 1.0)
-        epsilon = _per_input(scene, args.epsilon, "--epsilon", 0.0)
+        omega = _per_input(scene, args.omega, "--omega", 1.0, OMEGA_MAX)
+        epsilon = _per_input(scene, args.epsilon, "--epsilon", 0.0, EPSILON_MAX)
         k = scene.solve(samples, omega=omega, epsilon=epsilon, mask=args.mask)
         if args.csv:
             singular = np.flatnonzero(np.asarray(k.singular & k.valid))

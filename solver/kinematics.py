@@ -70,7 +70,8 @@ class OutputMotion(Motion):
 
     ``jacobian``: (N, dim, k) for a point, (N, k) for a joint; ``hessian``: (N, dim, k, k) and
     (N, k, k) — the leading N dropped for a single instant. Evaluated on first access (one more
-    pass of the plan per input and per pair of inputs, for every output of the solve at once);
+    pass of the plan per input and per pair of inputs: for every output of a sweep at once, for
+    one output at a time at a single instant);
     with one input they are the analogs d/dφ and d²/dφ² reshaped (docs/inputs.md).
     """
 
