@@ -62,6 +62,44 @@ def _os_error(exc: OSError) -> str:
     return f"{name}{exc.strerror or exc}"
 
 
+def _law(limit: float) -> Any:
+    """An argument type for ``--omega``/``--epsilon``/``--phi0``: a plain number (checked here,
+    with the messages of :func:`bounded`), or ``Q=V`` for one input (kept as text, checked against
+    the scene's inputs by :func:`solver.cli_inputs._per_input` once the scene is loaded)."""
+    plain = bounded(limit)
+
+    def parse(text: str) -> float | str:
+        return text if "=" in text else plain(text)
+
+    parse.__name__ = "number"
+    return parse
+
+
+#: linkage-run's defaults of the motion law (every input of a several-input scene alike).
+LAW_DEFAULTS = {"--omega": (2 * math.pi, OMEGA_MAX), "--epsilon": (0.0, EPSILON_MAX), "--phi0": (0.0, PHI_MAX)}
+
+
+def _laws(scene: Any, args: argparse.Namespace) -> dict[str, tuple[float, ...]]:
+    """Per input (in the order of ``scene.inputs``) φ0, ω, ε from the command line: the last plain
+    value of an option applies to every input, ``Q=V`` items then set input Q (repeatable, as for
+    ``linkage-solve``; docs/inputs.md). One value per input; one input: a 1-tuple."""
+    from solver.cli_inputs import _per_input
+
+    out: dict[str, tuple[float, ...]] = {}
+    for option, attr in (("--phi0", "phi0"), ("--omega", "omega"), ("--epsilon", "epsilon")):
+        default, limit = LAW_DEFAULTS[option]
+        items = getattr(args, attr)
+        plain = [v for v in items if isinstance(v, float)]
+        named = [v for v in items if isinstance(v, str)]
+        base = plain[-1] if plain else default
+        inputs = tuple(getattr(scene, "inputs", (scene.input_joint,)))
+        if not named:
+            out[attr] = (base,) * len(inputs)
+        else:
+            out[attr] = tuple(float(x) for x in _per_input(scene, named, option, base, limit))
+    return out
+
+
 def _run_parser() -> argparse.ArgumentParser:
     p = Parser(
         prog="linkage-run",
@@ -73,11 +111,13 @@ def _run_parser() -> argparse.ArgumentParser:
     span.add_argument("--cycles", type=positive, metavar="N",
                       help="turns of the input (> 0; default 1 when --duration is not given)")
     p.add_argument("--rate", type=positive, default=100.0, metavar="HZ", help="ticks per second (100)")
-    p.add_argument("--omega", type=bounded(OMEGA_MAX), default=2 * math.pi, metavar="W",
-                   help="input angular velocity, rad/s (2π: one turn per second)")
-    p.add_argument("--epsilon", type=bounded(EPSILON_MAX), default=0.0, metavar="E",
-                   help="input angular acceleration, rad/s² (0)")
-    p.add_argument("--phi0", type=bounded(PHI_MAX), default=0.0, metavar="RAD", help="input angle at t = 0")
+    p.add_argument("--omega", type=_law(OMEGA_MAX), action="append", default=[], metavar="W|Q=W",
+                   help="input angular velocity, rad/s (2π: one turn per second); with several inputs "
+                        "repeat Q=W per input (a plain W applies to every input)")
+    p.add_argument("--epsilon", type=_law(EPSILON_MAX), action="append", default=[], metavar="E|Q=E",
+                   help="input angular acceleration, rad/s² (0); Q=E per input as for --omega")
+    p.add_argument("--phi0", type=_law(PHI_MAX), action="append", default=[], metavar="RAD|Q=RAD",
+                   help="input angle at t = 0 (0); Q=RAD per input as for --omega")
     p.add_argument("--points", metavar="P,Q", help="published points (default: the scene's outputs)")
     p.add_argument("--on-unassemblable", choices=("stop", "reverse"), default="stop")
     p.add_argument("--mcap", type=Path, metavar="FILE",
@@ -115,14 +155,45 @@ def _run_outputs(args: argparse.Namespace, stem: str) -> tuple[Path | None, Path
     return mcap, rrd
 
 
-def _duration(args: argparse.Namespace, duration_for_cycles: Any) -> float:
+def _duration(args: argparse.Namespace, laws: dict[str, tuple[float, ...]], duration_for_cycles: Any,
+              inputs: Sequence[str] = ()) -> float:
+    """``--duration``, else the time of ``--cycles`` turns (default 1); with several inputs, of
+    the input that completes them first (the fastest; docs/recording.md)."""
     if args.duration is not None:
         return float(args.duration)
-    if args.omega == 0.0 and args.epsilon == 0.0:
+    cycles = args.cycles if args.cycles is not None else 1.0
+    turning = [(w, e) for w, e in zip(laws["omega"], laws["epsilon"]) if w != 0.0 or e != 0.0]
+    if not turning:
         what = f"--cycles {args.cycles:g}" if args.cycles is not None else "the default one turn"
+        if len(laws["omega"]) > 1:
+            raise ValueError(f"with ω = 0 and ε = 0 for every input ({', '.join(inputs)}) no input turns, so "
+                             f"{what} never ends: give --duration S (or a non-zero --omega / --epsilon)")
         raise ValueError(f"with --omega 0 and --epsilon 0 the input never turns, so {what} never ends: "
                          "give --duration S (or a non-zero --omega / --epsilon)")
-    return float(duration_for_cycles(args.cycles if args.cycles is not None else 1.0, args.omega, args.epsilon))
+    return min(float(duration_for_cycles(cycles, w, e)) for w, e in turning)
+
+
+def _check_ticks(duration: float, rate: float) -> int:
+    """The ticks of a run of ``duration`` s at ``rate`` Hz; ValueError beyond :data:`MAX_TICKS`."""
+    ticks = math.floor(duration * rate * (1 + 1e-12)) + 1
+    if ticks > MAX_TICKS:
+        raise ValueError(f"{duration:g} s at {rate:g} Hz is {ticks:,} ticks: at most {MAX_TICKS:,} "
+                         "in one run (a shorter --duration or a lower --rate)")
+    return ticks
+
+
+def _start_line(scene: Any, duration: float, rate: float, ticks: int, laws: dict[str, tuple[float, ...]]) -> str:
+    """The run's first line: time, ticks and each input's law."""
+    from solver.summary import motion_line
+
+    head = f"scene {scene.name}: {duration:g} s of simulated time at {rate:g} Hz ({ticks} ticks), "
+    if len(laws["omega"]) == 1:
+        return head + (f"input '{scene.input_joint}' from φ0 = {math.degrees(laws['phi0'][0]):g}°; "
+                       f"{motion_line(laws['omega'][0], laws['epsilon'][0])}")
+    each = "; ".join(
+        f"'{q}' from φ0 = {math.degrees(p):g}°, {motion_line(w, e).split('; angles')[0]}"
+        for q, p, w, e in zip(scene.inputs, laws["phi0"], laws["omega"], laws["epsilon"]))
+    return head + f"{len(scene.inputs)} inputs: {each}; angles in degrees, everything else SI"
 
 
 @quiet_pipe
@@ -142,12 +213,12 @@ def run_main(argv: Sequence[str] | None = None) -> int:
         return EXIT_ERROR
     points = [p.strip() for p in args.points.split(",") if p.strip()] if args.points else None
     try:  # everything the command line says is checked before the run starts
-        duration = _duration(args, duration_for_cycles)
-        ticks = math.floor(duration * args.rate * (1 + 1e-12)) + 1
-        if ticks > MAX_TICKS:
-            raise ValueError(f"{duration:g} s at {args.rate:g} Hz is {ticks:,} ticks: at most {MAX_TICKS:,} "
-                             "in one run (a shorter --duration or a lower --rate)")
+        if args.duration is not None:
+            _check_ticks(args.duration, args.rate)
         scene = solver.load_scene(args.scene)
+        laws = _laws(scene, args)
+        duration = _duration(args, laws, duration_for_cycles, tuple(getattr(scene, "inputs", ())))
+        ticks = _check_ticks(duration, args.rate)
         for p in points or ():
             if p not in scene.point_names:
                 raise ValueError(f"--points: '{p}' is not a point of {scene.name}; "
@@ -169,16 +240,15 @@ def run_main(argv: Sequence[str] | None = None) -> int:
     for default in (mcap, rrd):
         if default is not None and default.parent == RUNS_DIR:
             RUNS_DIR.mkdir(exist_ok=True)  # the one folder made on the user's behalf
+    one = len(laws["omega"]) == 1
     opts = RunOptions(
-        scene=args.scene, duration=duration, rate=args.rate, omega=args.omega,
-        epsilon=args.epsilon, phi0=args.phi0, mcap=mcap, rrd=rrd, spawn=args.spawn,
+        scene=args.scene, duration=duration, rate=args.rate,
+        omega=laws["omega"][0] if one else laws["omega"],
+        epsilon=laws["epsilon"][0] if one else laws["epsilon"],
+        phi0=laws["phi0"][0] if one else laws["phi0"], mcap=mcap, rrd=rrd, spawn=args.spawn,
         points=points, on_unassemblable=args.on_unassemblable, frame_id=args.frame_id,
         namespace=args.namespace, chunk_interval_s=args.chunk_interval, fast=not args.no_fast)
-    from solver.summary import motion_line
-
-    print(f"scene {scene.name}: {duration:g} s of simulated time at {args.rate:g} Hz ({ticks} ticks), input "
-          f"'{scene.input_joint}' from φ0 = {math.degrees(args.phi0):g}°; {motion_line(args.omega, args.epsilon)}",
-          flush=True)
+    print(_start_line(scene, duration, args.rate, ticks, laws), flush=True)
     tty = sys.stderr if sys.stderr.isatty() else None
     try:
         result = run_standalone(opts, progress=tty)

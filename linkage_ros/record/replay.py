@@ -6,7 +6,9 @@ What each array comes from:
 * ticks: the stamps of ``joint_kinematics`` (every topic of a tick carries the same stamp); a
   tick that lacks one of the needed topics (the last tick of a file cut by a crash) is dropped;
 * φ, ω, ε: ``diagnostics`` key values ``phi``, ``omega``, ``epsilon`` (written with ``repr``,
-  so exact); without diagnostics, the input joint of ``joint_kinematics``;
+  so exact); without diagnostics, the input joint of ``joint_kinematics``. A scene with several
+  inputs (docs/inputs.md) has the keys ``phi/<Q>``, ``omega/<Q>``, ``epsilon/<Q>`` per input Q
+  and gives (N, k) arrays (the inputs from the metadata, else from those keys);
 * joints: ``joint_kinematics`` (positions, velocities, accelerations);
 * published points: ``points/<P>/{position,velocity,acceleration}``;
 * the drawing: ``markers`` — ns ``joints`` (SPHERE_LIST of the moving points), ``fixed_pivots``,
@@ -49,6 +51,7 @@ def scene_metadata(engine: Any, *, frame_id: str = "world", **extra: Any) -> dic
         "dim": str(int(scene.dim)),
         "frame_id": frame_id,
         "input_joint": str(getattr(scene, "input_joint", "")),
+        "inputs": json.dumps(list(getattr(scene, "inputs", ()))),
         "moving_points": json.dumps([p for p in engine.point_names if p not in fixed]),
         "published_points": json.dumps(list(engine.published_points)),
         "fixed_points": json.dumps(fixed),
@@ -151,9 +154,15 @@ def run_data_from_mcap(path: str | os.PathLike[str],
                                        positions, published, dim)
 
     input_joint = meta.get("input_joint", "")
+    inputs = [str(q) for q in json.loads(meta.get("inputs", "[]"))]
     diags = rows("diagnostics") if "diagnostics" in topics and _has_all(kind_of["diagnostics"][0][0], stamps) else []
-    phi, omega, eps = _input(ts, kind_of["diagnostics"][1] if diags else "", diags,
-                             joints.get(input_joint))
+    diag_type = kind_of["diagnostics"][1] if diags else ""
+    if not inputs and diags:  # a recording without our metadata: the inputs named by the keys
+        inputs = _diagnostic_inputs(ts, diag_type, diags[0])
+    if len(inputs) > 1:
+        phi, omega, eps = _inputs(ts, diag_type, diags, inputs, joints)
+    else:
+        phi, omega, eps = _input(ts, diag_type, diags, joints.get(input_joint))
     note = ""
     if not contents.complete:
         note = (f"Replayed from a file cut short (no footer): {n} complete ticks read, "
@@ -162,7 +171,8 @@ def run_data_from_mcap(path: str | os.PathLike[str],
         scene=meta.get("scene", os.path.splitext(os.path.basename(os.fspath(path)))[0]),
         dim=dim, t=t, phi=phi, omega=omega, epsilon=eps, positions=positions,
         velocities=velocities, accelerations=accelerations, joints=joints, links=links,
-        fixed=fixed, paths=paths, input_joint=input_joint, note=note)
+        fixed=fixed, paths=paths, input_joint=input_joint, note=note,
+        inputs=tuple(inputs) if len(inputs) > 1 else ())
     return data, contents
 
 
@@ -274,3 +284,30 @@ def _input(ts: Any, typename: str, diags: list[bytes],
         p, v, a = (np.array(x, dtype=float) for x in input_joint)
         return p, v, a
     raise ValueError("neither diagnostics (phi, omega, epsilon) nor the input joint was recorded")
+
+
+def _diagnostic_inputs(ts: Any, typename: str, data: bytes) -> list[str]:
+    """The inputs named by a several-input scene's diagnostics keys ``phi/<Q>`` (in key order)."""
+    msg = ts.deserialize_cdr(data, typename)
+    return [kv.key.split("/", 1)[1] for st in msg.status for kv in st.values if kv.key.startswith("phi/")]
+
+
+def _inputs(ts: Any, typename: str, diags: list[bytes], inputs: list[str],
+            joints: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(N, k) φ, ω, ε of a several-input scene from the keys ``phi/<Q>``, ``omega/<Q>``,
+    ``epsilon/<Q>``, else from the input joints of ``joint_kinematics``."""
+    keys = [f"{kind}/{q}" for kind in ("phi", "omega", "epsilon") for q in inputs]
+    k = len(inputs)
+    if diags:
+        out = np.empty((len(diags), 3 * k))
+        for i, data in enumerate(diags):
+            msg = ts.deserialize_cdr(data, typename)
+            values = {kv.key: kv.value for st in msg.status for kv in st.values}
+            out[i] = [float(values.get(key, "nan")) for key in keys]
+        if np.isfinite(out).all():
+            return out[:, :k].copy(), out[:, k: 2 * k].copy(), out[:, 2 * k:].copy()
+    if all(q in joints for q in inputs):
+        p, v, a = (np.stack([np.asarray(joints[q][i], dtype=float) for q in inputs], axis=1) for i in range(3))
+        return p, v, a
+    raise ValueError(f"neither diagnostics ({', '.join(keys[:: k])}, … per input) nor the input joints "
+                     f"({', '.join(inputs)}) were recorded")

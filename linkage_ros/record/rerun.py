@@ -15,7 +15,8 @@ Entity layout::
     mechanism/velocity/<P>          Arrows per tick, v · scale (scale in the legend and label)
     mechanism/acceleration/<P>      Arrows per tick, a · scale
     mechanism/legend                static TextDocument: the arrow scales, the scene
-    plots/input/{phi,omega,epsilon} Scalars
+    plots/input/{phi,omega,epsilon} Scalars (one input)
+    plots/input/<kind>/<Q>          Scalars per input Q of a several-input scene (kind = phi | omega | epsilon)
     plots/joints/<kind>/<J>         Scalars, kind = position | velocity | acceleration
 """
 
@@ -78,9 +79,9 @@ class RunData:
     scene: str
     dim: int
     t: Array  # (N,) s
-    phi: Array  # (N,) rad
-    omega: Array  # (N,) rad/s
-    epsilon: Array  # (N,) rad/s²
+    phi: Array  # (N,) rad; (N, k) for a scene with k > 1 inputs (columns in the order of ``inputs``)
+    omega: Array  # (N,) rad/s; (N, k) likewise
+    epsilon: Array  # (N,) rad/s²; (N, k) likewise
     positions: dict[str, Array]  # every moving point: (N, dim) m
     velocities: dict[str, Array]  # published points: (N, dim) m/s
     accelerations: dict[str, Array]  # published points: (N, dim) m/s²
@@ -90,10 +91,25 @@ class RunData:
     paths: dict[str, Array] = field(default_factory=dict)  # (M, dim)
     input_joint: str = ""
     note: str = ""
+    inputs: tuple[str, ...] = ()
+    """The input joints when there are several (then phi, omega, epsilon are (N, k)); else empty."""
 
     @property
     def n(self) -> int:
         return int(self.t.size)
+
+    def input_series(self) -> list[tuple[str, str, Array]]:
+        """``(kind, input, values)`` per plotted input quantity (kind = phi | omega | epsilon):
+        one input gives input "" and (N,) values; several give one series per input."""
+        out: list[tuple[str, str, Array]] = []
+        for kind in ("phi", "omega", "epsilon"):
+            values = getattr(self, kind)
+            if values.ndim == 1:
+                out.append((kind, "", values))
+            else:
+                names = self.inputs or tuple(f"q{i + 1}" for i in range(values.shape[1]))
+                out += [(kind, q, values[:, i]) for i, q in enumerate(names)]
+        return out
 
     def extent(self) -> float:
         """Diagonal of the box holding every point of the run (m); 1 when degenerate."""
@@ -117,9 +133,12 @@ class RunBuilder:
         dim = int(scene.dim)
         self.dim = dim
         self.t = np.empty(n)
-        self.phi = np.empty(n)
-        self.omega = np.empty(n)
-        self.epsilon = np.empty(n)
+        inputs = tuple(getattr(engine, "inputs", ()))
+        self.inputs = inputs if len(inputs) > 1 else ()
+        shape = (n, len(inputs)) if self.inputs else (n,)
+        self.phi = np.empty(shape)
+        self.omega = np.empty(shape)
+        self.epsilon = np.empty(shape)
         fixed = set(scene.fixed_points)
         self.pos = {p: np.empty((n, dim)) for p in engine.point_names if p not in fixed}
         self.vel = {p: np.empty((n, dim)) for p in engine.published_points}
@@ -154,6 +173,7 @@ class RunBuilder:
             fixed={p: np.asarray(x, dtype=float) for p, x in scene.fixed_points.items()},
             paths={p: np.asarray(x, dtype=float) for p, x in self.engine.paths.items()},
             input_joint=str(getattr(scene, "input_joint", "")),
+            inputs=self.inputs,
         )
 
 
@@ -213,11 +233,13 @@ def blueprint(data: RunData) -> Any:
     kinds = ("position", "velocity", "acceleration")
     titles = ("joint positions (rad | m)", "joint velocities (rad/s | m/s)",
               "joint accelerations (rad/s² | m/s²)")
+    several = data.phi.ndim == 2
     plots = rrb.Vertical(
-        _plot("plots/input/phi", "input φ (rad)", data.phi),
-        rrb.TimeSeriesView(origin="plots/input", contents=["plots/input/omega",
-                                                           "plots/input/epsilon"],
-                           name="input ω (rad/s), ε (rad/s²)",
+        _plot("plots/input/phi", "inputs φ (rad)" if several else "input φ (rad)", data.phi),
+        rrb.TimeSeriesView(origin="plots/input",
+                           contents=(["plots/input/omega/**", "plots/input/epsilon/**"] if several
+                                     else ["plots/input/omega", "plots/input/epsilon"]),
+                           name="inputs ω (rad/s), ε (rad/s²)" if several else "input ω (rad/s), ε (rad/s²)",
                            axis_y=rrb.ScalarAxis(range=_range(data.omega, data.epsilon))),
         *(_plot(f"plots/joints/{kind}", title, *(j[i] for j in data.joints.values()))
           for i, (kind, title) in enumerate(zip(kinds, titles))),
@@ -322,10 +344,12 @@ def log_run(rec: Any, data: RunData) -> dict[str, float]:
                 origins=data.positions[name], vectors=vec * scale))
 
     # -- time series -----------------------------------------------------------------------
-    for i, (name, values, unit) in enumerate((
-            ("phi", data.phi, "rad"), ("omega", data.omega, "rad/s"),
-            ("epsilon", data.epsilon, "rad/s²"))):
-        _series(rec, f"plots/input/{name}", f"{_greek(name)} ({unit})", times, values, i)
+    units = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²"}
+    for i, (name, q, values) in enumerate(data.input_series()):
+        if q:  # several inputs: one series per input, e.g. plots/input/phi/q1 "φ q1 (rad)"
+            _series(rec, f"plots/input/{name}/{q}", f"{_greek(name)} {q} ({units[name]})", times, values, i)
+        else:
+            _series(rec, f"plots/input/{name}", f"{_greek(name)} ({units[name]})", times, values, i)
     for i, (joint, (p, v, a)) in enumerate(data.joints.items()):
         for kind, values in (("position", p), ("velocity", v), ("acceleration", a)):
             _series(rec, f"plots/joints/{kind}/{joint}", joint, times, values, i)

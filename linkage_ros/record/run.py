@@ -32,12 +32,13 @@ PROGRESS_MIN_TICKS = 2000
 
 @dataclass
 class RunOptions:
-    scene: str
+    scene: str  # a scene file or shipped name (a loaded solver.Scene works too)
     duration: float
     rate: float = 100.0
-    omega: float = TWO_PI
-    epsilon: float = 0.0
-    phi0: float = 0.0
+    omega: float | Sequence[float] = TWO_PI
+    epsilon: float | Sequence[float] = 0.0
+    phi0: float | Sequence[float] = 0.0
+    """ω, ε, φ0: one number (for every input), or one per input of ``scene.inputs``."""
     mcap: Path | None = None
     rrd: Path | None = None
     spawn: bool = False
@@ -133,7 +134,8 @@ def run_standalone(opts: RunOptions, *, progress: TextIO | None = None) -> RunRe
     """Run, record and view; returns the arrays, counts and timings."""
     from linkage_ros.engine import Engine
     from linkage_ros.messages import MessageBuilder, topic_types
-    from linkage_ros.motion import Motion
+    from linkage_ros.motion import Motion, Motions
+    from solver import load_scene
 
     from .fast import TemplateSerializer, stack_block
     from .mcap import Recorder
@@ -145,8 +147,15 @@ def run_standalone(opts: RunOptions, *, progress: TextIO | None = None) -> RunRe
         raise ValueError(f"duration must be a finite number >= 0, got {opts.duration!r}")
     clock = time.perf_counter()
     seconds: dict[str, float] = {}
-    motion = Motion(phi0=opts.phi0, omega=opts.omega, epsilon=opts.epsilon)
-    engine = Engine(opts.scene, motion, points=opts.points, on_unassemblable=opts.on_unassemblable)
+    scene: Any = opts.scene if hasattr(opts.scene, "with_outputs") else load_scene(opts.scene)
+    inputs = tuple(getattr(scene, "inputs", (scene.input_joint,)))
+    motion: Any
+    if len(inputs) > 1:  # several inputs (docs/inputs.md): one law per input
+        motion = Motions.of(len(inputs), phi0=opts.phi0, omega=opts.omega, epsilon=opts.epsilon)
+    else:
+        motion = Motion(phi0=_single(opts.phi0, "phi0"), omega=_single(opts.omega, "omega"),
+                        epsilon=_single(opts.epsilon, "epsilon"))
+    engine = Engine(scene, motion, points=opts.points, on_unassemblable=opts.on_unassemblable)
     n = int(math.floor(opts.duration * opts.rate * (1 + 1e-12))) + 1
     times = np.arange(n, dtype=np.float64) / opts.rate
     stamps = np.rint(times * NS_PER_S).astype(np.int64)
@@ -208,6 +217,16 @@ def run_standalone(opts: RunOptions, *, progress: TextIO | None = None) -> RunRe
     seconds["total"] = time.perf_counter() - clock
     return RunResult(data, rb.k, recorder.message_count if recorder else 0, interrupted,
                      seconds, scales, list(fast.topics) if fast is not None else [], statuses)
+
+
+def _single(value: float | Sequence[float], label: str) -> float:
+    """A single-input law's value: a number, or a sequence of one."""
+    if isinstance(value, (int, float)):
+        return float(value)
+    values = [float(v) for v in value]
+    if len(values) != 1:
+        raise ValueError(f"{label} needs 1 value for a scene with one input, got {len(values)}")
+    return values[0]
 
 
 def _record_block(recorder: Any, builder: Any, fast: Any, ts: Any,
