@@ -37,6 +37,7 @@ __all__ = [
     "STATUS_OK",
     "STATUS_UNASSEMBLABLE",
     "Engine",
+    "interval_containing",
     "Frame",
     "JointState",
     "PointState",
@@ -193,7 +194,7 @@ class Engine:
         return frame
 
     def _unassemblable(self, t: float, phi: float, omega: float, error: AssemblyError) -> Frame:
-        interval = _interval_containing(error.intervals, phi)
+        interval = interval_containing(error.intervals, phi)
         where = (
             f"φ in {format_intervals([interval])}" if interval is not None else f"φ = {_angles(phi, '.6g')} rad"
         )
@@ -359,7 +360,7 @@ def _reachable_run(valid: NDArray[np.bool_]) -> NDArray[np.intp]:
     return np.arange(0, end)
 
 
-def _interval_containing(
+def interval_containing(
     intervals: Sequence[tuple[float, float]], phi: float
 ) -> tuple[float, float] | None:
     """The interval (rad, within one turn) that contains φ modulo 2π, shifted next to φ."""

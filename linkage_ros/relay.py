@@ -75,7 +75,7 @@ from typing import Any
 
 from solver.errors import AssemblyError, format_intervals
 
-from .engine import Engine, Frame
+from .engine import Engine, Frame, interval_containing
 from .urdf import exportable_model, frame_tree_joint_states
 
 __all__ = [
@@ -258,7 +258,7 @@ class Relay:
             "phi": phi, "omega": omega, "epsilon": eps, "omega_from": omega_from, "epsilon_from": eps_from,
         }
         if isinstance(result, AssemblyError):
-            interval = _interval_containing(result.intervals, phi)
+            interval = interval_containing(result.intervals, phi)
             where = f"φ in {format_intervals([interval])}" if interval is not None else f"φ = {phi:.6g} rad"
             reason = f"group '{result.group}' {result.reason} for {where} ({name} = {q:.6g})"
             return Answer(ANSWER_UNASSEMBLABLE, stamp_ns, reason=reason, interval=interval, **common)
@@ -431,14 +431,3 @@ def _wrap(x: float) -> float:
     """``x`` wrapped to (−π, π]."""
     y = math.remainder(x, TWO_PI)
     return math.pi if y == -math.pi else y
-
-
-def _interval_containing(
-    intervals: Sequence[tuple[float, float]], phi: float
-) -> tuple[float, float] | None:
-    """The interval (rad) that contains φ modulo 2π, shifted next to φ."""
-    for lo, hi in intervals:
-        shift = math.floor((phi - lo) / TWO_PI) * TWO_PI
-        if lo + shift <= phi <= hi + shift:
-            return (lo + shift, hi + shift)
-    return None

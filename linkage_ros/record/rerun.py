@@ -15,6 +15,11 @@ Entity layout::
     mechanism/velocity/<P>          Arrows per tick, v · scale (scale in the legend and label)
     mechanism/acceleration/<P>      Arrows per tick, a · scale
     mechanism/legend                static TextDocument: the arrow scales, the scene
+
+A 2-D view draws its y axis downwards (image coordinates; rerun ignores view coordinates in 2-D
+views), so each drawn entity of a planar scene carries a static mirror ``Transform3D`` (y → −y,
+:data:`Y_UP`): the mechanism appears y up, as in the scene file, and hovering shows the true
+coordinates.
     plots/input/{phi,omega,epsilon} Scalars (one input)
     plots/input/<kind>/<Q>          Scalars per input Q of a several-input scene (kind = phi | omega | epsilon)
     plots/joints/<kind>/<J>         Scalars, kind = position | velocity | acceleration
@@ -55,6 +60,10 @@ LINK_RADIUS = 0.004
 POINT_SIZE, PIVOT_SIZE, PATH_WIDTH, ARROW_WIDTH = 1.4, 1.7, 0.35, 0.5
 DRAW_ORDER = {"paths": 5.0, "links": 10.0, "arrows": 20.0, "points": 30.0}
 """2-D stacking: arrows above the links they start on, joints on top."""
+Y_UP = (1.0, -1.0, 1.0)
+"""Scale of the mirror that shows a planar mechanism y up in rerun's y-down 2-D view."""
+DRAWN_2D = ("links", "points", "fixed", "paths", "velocity", "acceleration")
+"""The children of ``mechanism`` that carry it."""
 EYE_OFFSET = (0.5, -0.7, 0.45)
 """3-D camera position from the middle of the drawing, in units of its extent."""
 
@@ -289,7 +298,10 @@ def log_run(rec: Any, data: RunData) -> dict[str, float]:
     v_scale = arrow_scale(data.velocities, extent)
     a_scale = arrow_scale(data.accelerations, extent)
 
-    # -- static: fixed pivots, paths, legend ---------------------------------------------------
+    # -- static: y up (2-D), fixed pivots, paths, legend ---------------------------------------
+    if data.dim == 2:
+        for child in DRAWN_2D:
+            rec.log(f"mechanism/{child}", rr.Transform3D(scale=Y_UP), static=True)
     if data.fixed:
         rec.log("mechanism/fixed", points_t(
             np.array(list(data.fixed.values())).reshape(-1, data.dim),

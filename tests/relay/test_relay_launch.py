@@ -9,12 +9,12 @@ from __future__ import annotations
 
 import ast
 import importlib.util
-import sys
-import types
 from pathlib import Path
 from typing import Any
 
+import launch_stubs
 import pytest
+from launch_stubs import LaunchCtx, Recorded
 
 from linkage_ros.urdf import generate_urdf
 
@@ -23,44 +23,8 @@ LAUNCH = ROOT / "launch" / "relay.launch.py"
 ARGUMENTS = {"scene", "input_topic", "input_joint", "urdf", "frame_id", "rviz"}
 
 
-class _Recorded:
-    def __init__(self, *args: Any, **kwargs: Any) -> None:
-        self.args, self.kwargs = args, kwargs
-
-
-class _Config:
-    def __init__(self, name: str) -> None:
-        self.name = name
-
-    def perform(self, context: Any) -> str:
-        return str(context.values[self.name])
-
-
-class _Context:
-    def __init__(self, values: dict[str, str]) -> None:
-        self.values = values
-
-
-def _stub_modules(monkeypatch: pytest.MonkeyPatch) -> None:
-    def module(name: str, **attrs: Any) -> None:
-        m = types.ModuleType(name)
-        for k, v in attrs.items():
-            setattr(m, k, v)
-        monkeypatch.setitem(sys.modules, name, m)
-
-    module("ament_index_python")
-    module("ament_index_python.packages", get_package_share_directory=lambda name: str(ROOT))
-    module("launch", LaunchContext=_Context, LaunchDescription=_Recorded)
-    module("launch.actions", DeclareLaunchArgument=_Recorded, OpaqueFunction=_Recorded)
-    module("launch.conditions", IfCondition=_Recorded)
-    module("launch.substitutions", LaunchConfiguration=_Config)
-    module("launch_ros")
-    module("launch_ros.actions", Node=_Recorded)
-    module("launch_ros.parameter_descriptions", ParameterValue=_Recorded)
-
-
 def _load(monkeypatch: pytest.MonkeyPatch) -> Any:
-    _stub_modules(monkeypatch)
+    launch_stubs.install(monkeypatch, ROOT)
     spec = importlib.util.spec_from_file_location("relay_launch", LAUNCH)
     assert spec is not None and spec.loader is not None
     mod = importlib.util.module_from_spec(spec)
@@ -71,7 +35,7 @@ def _load(monkeypatch: pytest.MonkeyPatch) -> Any:
 def _nodes(mod: Any, **values: str) -> dict[str, dict[str, Any]]:
     args = {name: default for name, (default, _) in mod.ARGUMENTS.items()}
     args.update(values)
-    return {n.kwargs["executable"]: n.kwargs for n in mod._nodes(_Context(args))}
+    return {n.kwargs["executable"]: n.kwargs for n in mod._nodes(LaunchCtx(args))}
 
 
 def test_launch_file_parses_and_declares_its_arguments() -> None:
@@ -89,7 +53,7 @@ def test_node_runs_in_topic_mode_on_the_drivers_topic_and_state_publisher_gets_t
 ) -> None:
     mod = _load(monkeypatch)
     description = mod.generate_launch_description()
-    declared = {a.args[0] for a in description.args[0] if isinstance(a, _Recorded) and a.args}
+    declared = {a.args[0] for a in description.args[0] if isinstance(a, Recorded) and a.args}
     assert ARGUMENTS <= declared
     nodes = _nodes(mod, input_topic="/arm/joint_states")
     assert set(nodes) == {"mechanism_node", "robot_state_publisher", "rviz2"}

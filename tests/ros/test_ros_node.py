@@ -188,7 +188,7 @@ def test_diagnostics_come_about_once_a_second(four_bar: Any, client: Client) -> 
     stamps = [stamp("/joint_states", d) for d in listener.by_topic["/joint_states"]]
     seconds = (stamps[-1] - stamps[0]) / NS
     diagnostics = listener.by_topic["/diagnostics"]
-    assert 1 <= len(diagnostics) <= seconds + 2
+    assert 0 < len(diagnostics) <= seconds + 2
     status = decode(diagnostics[-1], FOUR_BAR_TOPICS["diagnostics"]).status[0]
     assert status.name == "linkage_ros: four_bar" and status.message == "ok"
 

@@ -8,55 +8,19 @@ loads it with the real packages.
 from __future__ import annotations
 
 import importlib.util
-import sys
-import types
 from pathlib import Path
 from typing import Any
 
+import launch_stubs
 import pytest
 import yaml
+from launch_stubs import LaunchCtx, Recorded
 
 from linkage_ros.urdf import generate_urdf
 
 ROOT = Path(__file__).resolve().parents[2]
 LAUNCH = ROOT / "launch" / "display.launch.py"
 RVIZ = ROOT / "config" / "linkage.rviz"
-
-
-class _Recorded:
-    def __init__(self, *args: Any, **kwargs: Any) -> None:
-        self.args, self.kwargs = args, kwargs
-
-
-class _Config:
-    def __init__(self, name: str) -> None:
-        self.name = name
-
-    def perform(self, context: Any) -> str:
-        return str(context.values[self.name])
-
-
-class _Context:
-    def __init__(self, values: dict[str, str]) -> None:
-        self.values = values
-
-
-def _stub_modules(monkeypatch: pytest.MonkeyPatch) -> None:
-    def module(name: str, **attrs: Any) -> None:
-        m = types.ModuleType(name)
-        for k, v in attrs.items():
-            setattr(m, k, v)
-        monkeypatch.setitem(sys.modules, name, m)
-
-    module("ament_index_python")
-    module("ament_index_python.packages", get_package_share_directory=lambda name: str(ROOT))
-    module("launch", LaunchContext=_Context, LaunchDescription=_Recorded)
-    module("launch.actions", DeclareLaunchArgument=_Recorded, OpaqueFunction=_Recorded)
-    module("launch.conditions", IfCondition=_Recorded)
-    module("launch.substitutions", LaunchConfiguration=_Config)
-    module("launch_ros")
-    module("launch_ros.actions", Node=_Recorded)
-    module("launch_ros.parameter_descriptions", ParameterValue=_Recorded)
 
 
 def _load_launch() -> Any:
@@ -70,15 +34,15 @@ def _load_launch() -> Any:
 def test_display_launch_starts_node_state_publisher_and_rviz_with_the_generated_urdf(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    _stub_modules(monkeypatch)
+    launch_stubs.install(monkeypatch, ROOT)
     mod = _load_launch()
     description = mod.generate_launch_description()
-    actions = [a for a in description.args[0] if isinstance(a, _Recorded)]
+    actions = [a for a in description.args[0] if isinstance(a, Recorded)]
     declared = {a.args[0] for a in actions if a.args and isinstance(a.args[0], str)}
     assert {"scene", "omega", "epsilon", "rate_hz", "frame_id", "rviz"} <= declared
     values = {name: default for name, (default, _) in mod.ARGUMENTS.items()}
     values["scene"] = "four_bar"
-    nodes = mod._nodes(_Context(values))
+    nodes = mod._nodes(LaunchCtx(values))
     by_exe = {n.kwargs["executable"]: n.kwargs for n in nodes}
     assert set(by_exe) == {"mechanism_node", "robot_state_publisher", "rviz2"}
     description_param = by_exe["robot_state_publisher"]["parameters"][0]["robot_description"]
