@@ -111,6 +111,8 @@ def test_the_rerun_view_has_one_series_per_input(five_bar_run: tuple[Path, Path,
             assert got[f"/plots/input/{kind}/{q}"][1] == ticks, kind + q
         assert f"/plots/input/{kind}" not in got
     assert got["/mechanism/points"][1] == ticks and "/mechanism/paths/P" in got
+    # the planar drawing is mirrored y up by a static transform on each drawn child (docs/recording.md)
+    assert all(got[f"/mechanism/{child}"][0] for child in ("links", "points", "fixed", "paths"))
     assert len(RrdReader(rrd).blueprints()) == 1
 
 
