@@ -33,15 +33,13 @@ from operator import itemgetter
 from types import MappingProxyType
 from typing import Any, NamedTuple
 
+from ._sentinels import NSEC, SEC, find_all, sentinel
 from .engine import STATUS_OK, Frame, JointState, PointState
 from .messages import DIAGNOSTICS, MARKERS, NS_PER_S, MessageBuilder
 from .urdf import TreeJointStates
 
 __all__ = ["TickSerializer", "pad4"]
 
-_SEC = 0x3A5B7C1D  # sentinel stamp: seconds (int32) ...
-_NSEC = 0x2C4D6E1F  # ... and nanoseconds (< 10⁹)
-_FLOAT_BASE = 0x7A5A_0000_0000_A5A5  # finite doubles ~1e281 with a recognisable bit pattern
 _SIZES = {"d": 8, "i": 4, "I": 4}
 
 
@@ -49,11 +47,6 @@ def pad4(data: Any) -> bytes:
     """``data`` with zero bytes appended up to a multiple of 4 (what Fast DDS sends)."""
     data = bytes(data)
     return data + bytes(-len(data) % 4)
-
-
-def _sentinel(i: int) -> float:
-    value: float = struct.unpack("<d", struct.pack("<Q", _FLOAT_BASE | (i + 1) << 16))[0]
-    return value
 
 
 class _Template(NamedTuple):
@@ -84,7 +77,7 @@ class TickSerializer:
         counter = iter(range(2, 1 << 30))  # numbers 0 and 1 are the stamp's sec and nanosec
 
         def sentinels(n: int) -> tuple[float, ...]:
-            return tuple(_sentinel(next(counter)) for _ in range(n))
+            return tuple(sentinel(next(counter)) for _ in range(n))
 
         # the same order as _numbers
         positions = {p: sentinels(dim) for p in self._moving}
@@ -102,7 +95,7 @@ class TickSerializer:
         probe = Frame(t=0.0, phi=0.0, omega=0.0, epsilon=0.0, points=MappingProxyType(points),
                       joints=MappingProxyType(joints), status=STATUS_OK, conditioning=1.0, message="")
         candidates = [t for t, _ in builder.topics if t != DIAGNOSTICS]
-        messages = dict(builder.build_topics(probe, _SEC * NS_PER_S + _NSEC, candidates,
+        messages = dict(builder.build_topics(probe, SEC * NS_PER_S + NSEC, candidates,
                                              include_paths=False, tree=tree))
         consts: list[bytes] = []
         self._templates: dict[str, _Template] = {}
@@ -203,10 +196,10 @@ class TickSerializer:
     def _compile(self, topic: str, raw: bytes, consts: list[bytes]) -> _Template | None:
         """The template of one serialised probe message (None when its sentinels overlap)."""
         slots: list[tuple[int, str, int]] = []  # offset, struct code, index in _numbers
-        slots += [(off, "i", 0) for off in _find_all(raw, struct.pack("<i", _SEC))]
-        slots += [(off, "I", 1) for off in _find_all(raw, struct.pack("<I", _NSEC))]
+        slots += [(off, "i", 0) for off in find_all(raw, struct.pack("<i", SEC))]
+        slots += [(off, "I", 1) for off in find_all(raw, struct.pack("<I", NSEC))]
         for j in range(2, self._count):
-            slots += [(off, "d", j) for off in _find_all(raw, struct.pack("<d", _sentinel(j)))]
+            slots += [(off, "d", j) for off in find_all(raw, struct.pack("<d", sentinel(j)))]
         slots.sort()
         fmt, args, pos = ["<"], [], 0
         for off, code, j in slots:
@@ -230,11 +223,3 @@ class TickSerializer:
         else:
             getter = itemgetter(*args)
         return _Template(topic, struct.Struct("".join(fmt)).pack, getter)
-
-
-def _find_all(data: bytes, pattern: bytes) -> list[int]:
-    out, start = [], 0
-    while (i := data.find(pattern, start)) >= 0:
-        out.append(i)
-        start = i + 1
-    return out

@@ -26,20 +26,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._sentinels import NSEC, SEC, find_all, sentinel
+
 __all__ = ["Block", "TemplateSerializer", "GENERIC_TOPICS"]
 
 GENERIC_TOPICS = ("diagnostics",)
 """Topics always built and serialised per tick; :meth:`TemplateSerializer.demote` adds those
 whose numbers the builder derives (instead of copying them from the frame)."""
 NS_PER_S = 1_000_000_000
-_SEC = 0x3A5B7C1D  # sentinel stamp: seconds (int32) ...
-_NSEC = 0x2C4D6E1F  # ... and nanoseconds (< 10⁹)
-_FLOAT_BASE = 0x7A5A_0000_0000_A5A5  # finite doubles ~1e281 with a recognisable bit pattern
-
-
-def _sentinel(i: int) -> float:
-    value: float = struct.unpack("<d", struct.pack("<Q", _FLOAT_BASE | (i + 1) << 16))[0]
-    return value
 
 
 @dataclass
@@ -79,7 +73,7 @@ class TemplateSerializer:
 
         def column(fn: Callable[[Block], NDArray[np.float64]]) -> float:
             columns.append(fn)
-            return _sentinel(len(columns) - 1)
+            return sentinel(len(columns) - 1)
 
         def component(kind: str, name: str, c: int) -> Callable[[Block], NDArray[np.float64]]:
             return lambda b: getattr(b, kind)[name][:, c]
@@ -104,16 +98,16 @@ class TemplateSerializer:
             p, v, a = (column(joint(name, i)) for i in range(3))
             joints[name] = _joint_state(engine, p, v, a)
         probe = _frame(engine, points, joints)
-        stamp = _SEC * NS_PER_S + _NSEC
+        stamp = SEC * NS_PER_S + NSEC
         messages = dict(builder.build_topics(probe, stamp, self.topics, include_paths=False))
         self._templates: dict[str, _Template] = {}
         for topic in self.topics:
             raw = bytes(self.serialize(messages[topic], self.types[topic]))
             floats = [(off, columns[i]) for i in range(len(columns))
-                      for off in _find_all(raw, struct.pack("<d", _sentinel(i)))]
+                      for off in find_all(raw, struct.pack("<d", sentinel(i)))]
             self._templates[topic] = _Template(
                 np.frombuffer(raw, dtype=np.uint8).copy(), floats,
-                _find_all(raw, struct.pack("<i", _SEC)), _find_all(raw, struct.pack("<I", _NSEC)))
+                find_all(raw, struct.pack("<i", SEC)), find_all(raw, struct.pack("<I", NSEC)))
 
     def render(self, topic: str, block: Block) -> list[bytes]:
         """The serialised messages of ``topic`` for every tick of ``block``."""
@@ -155,14 +149,6 @@ def _first(block: Block) -> Block:
                  {k: v[:1] for k, v in block.velocities.items()},
                  {k: v[:1] for k, v in block.accelerations.items()},
                  {k: (p[:1], v[:1], a[:1]) for k, (p, v, a) in block.joints.items()})
-
-
-def _find_all(data: bytes, pattern: bytes) -> list[int]:
-    out, start = [], 0
-    while (i := data.find(pattern, start)) >= 0:
-        out.append(i)
-        start = i + 1
-    return out
 
 
 def _point_state(engine: Any, pos: Any, vel: Any, acc: Any) -> Any:
