@@ -134,8 +134,9 @@ def _residual_intervals(scene: Scene, group: Any) -> list[tuple[float, float]]:
     # ends: between consecutive candidates where the verdict changes, bisect R's sign
     change = np.flatnonzero(bad[:-1] != bad[1:])
     ends = bisect_roots(residual, phi[change], phi[change + 1])
-    starts = [float(e) for e, i in zip(ends, change) if bad[i + 1]]
-    stops = [float(e) for e, i in zip(ends, change) if bad[i]]
+    where = change.tolist()  # Python ints, to index with
+    starts = [float(e) for e, i in zip(ends, where) if bad[i + 1]]
+    stops = [float(e) for e, i in zip(ends, where) if bad[i]]
     if bad[0]:  # wraps through φ = 0 (grid[0] = 0 and grid[-1] = 2π are the same position)
         out = list(zip(starts[:-1], stops[1:]))
         out.append((starts[-1], stops[0] + TWO_PI))

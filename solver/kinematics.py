@@ -241,7 +241,7 @@ class Kinematics:
     def min_conditioning(self) -> np.ndarray:
         """The worst conditioning over all groups, per sample (1 where no group reports one)."""
         values = list(self.conditioning.values())
-        return np.minimum.reduce(values) if values else np.ones(self._samples)
+        return np.asarray(values).min(axis=0) if values else np.ones(self._samples)
 
     @property
     def singular(self) -> np.ndarray:
