@@ -65,7 +65,7 @@ def _os_error(exc: OSError) -> str:
 def _law(limit: float) -> Any:
     """An argument type for ``--omega``/``--epsilon``/``--phi0``: a plain number (checked here,
     with the messages of :func:`bounded`), or ``Q=V`` for one input (kept as text, checked against
-    the scene's inputs by :func:`solver.cli_inputs._per_input` once the scene is loaded)."""
+    the scene's inputs by :func:`solver.cli_inputs.per_input_values` once the scene is loaded)."""
     plain = bounded(limit)
 
     def parse(text: str) -> float | str:
@@ -83,7 +83,7 @@ def _laws(scene: Any, args: argparse.Namespace) -> dict[str, tuple[float, ...]]:
     """Per input (in the order of ``scene.inputs``) φ0, ω, ε from the command line: the last plain
     value of an option applies to every input, ``Q=V`` items then set input Q (repeatable, as for
     ``linkage-solve``; docs/inputs.md). One value per input; one input: a 1-tuple."""
-    from solver.cli_inputs import _per_input
+    from solver.cli_inputs import per_input_values
 
     out: dict[str, tuple[float, ...]] = {}
     for option, attr in (("--phi0", "phi0"), ("--omega", "omega"), ("--epsilon", "epsilon")):
@@ -96,7 +96,8 @@ def _laws(scene: Any, args: argparse.Namespace) -> dict[str, tuple[float, ...]]:
         if not named:
             out[attr] = (base,) * len(inputs)
         else:
-            out[attr] = tuple(float(x) for x in _per_input(scene, named, option, base, limit))
+            values = per_input_values(scene, named, option=option, default=base, limit=limit)
+            out[attr] = tuple(float(x) for x in values)
     return out
 
 

@@ -29,7 +29,7 @@ from .kinematics import Kinematics
 from .multi import assemblable
 from .scene import Scene, load_scene
 
-__all__ = ["csv_header", "is_multi_input", "main", "region_lines", "samples_of"]
+__all__ = ["csv_header", "is_multi_input", "main", "per_input_values", "region_lines", "samples_of"]
 
 AXES = "xy"
 #: The most samples a grid may have (N^k grows fast; an (N, k) solve keeps every output's arrays).
@@ -79,7 +79,9 @@ def is_multi_input(argv: Sequence[str]) -> bool:
         return False
 
 
-def _per_input(scene: Scene, items: Sequence[str], option: str, default: float, limit: float) -> np.ndarray:
+def per_input_values(
+    scene: Scene, items: Sequence[str], *, option: str, default: float, limit: float
+) -> np.ndarray:
     """``Q=V`` items to one value per input (``default`` for those not named)."""
     out = {q: default for q in scene.inputs}
     for item in items:
@@ -246,8 +248,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                 raise SolverError("--region maps a grid: use --count and --range, not --samples")
             print("\n".join(region_lines(scene, axes)))
             return 0
-        omega = _per_input(scene, args.omega, "--omega", 1.0, OMEGA_MAX)
-        epsilon = _per_input(scene, args.epsilon, "--epsilon", 0.0, EPSILON_MAX)
+        omega = per_input_values(scene, args.omega, option="--omega", default=1.0, limit=OMEGA_MAX)
+        epsilon = per_input_values(scene, args.epsilon, option="--epsilon", default=0.0, limit=EPSILON_MAX)
         k = scene.solve(samples, omega=omega, epsilon=epsilon, mask=args.mask)
         if args.csv:
             singular = np.flatnonzero(np.asarray(k.singular & k.valid))
