@@ -254,3 +254,21 @@ def test_a_dyad_between_fixed_points_is_refused_on_load(tmp_path: Path) -> None:
     )
     with pytest.raises(solver.SceneError, match=r"rrr 'tri' reads only fixed points \(O, F\): it does not move"):
         _load_text(tmp_path, text)
+
+
+@pytest.mark.parametrize("collecting", [True, False])
+def test_reading_a_scene_leaves_the_garbage_collector_as_it_found_it(collecting: bool) -> None:
+    import gc
+
+    from solver._yaml import parse_yaml
+
+    was = gc.isenabled()
+    try:
+        (gc.enable if collecting else gc.disable)()
+        assert parse_yaml("a: [1, 2]") == {"a": [1, 2]}
+        assert gc.isenabled() is collecting
+        with pytest.raises(solver.SceneError, match="not valid YAML"):
+            parse_yaml("a: [1\n")
+        assert gc.isenabled() is collecting
+    finally:
+        (gc.enable if was else gc.disable)()
