@@ -23,15 +23,17 @@ publishes positions; we give it velocities for a like-for-like comparison).
 Three rows per case (:data:`METHODS`), each ending in CDR bytes, as a node sends them:
 
 * ``ours (node path)``: what mechanism_node does per incoming JointState in topic mode,
-  :meth:`linkage_ros.runtime.Runtime.answer` (rosbags' Jazzy classes, no rclpy): the relay's
-  closed-form solve (every point and joint, velocities, accelerations, conditioning; ω from the
-  message, ε = 0), then the CDR bytes of every topic from the byte templates of
-  ``linkage_ros/wire.py`` (diagnostics and path markers when they are due). "solve" is the time
-  inside ``Relay.answer`` (timed from within ``Runtime.answer``), "messages" the rest.
-* ``ours, joint_states only``: the same solve, then only the joint_states bytes (the passive scene
-  joints and the URDF tree's joints, :meth:`~linkage_ros.relay.Relay.joint_states`), packed by
-  :class:`JointStateBytes`; the run checks they are the node's joint_states bytes, message for
-  message. This is the Gauss–Newton row's output, so the two rows compare like for like.
+  :meth:`linkage_ros.runtime.Runtime.answer` (rosbags' Jazzy classes, no rclpy): the relay reads
+  the input state off the message (ω from the message, ε = 0), the scene's compiled instant
+  solves every point and joint with velocities, accelerations and conditioning (the fast path of
+  ``linkage_ros/instant.py``; the Frame path where a guard hands the instant back), then the CDR
+  bytes of every topic from the byte templates of ``linkage_ros/serialize.py`` (diagnostics and
+  path markers, when due, the Frame way). "solve" is the time in ``Relay.read``, the solve and
+  (Frame path) ``Relay.solve``; "messages" the rest (URDF tree joints, one pack per topic).
+* ``ours, joint_states only``: the same read and solve, then only the node's joint_states bytes
+  (the passive scene joints and the URDF tree's joints; the efforts in scenes with forces), from
+  its own template; the run checks they are the node's joint_states bytes, message for message.
+  This is the Gauss–Newton row's output, so the two rows compare like for like.
 * ``Gauss–Newton (warm)``: the anchor's solve, then the bytes of one JointState of its two joints
   (:class:`JointStateBytes`, the same packing).
 
@@ -260,14 +262,14 @@ def _sentinel(i: int) -> float:
 class JointStateBytes:
     """CDR bytes of a ``sensor_msgs/JointState`` with fixed ``names`` (empty effort), as the node
     sends them: one :class:`struct.Struct` compiled from rosbags' serialiser on a probe whose
-    numbers are sentinels, padded to 4 bytes (the technique of ``linkage_ros/wire.py``, written
+    numbers are sentinels, padded to 4 bytes (the technique of ``linkage_ros/serialize.py``, written
     here so that both "joint_states only" rows render one message the same, cheapest way).
     Checked once against ``serialize_cdr`` when made."""
 
     def __init__(self, names: Sequence[str], *, frame_id: str = "world") -> None:
         import numpy as np
 
-        from linkage_ros.wire import pad4
+        from linkage_ros.serialize import pad4
 
         store = _typestore()
         self._store = store
@@ -356,27 +358,26 @@ class Row:
 _Pass = tuple[float, float, list[bytes | None]]
 
 
-class _TimedRelay:
-    """The runtime's relay, with the time spent in ``answer`` added up (the solve of the node path)."""
+class _Timed:
+    """A callable with the time spent in it added up."""
 
-    def __init__(self, relay: Any) -> None:
-        self.relay = relay
+    def __init__(self, fn: Any) -> None:
+        self.fn = fn
         self.seconds = 0.0
 
-    def answer(self, *args: Any) -> Any:
+    def __call__(self, *args: Any) -> Any:
         t0 = time.perf_counter()
-        result = self.relay.answer(*args)
+        result = self.fn(*args)
         self.seconds += time.perf_counter() - t0
         return result
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self.relay, name)
 
 
 def _runtime(mech: FourBar | Finger, phis: Sequence[float]) -> Any:
     """mechanism_node's runtime in topic mode (rosbags' Jazzy classes, no rclpy), warmed up by
     :data:`WARMUP` messages at ``phis[0]`` stamped before the sequence (the byte templates are
-    compiled and checked on the first)."""
+    compiled and checked on the first, the fast path bound and checked on the next), and the
+    compiled instant run once over the sequence (it traces each branch it meets once, a one-off
+    cost of the scene, not of a message)."""
     from linkage_ros.runtime import Runtime
 
     store = _typestore()
@@ -384,14 +385,24 @@ def _runtime(mech: FourBar | Finger, phis: Sequence[float]) -> Any:
                       serialize=store.serialize_cdr)
     for k in range(WARMUP, 0, -1):
         runtime.answer([runtime.relay.input_joint], [phis[0]], [1.0], NS - k * STAMP_STEP_NS)
+    path = runtime._fast_path
+    for phi in phis if path is not None else ():  # the compiled code traces each branch once
+        path.solve(phi, 1.0, 0.0)
     return runtime
 
 
 def _node_path(mech: FourBar | Finger, phis: Sequence[float]) -> tuple[_Pass, int]:
-    """``Runtime.answer`` per message: the relay's solve, then the CDR bytes of every topic."""
+    """``Runtime.answer`` per message: the relay reads the input state, the compiled instant
+    solves it (the fast path; the Frame path where it hands back), then the CDR bytes of every
+    topic. "solve" = the relay's read + the solve."""
     runtime = _runtime(mech, phis)
     name = runtime.relay.input_joint
-    timed = runtime.relay = _TimedRelay(runtime.relay)
+    path = runtime._fast_path
+    timers = [_Timed(runtime.relay.read), _Timed(runtime.relay.solve)]
+    runtime.relay.read, runtime.relay.solve = timers
+    if path is not None:
+        timers.append(_Timed(path.solve))
+        path.solve = timers[-1]
     out: list[bytes | None] = []
     clock = time.perf_counter
     total = 0.0
@@ -400,26 +411,31 @@ def _node_path(mech: FourBar | Finger, phis: Sequence[float]) -> tuple[_Pass, in
         messages = runtime.answer([name], [phi], [1.0], NS + k * STAMP_STEP_NS)
         total += clock() - t0
         out.append(dict(messages).get("joint_states"))
-    return (timed.seconds, total - timed.seconds, out), len(runtime.topics)
+    solve = sum(t.seconds for t in timers)
+    return (solve, total - solve, out), len(runtime.topics)
 
 
 def _joint_states_only(mech: FourBar | Finger, phis: Sequence[float]) -> _Pass:
-    """The relay's solve, then the bytes of ``joint_states`` alone."""
-    relay = _runtime(mech, phis).relay
+    """The same read and solve, then the node's joint_states bytes alone (its own template)."""
+    runtime = _runtime(mech, phis)
+    relay, path = runtime.relay, runtime._fast_path
     name = relay.input_joint
-    packer = JointStateBytes(relay.published_joints)
+    pack = runtime.wire.packer(path.order, ["joint_states"])
     out: list[bytes | None] = []
     clock = time.perf_counter
     solve_s = build_s = 0.0
     for k, phi in enumerate(phis):
         stamp = NS + k * STAMP_STEP_NS
         t0 = clock()
-        answer = relay.answer([name], [phi], [1.0], stamp)
+        reading = relay.read([name], [phi], [1.0], stamp)
+        flat = path.solve(reading.phi, reading.omega, reading.epsilon)
+        frame = None if flat is not None else relay.solve(reading).frame  # the Frame path
         t1 = clock()
         data = None
-        if answer.frame is not None:
-            names, q, dq = relay.joint_states(answer.frame)
-            data = packer.pack(stamp, q, dq)
+        if flat is not None:
+            data = pack(path.complete(flat, stamp))[0][1]
+        elif frame is not None:
+            data = dict(runtime.wire.render(frame, stamp, diagnostics=False))["joint_states"]
         t2 = clock()
         solve_s += t1 - t0
         build_s += t2 - t1
@@ -527,11 +543,11 @@ def run(*, quick: bool = False, repeat: int = 3) -> list[Row]:
 HEADER = """\
 Rows per case (mean µs per message over the sequence, best of the passes):
   ours (node path)        what mechanism_node does per incoming JointState in topic mode:
-                          Runtime.answer = Relay.answer (closed form: every point and joint,
-                          velocities, accelerations, conditioning) + the CDR bytes of every topic
-                          from the wire templates (diagnostics and path markers when due);
-                          "solve" is the time inside Relay.answer, "msgs" the rest.
-  ours, joint_states only the same solve + the CDR bytes of joint_states alone, what the
+                          Runtime.answer = Relay.read + the compiled instant (every point and
+                          joint, velocities, accelerations, conditioning) + the CDR bytes of every
+                          topic from the byte templates (diagnostics and path markers when due);
+                          "solve" is read + solve, "msgs" the rest (tree joints, packs).
+  ours, joint_states only the same read and solve + the node's joint_states bytes alone, what the
                           Gauss–Newton row outputs: one JointState (ours: the passive scene joints
                           and the URDF tree's joints, the node's own bytes; Gauss–Newton: 2 joints).
   Gauss–Newton (warm)     the anchor: warm-started Gauss–Newton on the cut joint + the CDR bytes

@@ -1,8 +1,8 @@
 """Sentinel numbers for finding where a message's numbers sit in its CDR bytes.
 
-Both byte-template serialisers (:mod:`linkage_ros.wire` for the node's ticks,
-:mod:`linkage_ros.record.fast` for whole runs) build each topic's message once from a probe
-frame whose every number is a distinct sentinel, serialise it, and look the sentinels up in the
+The byte-template serialiser (:mod:`linkage_ros.serialize`: the node's ticks, the relay,
+``linkage-run``'s whole runs and the recorder) builds each topic's message once from a probe
+frame whose every number is a distinct sentinel, serialises it, and looks the sentinels up in the
 bytes: their offsets are where each tick's numbers are written.
 """
 

@@ -127,7 +127,8 @@ def _run_parser() -> argparse.ArgumentParser:
                    help="rerun output (default runs/<scene>-<time>.rrd)")
     p.add_argument("--no-mcap", action="store_true", help="do not write the MCAP file")
     p.add_argument("--no-rrd", action="store_true", help="do not write the rerun file")
-    p.add_argument("--spawn", action="store_true", help="also show the run in a rerun viewer")
+    p.add_argument("--spawn", action="store_true",
+                   help="also show the run in a rerun viewer (where there is a display)")
     p.add_argument("--frame-id", default="world")
     p.add_argument("--namespace", default="/", help="node namespace of the recorded topics (/)")
     p.add_argument("--chunk-interval", type=positive, default=1.0, metavar="S",
@@ -242,11 +243,12 @@ def run_main(argv: Sequence[str] | None = None) -> int:
         if default is not None and default.parent == RUNS_DIR:
             RUNS_DIR.mkdir(exist_ok=True)  # the one folder made on the user's behalf
     one = len(laws["omega"]) == 1
+    shown = _spawn_file(rrd, stem) if args.spawn else rrd  # the viewer opens a file
     opts = RunOptions(
         scene=args.scene, duration=duration, rate=args.rate,
         omega=laws["omega"][0] if one else laws["omega"],
         epsilon=laws["epsilon"][0] if one else laws["epsilon"],
-        phi0=laws["phi0"][0] if one else laws["phi0"], mcap=mcap, rrd=rrd, spawn=args.spawn,
+        phi0=laws["phi0"][0] if one else laws["phi0"], mcap=mcap, rrd=shown, spawn=False,
         points=points, on_unassemblable=args.on_unassemblable, frame_id=args.frame_id,
         namespace=args.namespace, chunk_interval_s=args.chunk_interval, fast=not args.no_fast)
     print(_start_line(scene, duration, args.rate, ticks, laws), flush=True)
@@ -264,8 +266,11 @@ def run_main(argv: Sequence[str] | None = None) -> int:
         return EXIT_ERROR
     data = result.data
     outputs = tuple(points or scene.output_points)
+    from linkage_ros.record.forces import force_sections  # scenes with forces: their lines (issue 17)
+
     for line in summary_lines(data, outputs, tuple(scene.output_joints), scene.joint_units,
-                              descriptions=getattr(scene, "descriptions", {})):
+                              descriptions=getattr(scene, "descriptions", {}), inputs=tuple(scene.inputs),
+                              sections=force_sections(scene, data)):
         print(line)
     if set(result.statuses) - {"ok"}:
         print("status: " + ", ".join(f"{k}: {v} ticks" for k, v in sorted(result.statuses.items())))
@@ -277,14 +282,34 @@ def run_main(argv: Sequence[str] | None = None) -> int:
     if result.arrow_scales:
         sv, sa = result.arrow_scales["velocity"], result.arrow_scales["acceleration"]
         print(f"arrows in the rerun view: velocity drawn as v × {sv:g} s (1 m/s is an arrow {sv:g} m long), "
-              f"acceleration as a × {sa:g} s² (1 m/s² is {sa:g} m long)")
+              f"acceleration as a × {sa:g} s² (1 m/s² is {sa:g} m long)"
+              + (f", pin loads as R × {result.arrow_scales['load']:g} m/N" if "load" in result.arrow_scales else ""))
     simulated = float(data.t[-1] - data.t[0]) if data.n else 0.0
     print(f"{result.ticks} ticks in {secs['total']:.2f} s of wall-clock time ({simulated:g} s simulated)")
     if result.interrupted:
         print(f"interrupted at t = {data.t[-1] if data.n else 0.0:g} s; files finished",
               file=sys.stderr)
         return EXIT_INTERRUPTED
+    if args.spawn and shown is not None:
+        _show(shown, "linkage-run")
     return EXIT_OK
+
+
+def _spawn_file(rrd: Path | None, stem: str) -> Path:
+    """The file a spawned viewer opens: the .rrd written anyway, else a temporary one."""
+    from linkage_ros.record.viewer import temporary_rrd
+
+    return rrd if rrd is not None else temporary_rrd(stem)
+
+
+def _show(rrd: Path, prog: str) -> bool:
+    """Open ``rrd`` in the rerun viewer; where it cannot be, one line saying how to view it."""
+    from linkage_ros.record.viewer import show
+
+    note = show(rrd)
+    if note is not None:
+        print(f"{prog}: note: {note}", file=sys.stderr)
+    return note is None
 
 
 def _check_input(path: Path, what: str) -> None:
@@ -308,6 +333,7 @@ def view_main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--spawn", action="store_true", help="show it in a rerun viewer")
     args = p.parse_args(argv)
     out = args.output or (None if args.spawn else args.mcap.with_suffix(".view.rrd"))
+    kept = out is not None
     try:
         _check_input(args.mcap, "an MCAP file")
         if out is not None:
@@ -320,7 +346,7 @@ def view_main(argv: Sequence[str] | None = None) -> int:
     if not _have_rerun():
         _err(NO_RERUN, "linkage-view")
         return EXIT_USAGE
-    from linkage_ros.record.replay import run_data_from_mcap
+    from linkage_ros.record.replay import run_data_from_mcap, stamp_text
     from linkage_ros.record.rerun import write_rrd
 
     try:
@@ -332,8 +358,10 @@ def view_main(argv: Sequence[str] | None = None) -> int:
         why = one_line(str(exc), 200).removeprefix(f"{args.mcap}: ")
         _err(f"{args.mcap}: not a readable linkage_ros recording ({why})", "linkage-view")
         return EXIT_USAGE
+    if out is None:
+        out = _spawn_file(None, args.mcap.stem)
     try:
-        write_rrd(data, out, spawn=args.spawn)
+        write_rrd(data, out)
     except OSError as exc:
         _err(_os_error(exc), "linkage-view")
         return EXIT_ERROR
@@ -341,16 +369,28 @@ def view_main(argv: Sequence[str] | None = None) -> int:
         _err(str(exc), "linkage-view")
         return EXIT_ERROR
     state = "finished" if contents.complete else "cut short (no footer), read up to the last chunk"
-    print(f"{args.mcap}: {state}; {contents.message_count} messages, {data.n} ticks, "
-          f"t = {data.t[0] if data.n else 0:g} … {data.t[-1] if data.n else 0:g} s")
-    if out is not None:
+    span = float(data.t[-1]) if data.n else 0.0
+    first = f", from {stamp_text(data.start_ns)}" if data.n and data.start_ns else ""
+    print(f"{args.mcap}: {state}; {contents.message_count} messages, {data.n} ticks over "
+          f"{span:g} s of run time{first}")
+    if kept:
         print(f"rerun: {out}")
+    if args.spawn and not _show(out, "linkage-view") and not kept:
+        return EXIT_ERROR
     return EXIT_OK
+
+
+def _about(path: Path, error: Exception) -> str:
+    """``PATH: what is wrong``, naming the path once (some messages already start with it)."""
+    if isinstance(error, OSError) and error.filename:
+        return _os_error(error)  # names its own file (BROKEN or FIXED)
+    text = str(error)
+    return text if text.startswith(f"{path}:") else f"{path}: {text}"
 
 
 @quiet_pipe
 def mcap_main(argv: Sequence[str] | None = None) -> int:
-    """``linkage-mcap``."""
+    """``linkage-mcap``: one line per outcome, each file named once."""
     p = Parser(prog="linkage-mcap", description="Inspect and repair MCAP runs.")
     sub = p.add_subparsers(dest="command", required=True)
     rec = sub.add_parser("recover", help="write a valid, finished copy of a file cut short")
@@ -360,39 +400,46 @@ def mcap_main(argv: Sequence[str] | None = None) -> int:
     info.add_argument("file", type=Path)
     args = p.parse_args(argv)
     from linkage_ros.record.mcap import read_mcap, recover
+    from linkage_ros.record.replay import stamp_text
 
+    source: Path = args.broken if args.command == "recover" else args.file
     try:
+        _check_input(source, "an MCAP file")
         if args.command == "recover":
-            _check_input(args.broken, "an MCAP file")
             check_output(args.fixed, "FIXED")
             if args.fixed.resolve() == args.broken.resolve():
-                raise ValueError(f"{args.fixed}: write the recovered copy to another file than the broken one")
-            contents = recover(args.broken, args.fixed)
-            lost = contents.size - contents.valid_bytes
-            print(f"{args.fixed}: {len(contents.messages)} messages on "
-                  f"{len(contents.channels)} topics recovered "
-                  f"({'the file was finished' if contents.complete else f'{lost} bytes cut'})")
-            return EXIT_OK
-        _check_input(args.file, "an MCAP file")
-        contents = read_mcap(args.file)
-    except OSError as exc:
-        _err(_os_error(exc), "linkage-mcap")
+                raise ValueError(f"FIXED {args.fixed}: write the recovered copy to another file than BROKEN")
+    except ValueError as exc:
+        _err(str(exc), "linkage-mcap")
         return EXIT_USAGE
-    except (ValueError, KeyError, IndexError) as exc:
-        _err(f"{args.file if args.command == 'info' else args.broken}: {exc}", "linkage-mcap")
-        return EXIT_USAGE
+    try:
+        contents = recover(args.broken, args.fixed) if args.command == "recover" else read_mcap(source)
+    except (OSError, ValueError, KeyError, IndexError) as exc:
+        _err(_about(source, exc), "linkage-mcap")
+        return EXIT_ERROR if isinstance(exc, OSError) and exc.filename != str(source) else EXIT_USAGE
+    topics = contents.topics()
+    if args.command == "recover":
+        lost = contents.size - contents.valid_bytes
+        what = ("it was finished, nothing lost" if contents.complete
+                else f"cut short: the last {lost} bytes, after the last whole record, dropped")
+        print(f"{args.fixed}: {len(contents.messages)} messages on {len(topics)} topics recovered "
+              f"from {args.broken} ({what})")
+        return EXIT_OK
     header = contents.header
-    print(f"{args.file}: profile {header.profile if header else '?'}, "
-          f"library {header.library if header else '?'}")
-    print("finished (footer present)" if contents.complete else
-          f"NOT finished: readable up to byte {contents.valid_bytes} of {contents.size}; "
-          "run `linkage-mcap recover` before `ros2 bag play`")
+    writer = f"{header.profile} profile, written by {header.library}" if header else "no header"
+    times = [m.log_time for m in contents.messages]
+    first, last = (min(times), max(times)) if times else (0, 0)
+    span = f", {(last - first) / 1e9:g} s" if times else ""
+    span += f" from {stamp_text(first)}" if first else ""
+    if contents.complete:
+        state = "finished"
+    else:
+        state = (f"NOT finished (readable up to byte {contents.valid_bytes} of {contents.size}; "
+                 f"make a finished copy with: linkage-mcap recover {source} FIXED.mcap)")
+    print(f"{source}: {state}; {len(times)} messages on {len(topics)} topics{span}; {writer}")
     counts: dict[str, int] = {}
     for m in contents.messages:
         counts[m.topic] = counts.get(m.topic, 0) + 1
-    times = [m.log_time for m in contents.messages]
-    if times:
-        print(f"{len(times)} messages, t = {min(times) / 1e9:g} … {max(times) / 1e9:g} s")
-    for topic, typename in contents.topics().items():
+    for topic, typename in topics.items():
         print(f"  {topic:40s} {typename:40s} {counts.get(topic, 0)}")
     return EXIT_OK

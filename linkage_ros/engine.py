@@ -18,7 +18,7 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any, NamedTuple
 
@@ -29,6 +29,7 @@ import solver
 from solver.errors import AssemblyError, SceneError, format_intervals
 from solver.tolerances import NEAR_SINGULAR
 
+from .forces import LoadPair, effort_units, frame_forces, has_forces, load_pairs, run_forces, sampled_loads
 from .motion import SEGMENT_HOLD, Motion, Motions
 
 __all__ = [
@@ -55,6 +56,7 @@ TWO_PI = 2.0 * math.pi
 PATH_SAMPLES = 361
 #: Ticks solved together by :meth:`Engine.frames`.
 CHUNK = 4096
+_NONE: Mapping[str, Any] = MappingProxyType({})
 
 
 class PointState(NamedTuple):
@@ -90,6 +92,10 @@ class Frame:
     status: str
     conditioning: float
     message: str
+    #: Scenes with forces (:mod:`linkage_ros.forces`): input joint → effort (N·m or N), and
+    #: load key → (Fx, Fy, M) (N, N, N·m); empty otherwise.
+    efforts: Mapping[str, float] = field(default_factory=lambda: _NONE)
+    loads: Mapping[str, tuple[float, float, float]] = field(default_factory=lambda: _NONE)
 
 
 class Engine:
@@ -151,12 +157,20 @@ class Engine:
         else:
             start = motion.segments[0]
             t0, phi0, omega0, eps0 = start.t0, start.phi0, start.omega0, start.epsilon
+        #: Whether frames carry efforts and loads (the scene has bodies, gravity or loads), the
+        #: loads they carry, and each input's effort unit (N·m or N).
+        self.forces: bool = has_forces(scene)
+        self.load_pairs: tuple[LoadPair, ...] = load_pairs(scene)
+        self.effort_units: dict[str, str] = effort_units(scene, self.inputs) if self.forces else {}
         self._event_message = ""
         first = self._tick(t0, phi0, omega0, eps0)
         if not isinstance(first, Frame):
             raise first
         self._last_valid_t = t0
         self.paths: dict[str, NDArray[np.float64]] = self._paths(phi0, path_samples)
+        #: The loads' (Fx, Fy) over the cycle the paths are drawn for, at the starting motion
+        #: (what the markers' arrow scale is chosen from); empty without forces.
+        self.load_samples: dict[str, NDArray[np.float64]] = self._load_samples(phi0, path_samples)
 
     # ------------------------------------------------------------------ one tick
     def frame(self, t: float) -> Frame:
@@ -170,11 +184,21 @@ class Engine:
             return result
         return self._unassemblable(t, phi, omega, result)
 
-    def frame_at(self, phi: float, omega: float, epsilon: float, *, t: float = 0.0) -> Frame | AssemblyError:
+    def frame_at(self, phi: float | tuple[float, ...], omega: float | tuple[float, ...],
+                 epsilon: float | tuple[float, ...], *, t: float = 0.0) -> Frame | AssemblyError:
         """The frame at an input state given from outside (topic mode, :mod:`linkage_ros.relay`),
         not from the motion law: no hold or reverse; where the mechanism cannot be assembled (or
-        the solve is not finite) the :class:`solver.AssemblyError` is returned, not raised."""
-        return self._tick(float(t), float(phi), float(omega), float(epsilon), holding=False)
+        the solve is not finite) the :class:`solver.AssemblyError` is returned, not raised.
+        With several inputs ``phi``, ``omega``, ``epsilon`` are k-tuples."""
+        if isinstance(phi, tuple):
+            return self._tick(float(t), phi, omega, epsilon, holding=False)  # type: ignore[arg-type]
+        return self._tick(float(t), float(phi), float(omega), float(epsilon), holding=False)  # type: ignore[arg-type]
+
+    def mark_valid(self, t: float) -> None:
+        """Note an ordinary frame at ``t`` solved outside :meth:`frame` (the node's fast path,
+        :mod:`linkage_ros.instant`): where a later stop holds the input."""
+        if t >= self._last_valid_t:
+            self._last_valid_t = t
 
     def _tick(
         self, t: float, phi: float, omega: float, eps: float, *, holding: bool | None = None
@@ -190,7 +214,7 @@ class Engine:
         frame = self._make_frame(t, phi, omega, eps, k, None, holding=holding)
         total = _finite_sum(frame)
         if not math.isfinite(total):
-            return _non_finite(phi)
+            return _non_finite(phi, k.conditioning, self.inputs)
         return frame
 
     def _unassemblable(self, t: float, phi: float, omega: float, error: AssemblyError) -> Frame:
@@ -238,23 +262,25 @@ class Engine:
         for start in range(0, all_times.size, CHUNK):
             chunk = all_times[start : start + CHUNK]
             phi, omega, eps = self.motion.states(chunk)
-            k = self._solve_chunk(phi, omega, eps)
-            if k is None:
+            solved = self._solve_chunk(phi, omega, eps)
+            if solved is None:
                 for t in chunk:
                     yield self.frame(float(t))
                 continue
+            k, forces = solved
             tags = [self.motion.segment_at(t).tag for t in chunk.tolist()]
             for i, t in enumerate(chunk.tolist()):
                 holding = tags[i] == SEGMENT_HOLD
                 if not holding:
                     self._last_valid_t = t
                 yield self._make_frame(
-                    t, _row(phi, i), _row(omega, i), _row(eps, i), k, i, holding=holding
+                    t, _row(phi, i), _row(omega, i), _row(eps, i), k, i, holding=holding, forces=forces
                 )
 
     # ------------------------------------------------------------------ helpers
-    def _solve_chunk(self, phi: NDArray[np.float64], omega: Any, eps: Any) -> Any:
-        """Kinematics of every point and joint at many angles, or None if any is not valid."""
+    def _solve_chunk(self, phi: NDArray[np.float64], omega: Any, eps: Any) -> tuple[Any, Any] | None:
+        """Kinematics of every point and joint at many angles, and the efforts and loads
+        (None without forces), or None if any is not valid."""
         try:
             k = self._full.solve(phi, omega=omega, epsilon=eps)
         except AssemblyError:
@@ -265,7 +291,12 @@ class Engine:
         for name in self.joint_names:
             if not all(np.isfinite(x).all() for x in k.joint(name)):
                 return None
-        return k
+        if not self.forces:
+            return k, None
+        efforts, loads = run_forces(k, self.inputs, self.load_pairs)
+        if not all(np.isfinite(v).all() for v in (*efforts.values(), *loads.values())):
+            return None
+        return k, (efforts, loads)
 
     def _make_frame(
         self,
@@ -277,8 +308,10 @@ class Engine:
         i: int | None,
         *,
         holding: bool,
+        forces: tuple[Mapping[str, NDArray[np.float64]], Mapping[str, NDArray[np.float64]]] | None = None,
     ) -> Frame:
-        """The frame of sample ``i`` of ``k`` (``None``: a scalar solve)."""
+        """The frame of sample ``i`` of ``k`` (``None``: a scalar solve); ``forces``: the
+        efforts and loads of a vectorised ``k`` (:func:`~linkage_ros.forces.run_forces`)."""
         if i is None:
             # the solver's 3-tuples become the named tuples as they are (no per-field __new__)
             floats, new = k.floats, tuple.__new__
@@ -295,6 +328,15 @@ class Engine:
                 joints[name] = JointState(
                     float(js.position[i]), float(js.velocity[i]), float(js.acceleration[i])
                 )
+        efforts: Mapping[str, float] = _NONE
+        loads: Mapping[str, tuple[float, float, float]] = _NONE
+        if self.forces:
+            if i is None:
+                efforts, loads = frame_forces(k, self.inputs, self.load_pairs)
+            else:
+                assert forces is not None
+                efforts = {q: float(v[i]) for q, v in forces[0].items()}
+                loads = {key: tuple(v[i].tolist()) for key, v in forces[1].items()}
         conditioning = 1.0
         worst = ""
         for group, values in k.conditioning.items():
@@ -318,6 +360,8 @@ class Engine:
             status=status,
             conditioning=conditioning,
             message=message,
+            efforts=efforts,
+            loads=loads,
         )
 
     def _paths(self, phi0: Any, samples: int) -> dict[str, NDArray[np.float64]]:
@@ -327,13 +371,7 @@ class Engine:
         With several inputs: along the motion laws themselves, over the time of one turn of the
         fastest input at its initial speed (a single point when no input moves)."""
         plan = self.scene.with_outputs(points=self.published_points, joints=())
-        if isinstance(self.motion, Motions):
-            t0, _, omega0, _ = self.motion.start()
-            fastest = max(abs(w) for w in omega0)
-            span = TWO_PI / fastest if fastest > 0.0 else 0.0
-            grid, _, _ = self.motion.states(t0 + np.linspace(0.0, span, samples))
-        else:
-            grid = phi0 + np.linspace(0.0, TWO_PI, samples)
+        grid, _, _ = self._cycle(phi0, samples)
         k = plan.solve(grid, omega=1.0, epsilon=0.0, mask=True)
         valid = np.asarray(k.valid, dtype=bool).copy()
         positions = {p: np.asarray(k.point(p).position, dtype=np.float64) for p in self.published_points}
@@ -341,6 +379,26 @@ class Engine:
             valid &= np.isfinite(positions[p]).all(axis=1)
         order = _reachable_run(valid)
         return {p: np.ascontiguousarray(positions[p][order]) for p in self.published_points}
+
+
+    def _cycle(self, phi0: Any, samples: int) -> tuple[Any, Any, Any]:
+        """(φ, ω, ε) over one turn of the input from ``phi0`` at its starting ω, ε; with several
+        inputs along the motion laws, over one turn of the fastest input at its initial speed."""
+        if isinstance(self.motion, Motions):
+            t0, _, omega0, _ = self.motion.start()
+            fastest = max(abs(w) for w in omega0)
+            span = TWO_PI / fastest if fastest > 0.0 else 0.0
+            return self.motion.states(t0 + np.linspace(0.0, span, samples))
+        start = self.motion.segments[0]
+        return phi0 + np.linspace(0.0, TWO_PI, samples), start.omega0, start.epsilon
+
+    def _load_samples(self, phi0: Any, samples: int) -> dict[str, NDArray[np.float64]]:
+        """(Fx, Fy) of every load over the cycle of :meth:`_cycle` (valid samples only)."""
+        if not self.forces:
+            return {}
+        grid, omega, eps = self._cycle(phi0, samples)
+        k = self._full.solve(grid, omega=omega, epsilon=eps, mask=True)
+        return sampled_loads(k, self.inputs, self.load_pairs)
 
 
 def _reachable_run(valid: NDArray[np.bool_]) -> NDArray[np.intp]:
@@ -381,17 +439,20 @@ def _boundary(interval: tuple[float, float], phi: float, omega: float) -> float:
     return lo if phi - lo < hi - phi else hi
 
 
-def _non_finite(phi: Any) -> AssemblyError:
+def _non_finite(phi: Any, conditioning: Mapping[str, Any], inputs: Sequence[str]) -> AssemblyError:
+    """A solve with a non-finite number: the group at its singular position (where velocities,
+    and loads, are not finite, e.g. the five-bar's distal links stretched), named by the worst
+    conditioning; "(all)" when no group is singular."""
+    worst = min(conditioning, key=lambda g: float(conditioning[g]), default=None)
+    if worst is not None and float(conditioning[worst]) < NEAR_SINGULAR:
+        group, reason = worst, f"is at a singular position (conditioning {float(conditioning[worst]):.2g})"
+    else:
+        group, reason = "(all)", "gives non-finite values"
     if isinstance(phi, tuple):  # several inputs
         from solver.multi import SampleAssemblyError
 
-        return SampleAssemblyError(
-            group="(all)", samples=[phi], inputs=[f"q{i + 1}" for i in range(len(phi))],
-            reason="gives non-finite values (a singular position)",
-        )
-    return AssemblyError(
-        group="(all)", phi=[phi], reason="gives non-finite values (a singular position)"
-    )
+        return SampleAssemblyError(group=group, samples=[phi], inputs=list(inputs), reason=reason)
+    return AssemblyError(group=group, phi=[phi], reason=reason)
 
 
 def _row(values: NDArray[np.float64], i: int) -> Any:
@@ -411,7 +472,10 @@ def _finite_sum(frame: Frame) -> float:
     """A sum of every number of the frame: finite exactly when all of them are (barring overflow,
     which is as unusable). One ``sum`` over the chained numbers: it runs every tick."""
     chain = itertools.chain.from_iterable
-    return sum(chain(chain(frame.points.values()))) + sum(chain(frame.joints.values()))
+    total = sum(chain(chain(frame.points.values()))) + sum(chain(frame.joints.values()))
+    if frame.efforts:
+        total += sum(frame.efforts.values()) + sum(chain(frame.loads.values()))
+    return total
 
 
 def _with_status(frame: Frame, status: str, message: str) -> Frame:
@@ -425,4 +489,6 @@ def _with_status(frame: Frame, status: str, message: str) -> Frame:
         status=status,
         conditioning=frame.conditioning,
         message=message,
+        efforts=frame.efforts,
+        loads=frame.loads,
     )

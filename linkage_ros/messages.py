@@ -13,6 +13,8 @@ Topics (relative names) and types::
     points/<P>/position        geometry_msgs/msg/PointStamped
     points/<P>/velocity        geometry_msgs/msg/Vector3Stamped
     points/<P>/acceleration    geometry_msgs/msg/Vector3Stamped
+    pin_loads/<K>              geometry_msgs/msg/WrenchStamped   (scenes with forces only,
+    slide_loads/<K>            geometry_msgs/msg/WrenchStamped    :mod:`.load_messages`)
     markers                    visualization_msgs/msg/MarkerArray
     diagnostics                diagnostic_msgs/msg/DiagnosticArray
 
@@ -29,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from .engine import STATUS_NEAR_SINGULAR, STATUS_OK, Engine, Frame
+from .load_messages import LoadMessages, load_topic_types, tree_effort_joints
 from .msgtypes import TYPE_NAMES, MessageTypes
 from .urdf import TreeJointStates, exportable_model, frame_tree_joint_states
 
@@ -105,6 +108,7 @@ def topic_types(engine_or_points: Engine | Sequence[str]) -> list[tuple[str, str
             (vel, "geometry_msgs/msg/Vector3Stamped"),
             (acc, "geometry_msgs/msg/Vector3Stamped"),
         ]
+    out += load_topic_types(getattr(engine_or_points, "load_pairs", ()))
     out += [(MARKERS, FIXED_TOPIC_TYPES[MARKERS]), (DIAGNOSTICS, FIXED_TOPIC_TYPES[DIAGNOSTICS])]
     return out
 
@@ -184,6 +188,9 @@ class MessageBuilder:
         self._zero_duration = self._Duration(sec=0, nanosec=0)
         self._empty = types.float64s(())
         self._styles()
+        #: The force messages (None: the scene has no forces, and no message changes).
+        self.loads = LoadMessages(self, size=size, tree_joints=tree_effort_joints(self._tree, self._inputs)
+                                  ) if getattr(engine, "forces", False) else None
 
     # ------------------------------------------------------------------ public
     def build(self, frame: Frame, stamp: int, *, include_paths: bool | None = None) -> list[tuple[str, Any]]:
@@ -204,11 +211,13 @@ class MessageBuilder:
         *,
         include_paths: bool | None = False,
         tree: TreeJointStates | None = None,
+        load_tips: Sequence[float] | None = None,
     ) -> list[tuple[str, Any]]:
         """Like :meth:`build`, for the topics in ``topics`` only (None: all). The path timing of
         the markers changes only when they are built with the paths. ``tree``: the URDF tree's
         joint states to put on ``joint_states`` (default: :meth:`tree_states` of ``frame``; the
-        byte templates of :mod:`linkage_ros.wire` pass sentinels)."""
+        byte templates of :mod:`linkage_ros.serialize` pass sentinels); ``load_tips`` likewise
+        for the tips of the load arrows (default: :meth:`load_tips` of ``frame``)."""
         wanted = None if topics is None else set(topics)
         sec, nanosec = stamp_parts(stamp)
         header = self._Header(stamp=self._Time(sec=sec, nanosec=nanosec), frame_id=self.frame_id)
@@ -230,10 +239,12 @@ class MessageBuilder:
                 out.append((vel, self._Vector3Stamped(header=header, vector=self._vector(ps.velocity))))
             if wanted is None or acc in wanted:
                 out.append((acc, self._Vector3Stamped(header=header, vector=self._vector(ps.acceleration))))
+        if self.loads is not None:
+            out += self.loads.wrenches(frame, header, wanted)
         if wanted is None or MARKERS in wanted:
             if include_paths is None:
                 include_paths = self.wants_paths(frame.t)
-            out.append((MARKERS, self._markers(tick, header, include_paths)))
+            out.append((MARKERS, self._markers(tick, header, include_paths, load_tips)))
         if wanted is None or DIAGNOSTICS in wanted:
             out.append((DIAGNOSTICS, self._diagnostics(frame, header)))
         return out
@@ -273,9 +284,11 @@ class MessageBuilder:
             ]
         )
         names = list(self._joint_names)
+        loads = self.loads
         if self._tree is None and not self.omit_joints:
+            effort = self._empty if loads is None else loads.efforts(frame, names)
             state = self._JointState(
-                header=header, name=names, position=positions, velocity=velocities, effort=self._empty
+                header=header, name=names, position=positions, velocity=velocities, effort=effort
             )
         else:
             if tree is None:
@@ -287,14 +300,15 @@ class MessageBuilder:
                 keep = [n not in self.omit_joints for n in all_names]
                 all_names, all_q, all_dq = ([v for v, k in zip(row, keep) if k] for row in (all_names, all_q, all_dq))
             tree_q, tree_dq = self.types.float64_rows([all_q, all_dq])
+            effort = self._empty if loads is None else loads.efforts(frame, all_names)
             state = self._JointState(
-                header=header, name=all_names, position=tree_q, velocity=tree_dq, effort=self._empty
+                header=header, name=all_names, position=tree_q, velocity=tree_dq, effort=effort
             )
         point = self._JointTrajectoryPoint(
             positions=positions,
             velocities=velocities,
             accelerations=accelerations,
-            effort=self._empty,
+            effort=self._empty if loads is None else loads.efforts(frame, names),
             time_from_start=self._zero_duration,
         )
         return state, self._JointTrajectory(header=header, joint_names=names, points=[point])
@@ -343,7 +357,13 @@ class MessageBuilder:
             for i in range(len(self._path_points))
         ]
 
-    def _markers(self, tick: _Tick, header: Any, include_paths: bool) -> Any:
+    def load_tips(self, frame: Frame) -> tuple[float, ...]:
+        """(x, y) of the tip of each load arrow in the markers, flat (derived from the frame's
+        points and loads, as :meth:`tree_states` are; empty without forces)."""
+        return () if self.loads is None else self.loads.tips(frame)
+
+    def _markers(self, tick: _Tick, header: Any, include_paths: bool,
+                 load_tips: Sequence[float] | None = None) -> Any:
         M = self._Marker
         point = tick.point
         link_points = []
@@ -356,6 +376,8 @@ class MessageBuilder:
             M(header=header, points=joint_points, **self._joint_style),
             M(header=header, points=self._fixed_points, **self._fixed_style),
         ]
+        if self.loads is not None:
+            markers += self.loads.arrows(tick, header, load_tips)
         if include_paths:
             self._last_paths_t = tick.frame.t
             for points, style in zip(self._path_points, self._path_styles):

@@ -29,6 +29,8 @@ TYPE_NAMES: tuple[str, ...] = (
     "geometry_msgs/msg/Pose",
     "geometry_msgs/msg/PointStamped",
     "geometry_msgs/msg/Vector3Stamped",
+    "geometry_msgs/msg/Wrench",
+    "geometry_msgs/msg/WrenchStamped",
     "sensor_msgs/msg/JointState",
     "sensor_msgs/msg/CompressedImage",
     "trajectory_msgs/msg/JointTrajectory",

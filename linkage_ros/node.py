@@ -7,7 +7,10 @@ Declares the parameters of :data:`linkage_ros.runtime.PARAMETERS` with descripto
 timer at ``rate_hz`` with t from the node clock (``use_sim_time`` works), publishes the CDR bytes
 the runtime renders (``Publisher.publish(bytes)``; QoS depth 10, reliable) and validates
 parameter changes in a callback. Integer values for double parameters (``-p omega:=2``, or
-``ros2 param set ... omega 3``) are converted to doubles, at start and at run time.
+``ros2 param set ... omega 3``) are converted to doubles, at start and at run time. Every
+rejected change is logged, rclpy's own descriptor checks included; so are the start and the end
+of a recording, with the file name. The recording holds the topics under their names on the
+wire (``resolve_topic_name``: namespace and remaps).
 
 Topic mode (``-p input_source:=topic``, switchable at run time): the timer stops, and every
 ``sensor_msgs/JointState`` on the relative topic ``input_joint_states`` (best-effort subscription,
@@ -30,7 +33,7 @@ import gc
 import importlib
 import os
 import signal
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from types import FrameType
 from typing import Any
 
@@ -146,16 +149,22 @@ def coerce_parameter(name: str, value: Any) -> Any:
     return value
 
 
-def mcap_recorder(namespace: str) -> Any:
-    """A recorder factory for Runtime: rosbag2-profile MCAP of the published bytes, with the
-    ``linkage_ros`` scene metadata that ``linkage-view`` uses to name what the markers draw."""
+def mcap_recorder(where: str | Callable[[str], str]) -> Any:
+    """A recorder factory for Runtime: rosbag2-profile MCAP of the published bytes under the
+    names on the wire (``where``: the node's ``resolve_topic_name``, so namespace and remaps
+    apply; or a namespace), with the ``linkage_ros`` scene metadata that ``linkage-view`` uses to
+    name what the markers draw and to find the (possibly remapped) topics."""
+    from .record.rosbag2 import absolute_topic
+
+    resolve = where if callable(where) else (lambda name: absolute_topic(name, where))
 
     def factory(path: str, topics: Sequence[tuple[str, str]], *, engine: Any, frame_id: str) -> Recorder:
         from .record.mcap import Recorder as McapRecorder
         from .record.replay import METADATA_NAME, scene_metadata
 
-        return McapRecorder(path, topics, namespace=namespace,
-                            metadata={METADATA_NAME: scene_metadata(engine, frame_id=frame_id)})
+        wire = {name: resolve(name) for name, _ in topics}
+        return McapRecorder(path, topics, resolve=resolve,
+                            metadata={METADATA_NAME: scene_metadata(engine, frame_id=frame_id, topics=wire)})
 
     return factory
 
@@ -186,7 +195,9 @@ class MechanismNode(Node):
             else:
                 self.declare_parameter(spec.name, value, descriptor(spec), ignore_override=True)
             values[spec.name] = self.get_parameter(spec.name).value
-        self.runtime = Runtime(values, recorder_factory=mcap_recorder(self.get_namespace()))
+        self.runtime = Runtime(values, recorder_factory=mcap_recorder(self.resolve_topic_name))
+        self._recording: Any = None
+        self._log_recording()
         # A non-empty default makes the type a string array ([""] when the scene has no outputs:
         # rclpy would read an empty list as a byte array).
         points = list(self.runtime.settings["points"]) or [""]
@@ -245,8 +256,8 @@ class MechanismNode(Node):
         now_ns = self.get_clock().now().nanoseconds
         reason = self.runtime.update(changes, now_ns)
         if reason is not None:
-            self.get_logger().warning(f"parameter change rejected: {reason}")
             return SetParametersResult(successful=False, reason=reason)
+        self._log_recording()
         self._sync_publishers()
         if self.runtime.settings["rate_hz"] != old_rate:
             self.destroy_timer(self._tick_timer)
@@ -258,7 +269,37 @@ class MechanismNode(Node):
             self._pending_parameters.append(Parameter("points", value=points))
         return SetParametersResult(successful=True, reason="")
 
+    def set_parameters_atomically(self, parameter_list: list[Parameter]) -> SetParametersResult:
+        """rclpy's, with every rejection logged: ours (:meth:`_on_set_parameters`) and rclpy's
+        own checks of the descriptors (type, range), which return before any callback. The
+        parameter services call this method."""
+        try:
+            result = super().set_parameters_atomically(parameter_list)
+        except ParameterException as error:  # e.g. an undeclared parameter
+            self.get_logger().warning(f"parameter change rejected: {error}")
+            raise
+        if not result.successful:
+            names = ", ".join(p.name for p in parameter_list)
+            self.get_logger().warning(f"parameter change rejected ({names}): {result.reason}")
+        return result
+
     # ------------------------------------------------------------------ helpers
+    def _log_recording(self) -> None:
+        """Log where the recording starts and that the previous one is finished."""
+        recorder = self.runtime.recorder
+        if recorder is self._recording:
+            return
+        if self._recording is not None:
+            self._log_finished(self._recording)
+        if recorder is not None:
+            self.get_logger().info(f"recording to {getattr(recorder, 'path', '?')}")
+        self._recording = recorder
+
+    def _log_finished(self, recorder: Any) -> None:
+        count = getattr(recorder, "message_count", None)
+        messages = f" ({count} messages)" if count is not None else ""
+        self.get_logger().info(f"recording finished: {getattr(recorder, 'path', '?')}{messages}")
+
     def _sync_publishers(self) -> None:
         wanted = dict(self.runtime.topics)
         classes = message_classes(sorted(set(wanted.values())))
@@ -288,7 +329,10 @@ class MechanismNode(Node):
                 self._tick_timer.reset()
 
     def destroy_node(self) -> None:
+        recorder = self.runtime.recorder
         self.runtime.close()
+        if recorder is not None:
+            self._log_finished(recorder)
         super().destroy_node()
 
 

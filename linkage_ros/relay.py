@@ -17,6 +17,10 @@ API (kept stable for the node)::
     answer.omega_from      # "message" | "positions" | "none"        (OMEGA_* constants)
     answer.epsilon_from    # "zero" | "velocities"                    (EPSILON_FROM_* constants)
     answer.interval        # (lo, hi) rad of the gap containing φ (kind "unassemblable"), else None
+    reading = relay.read(names, positions, velocities, stamp_ns)   # the input state (Reading), or
+                                          # the Answer of a dropped / ignored message
+    relay.solve(reading)                  # its Answer: answer() is read() then solve(); the node's
+                                          # fast path solves a Reading itself (linkage_ros.instant)
     relay.published_joints                # joint_states names in topic mode (a tuple of str)
     relay.joint_states(frame)             # (names, positions, velocities): tuples, in that order
     relay.input_joint                     # the joint read from the messages
@@ -71,7 +75,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 from solver.errors import AssemblyError, format_intervals
 
@@ -93,6 +97,7 @@ __all__ = [
     "OMEGA_FROM_NONE",
     "OMEGA_FROM_POSITIONS",
     "Answer",
+    "Reading",
     "Relay",
 ]
 
@@ -137,6 +142,19 @@ class Answer:
     epsilon_from: str = EPSILON_FROM_ZERO
     #: The φ interval (rad) where the mechanism cannot be assembled, for kind "unassemblable".
     interval: tuple[float, float] | None = None
+
+
+class Reading(NamedTuple):
+    """The input state read off one JointState (:meth:`Relay.read`): φ, ω, ε (floats, or
+    k-tuples with several inputs), where ω and ε came from, and the driver joint's value(s)."""
+
+    stamp_ns: int
+    phi: Any
+    omega: Any
+    epsilon: Any
+    omega_from: str
+    epsilon_from: str
+    q: Any
 
 
 @dataclass(frozen=True, slots=True)
@@ -219,10 +237,22 @@ class Relay:
         stamp_ns: int,
     ) -> Answer:
         """The answer to one JointState (its ``name``, ``position``, ``velocity`` and
-        ``header.stamp`` in integer ns)."""
+        ``header.stamp`` in integer ns): :meth:`read`, then :meth:`solve`."""
+        reading = self.read(names, positions, velocities, stamp_ns)
+        return reading if isinstance(reading, Answer) else self.solve(reading)
+
+    def read(
+        self,
+        names: Sequence[str],
+        positions: Sequence[float],
+        velocities: Sequence[float],
+        stamp_ns: int,
+    ) -> Reading | Answer:
+        """The input state of one JointState, or the Answer of a dropped or ignored message.
+        Remembers the message for the next one's differences (ω without velocities, ε)."""
         stamp_ns = int(stamp_ns)
         if len(self.input_joints) > 1:
-            return self._answer_inputs(names, positions, velocities, stamp_ns)
+            return self._read_inputs(names, positions, velocities, stamp_ns)
         name = self.input_joint
         try:
             i = list(names).index(name)
@@ -250,17 +280,25 @@ class Relay:
                 return Answer(ANSWER_DROPPED, stamp_ns, reason=f"joint '{name}' velocity is {dq}")
         omega_q, omega_from, eps_q, eps_from = self._rates(stamp_ns, q, dq)
         m = self._map
-        phi = m.shift + m.sign * q
-        omega = m.sign * omega_q
-        eps = m.sign * eps_q
+        return Reading(stamp_ns, m.shift + m.sign * q, m.sign * omega_q, m.sign * eps_q, omega_from, eps_from, q)
+
+    def solve(self, reading: Reading) -> Answer:
+        """The answer to an input state :meth:`read` gave: its frame, or why it has none."""
+        stamp_ns, phi, omega, eps = reading.stamp_ns, reading.phi, reading.omega, reading.epsilon
         result = self.engine.frame_at(phi, omega, eps, t=stamp_ns / NS_PER_S)
         common = {
-            "phi": phi, "omega": omega, "epsilon": eps, "omega_from": omega_from, "epsilon_from": eps_from,
+            "phi": phi, "omega": omega, "epsilon": eps, "omega_from": reading.omega_from,
+            "epsilon_from": reading.epsilon_from,
         }
         if isinstance(result, AssemblyError):
+            if isinstance(phi, tuple):  # several inputs: the failing sample, no φ interval
+                sample = ", ".join(f"{v:.6g}" for v in phi)
+                reason = (f"group '{result.group}' {result.reason} at ({', '.join(self.input_joints)}) = "
+                          f"({sample}) rad")
+                return Answer(ANSWER_UNASSEMBLABLE, stamp_ns, reason=reason, **common)
             interval = interval_containing(result.intervals, phi)
             where = f"φ in {format_intervals([interval])}" if interval is not None else f"φ = {phi:.6g} rad"
-            reason = f"group '{result.group}' {result.reason} for {where} ({name} = {q:.6g})"
+            reason = f"group '{result.group}' {result.reason} for {where} ({self.input_joint} = {reading.q:.6g})"
             return Answer(ANSWER_UNASSEMBLABLE, stamp_ns, reason=reason, interval=interval, **common)
         return Answer(ANSWER_FRAME, stamp_ns, frame=result, **common)
 
@@ -269,10 +307,10 @@ class Relay:
         self._previous = None
         self._multi = None
 
-    def _answer_inputs(
+    def _read_inputs(
         self, names: Sequence[str], positions: Sequence[float], velocities: Sequence[float], stamp_ns: int
-    ) -> Answer:
-        """:meth:`answer` for a scene with several inputs (see the module docstring)."""
+    ) -> Reading | Answer:
+        """:meth:`read` for a scene with several inputs (see the module docstring)."""
         index = {n: i for i, n in enumerate(names)}
         missing = [n for n in self.input_joints if n not in index]
         if missing:
@@ -305,17 +343,7 @@ class Relay:
         if bad:
             return Answer(ANSWER_DROPPED, stamp_ns, reason="joint " + ", ".join(bad))
         omega, omega_from, eps, eps_from = self._rates_inputs(stamp_ns, q, dq)
-        # Engine.frame_at takes one scalar φ; its body (_tick) takes the k-tuples as they are
-        result = self.engine._tick(stamp_ns / NS_PER_S, q, omega, eps, holding=False)
-        common = {
-            "phi": q, "omega": omega, "epsilon": eps, "omega_from": omega_from, "epsilon_from": eps_from,
-        }
-        if isinstance(result, AssemblyError):
-            sample = ", ".join(f"{v:.6g}" for v in q)
-            reason = (f"group '{result.group}' {result.reason} at ({', '.join(self.input_joints)}) = "
-                      f"({sample}) rad")
-            return Answer(ANSWER_UNASSEMBLABLE, stamp_ns, reason=reason, **common)
-        return Answer(ANSWER_FRAME, stamp_ns, frame=result, **common)
+        return Reading(stamp_ns, q, omega, eps, omega_from, eps_from, q)
 
     def _rates_inputs(
         self, stamp_ns: int, q: tuple[float, ...], dq: tuple[float, ...] | None

@@ -7,8 +7,9 @@ plain Python and tested without ROS.
 
 Topic mode (``input_source: topic``, issue 12): the node answers every
 ``sensor_msgs/JointState`` on ``input_joint_states`` through :meth:`Runtime.answer` instead of
-ticking (:mod:`linkage_ros.relay` reads the input state off the message); ``joint_states`` then
-leaves out the input joint, which the driver publishes.
+ticking (:mod:`linkage_ros.relay` reads the input state off the message, with the ε rule
+``topic_epsilon`` and the gap ``topic_max_gap``); ``joint_states`` then leaves out the input
+joint, which the driver publishes.
 
 Several inputs (a scene with ``scene.inputs`` = (q1, …, qk), docs/inputs.md): ``omega``,
 ``epsilon`` and ``phi0`` apply to every input unless the double arrays ``input_omegas``,
@@ -36,17 +37,28 @@ from typing import Any, Protocol
 import solver
 from solver.errors import SolverError
 
-from .engine import ON_UNASSEMBLABLE, STATUS_UNASSEMBLABLE, Engine, Frame
+from .engine import ON_UNASSEMBLABLE, STATUS_OK, STATUS_UNASSEMBLABLE, Engine, Frame
+from .instant import FastPath
 from .messages import DIAGNOSTICS, MessageBuilder, MessageTypes, topic_types
-from .motion import Motion, Motions
-from .relay import ANSWER_DROPPED, ANSWER_FRAME, ANSWER_UNASSEMBLABLE, Relay
-from .wire import TickSerializer
+from .motion import SEGMENT_HOLD, Motion, Motions
+from .relay import (
+    ANSWER_DROPPED,
+    ANSWER_FRAME,
+    DEFAULT_MAX_GAP,
+    EPSILON_RULES,
+    EPSILON_ZERO,
+    Answer,
+    Reading,
+    Relay,
+)
+from .serialize import Serializer
 
 __all__ = [
     "DIAGNOSTICS_PERIOD_S",
     "INPUT_SOURCES",
     "PARAMETERS",
     "PER_INPUT",
+    "RESUMING",
     "ParameterSpec",
     "Recorder",
     "RecorderFactory",
@@ -66,6 +78,14 @@ MIN_RATE_HZ = 1.0e-3
 DIAGNOSTICS_PERIOD_S = 1.0
 #: Accepted values of ``input_source``.
 INPUT_SOURCES = ("clock", "topic")
+#: Topic mode: the range of ``topic_max_gap`` (s).
+MAX_GAP_RANGE_S = (1.0e-3, 60.0)
+#: Parameters whose accepted set resumes an input held where the mechanism could not be
+#: assembled (``on_unassemblable: stop``), even when the value does not change.
+RESUMING = frozenset({"omega", "epsilon", "input_omegas", "input_epsilons", "on_unassemblable"})
+
+#: The diagnostics key of an ordinary frame: the fast path runs while it is the last one sent.
+_ORDINARY = (STATUS_OK, "")
 
 _FRAME_ID = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_./-]*\Z")
 _POINT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
@@ -165,6 +185,19 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
         "scene's input joint.",
         constraints="empty, the scene's input joint, or a URDF-style revolute joint of the scene",
     ),
+    ParameterSpec(
+        "topic_epsilon", "string", EPSILON_ZERO,
+        "Topic mode: the input's angular acceleration. zero: 0 (positions and velocities exact, "
+        "accelerations lack v_q*epsilon); difference: the difference of the velocities of two "
+        "successive messages at most topic_max_gap apart (lags half a sample, amplifies noise).",
+        constraints=" or ".join(EPSILON_RULES),
+    ),
+    ParameterSpec(
+        "topic_max_gap", "double", DEFAULT_MAX_GAP,
+        "Topic mode: two messages further apart than this (s) are not differenced (for omega when "
+        "a message has no velocities, and for topic_epsilon: difference).",
+        float_range=MAX_GAP_RANGE_S,
+    ),
 )
 
 _SPECS = {spec.name: spec for spec in PARAMETERS}
@@ -220,6 +253,8 @@ def validate_parameter(name: str, value: Any) -> str | None:
         try:
             solver.find_scene(value)
         except SolverError as error:
+            if Path(value).is_dir():
+                return f"scene {value!r}: {getattr(error, 'reason', error)}"
             return f"unknown scene {value!r}: {error}"
     elif name == "frame_id":
         if not _FRAME_ID.match(value):
@@ -228,6 +263,8 @@ def validate_parameter(name: str, value: Any) -> str | None:
         return f"on_unassemblable must be one of {', '.join(ON_UNASSEMBLABLE)}, got {value!r}"
     elif name == "input_source" and value not in INPUT_SOURCES:
         return f"input_source must be one of {', '.join(INPUT_SOURCES)}, got {value!r}"
+    elif name == "topic_epsilon" and value not in EPSILON_RULES:
+        return f"topic_epsilon must be one of {', '.join(EPSILON_RULES)}, got {value!r}"
     return None
 
 
@@ -289,7 +326,8 @@ class Runtime:
     ``values``: parameter values by name (defaults from :data:`PARAMETERS` fill the gaps).
     ``types`` and ``serialize(msg, typename)``: rosbags' message classes and CDR serialiser
     (default: rosbags' Jazzy type store); the ticks are rendered by
-    :class:`~linkage_ros.wire.TickSerializer` from templates the builder makes with them.
+    :class:`~linkage_ros.serialize.Serializer` from templates the builder makes with them; ordinary
+    instants take the fast path of :mod:`linkage_ros.instant` (no Frame, one pack per topic).
     ``recorder_factory``: opens the MCAP recorder when ``record_mcap`` is set.
     Raises :class:`solver.SolverError` (or ValueError) for unusable start values.
     """
@@ -324,7 +362,8 @@ class Runtime:
         self.settings = settings
         self.start_ns: int | None = None
         self._last_ns: int | None = None
-        self.last_frame: Frame | None = None
+        self._last_frame: Frame | FastPath | None = None
+        self._fast_path: FastPath | None = None
         self._last_event = ""
         self.events: list[str] = []
         self.input_warnings: list[str] = []
@@ -376,13 +415,16 @@ class Runtime:
             self.engine = self._engine(self.settings, t0=0.0)
             self.builder, self.wire = self._builder(self.engine, self.settings["frame_id"], None)
         self._last_ns = now_ns
-        frame = self.engine.frame(self.run_time(now_ns))
-        self.last_frame = frame
-        if frame.status == STATUS_UNASSEMBLABLE and frame.message != self._last_event:
-            self.events.append(frame.message)
-        self._last_event = frame.message if frame.status == STATUS_UNASSEMBLABLE else ""
-        messages = self.wire.render(frame, now_ns, paths=self.builder.wants_paths(frame.t),
-                                    diagnostics=self._wants_diagnostics(frame, now_ns))
+        t = self.run_time(now_ns)
+        messages = self._fast(t, now_ns, None)
+        if messages is None:  # the Frame path (linkage_ros.instant: when and why)
+            frame = self.engine.frame(t)
+            self.last_frame = frame
+            if frame.status == STATUS_UNASSEMBLABLE and frame.message != self._last_event:
+                self.events.append(frame.message)
+            self._last_event = frame.message if frame.status == STATUS_UNASSEMBLABLE else ""
+            messages = self.wire.render(frame, now_ns, paths=self.builder.wants_paths(frame.t),
+                                        diagnostics=self._wants_diagnostics(frame, now_ns))
         if self.recorder is not None:
             self.recorder.write_serialized(now_ns, messages)
         return messages
@@ -399,29 +441,32 @@ class Runtime:
         """
         if self.relay is None:
             return []
-        answer = self.relay.answer(names, positions, velocities, stamp_ns)
-        stamp = answer.stamp_ns
-        if answer.kind == ANSWER_FRAME:
-            frame = answer.frame
-            assert frame is not None
-            self.last_frame = frame
-            messages = self.wire.render(frame, stamp, paths=self.builder.wants_paths(frame.t),
-                                        diagnostics=self._wants_diagnostics(frame, stamp))
-        elif answer.kind == ANSWER_UNASSEMBLABLE:
-            self.input_warnings.append(answer.reason)
-            several = isinstance(answer.phi, tuple)  # several inputs: k-tuples as read
-            state = Frame(t=stamp / NS_PER_S,
-                          phi=answer.phi if several else float(answer.phi or 0.0),  # type: ignore[arg-type]
-                          omega=answer.omega if several else float(answer.omega or 0.0),  # type: ignore[arg-type]
-                          epsilon=answer.epsilon if several else float(answer.epsilon or 0.0),  # type: ignore[arg-type]
-                          points={}, joints={},
-                          status=STATUS_UNASSEMBLABLE, conditioning=0.0, message=answer.reason)
-            self._diagnostics_key = None  # the next frame reports again
-            messages = self.wire.generic(state, stamp, [DIAGNOSTICS])
-        else:
-            if answer.kind == ANSWER_DROPPED:
-                self.input_warnings.append(f"JointState dropped: {answer.reason}")
+        reading = self.relay.read(names, positions, velocities, stamp_ns)
+        if isinstance(reading, Answer):  # dropped, or the relay's own joint_states (ignored)
+            if reading.kind == ANSWER_DROPPED:
+                self.input_warnings.append(f"JointState dropped: {reading.reason}")
             return []
+        stamp = reading.stamp_ns
+        messages = self._fast(stamp / NS_PER_S, stamp, reading)
+        if messages is None:  # the Frame path (linkage_ros.instant: when and why)
+            answer = self.relay.solve(reading)
+            if answer.kind == ANSWER_FRAME:
+                frame = answer.frame
+                assert frame is not None
+                self.last_frame = frame
+                messages = self.wire.render(frame, stamp, paths=self.builder.wants_paths(frame.t),
+                                            diagnostics=self._wants_diagnostics(frame, stamp))
+            else:  # ANSWER_UNASSEMBLABLE
+                self.input_warnings.append(answer.reason)
+                several = isinstance(answer.phi, tuple)  # several inputs: k-tuples as read
+                state = Frame(t=stamp / NS_PER_S,
+                              phi=answer.phi if several else float(answer.phi or 0.0),  # type: ignore[arg-type]
+                              omega=answer.omega if several else float(answer.omega or 0.0),  # type: ignore[arg-type]
+                              epsilon=answer.epsilon if several else float(answer.epsilon or 0.0),  # type: ignore[arg-type]
+                              points={}, joints={},
+                              status=STATUS_UNASSEMBLABLE, conditioning=0.0, message=answer.reason)
+                self._diagnostics_key = None  # the next frame reports again
+                messages = self.wire.generic(state, stamp, [DIAGNOSTICS])
         if self.recorder is not None:
             self.recorder.write_serialized(stamp, messages)
         return messages
@@ -430,6 +475,36 @@ class Runtime:
         """Topic mode: dropped and unassemblable messages since the last call."""
         warnings, self.input_warnings = self.input_warnings, []
         return warnings
+
+    def _fast(self, t: float, stamp_ns: int, reading: Reading | None) -> list[tuple[str, bytes]] | None:
+        """The bytes of an ordinary instant from the fast path (:mod:`linkage_ros.instant`) when
+        the status is ok and neither diagnostics nor the path markers are due; None: take the
+        Frame path."""
+        if (self._diagnostics_key != _ORDINARY or self.builder.wants_paths(t)
+                or not 0 <= stamp_ns - self._diagnostics_ns < DIAGNOSTICS_PERIOD_S * NS_PER_S):
+            return None
+        fast = self._fast_path
+        if fast is None or fast.serializer is not self.wire:
+            fast = self._fast_path = FastPath(self.engine, self.builder, self.wire)
+        if reading is None:
+            messages = fast.tick(t, stamp_ns)
+        else:
+            messages = fast.answer(reading.phi, reading.omega, reading.epsilon, stamp_ns)
+        if messages is not None:
+            self._last_frame = fast
+        return messages
+
+    @property
+    def last_frame(self) -> Frame | None:
+        """The frame of the last tick or answer (the fast path's is solved when asked for)."""
+        last = self._last_frame
+        if isinstance(last, FastPath):
+            last = self._last_frame = last.last_frame()
+        return last
+
+    @last_frame.setter
+    def last_frame(self, frame: Frame | None) -> None:
+        self._last_frame = frame
 
     def _wants_diagnostics(self, frame: Frame, now_ns: int) -> bool:
         """First tick, a change of status (or a new unassemblable event), or a period passed."""
@@ -456,6 +531,10 @@ class Runtime:
         at ``phi0`` on the next tick); ``input_joint`` is checked against the scene.
         ``input_omegas`` / ``input_epsilons`` act as ``omega`` / ``epsilon``, ``input_phi0s`` as
         ``phi0``; their lengths are checked against the (new) scene's inputs.
+        While the input is held where the mechanism could not be assembled (``stop``), an
+        accepted set of any of :data:`RESUMING` — also to the value it has — resumes the drive
+        from the held φ with the (new) ω and ε. ``topic_epsilon`` / ``topic_max_gap`` make a new
+        relay (the next message is not differenced with the one before).
         """
         ours = {k: v for k, v in changes.items() if k in _SPECS}
         for name, value in ours.items():
@@ -487,7 +566,8 @@ class Runtime:
         relay = self.relay
         if new["input_source"] == "clock":
             relay = None
-        elif relay is None or engine is not self.engine or "input_joint" in changed:
+        elif (relay is None or engine is not self.engine
+              or changed & {"input_joint", "topic_epsilon", "topic_max_gap"}):
             try:
                 relay = self._relay(engine, new)
             except ValueError as error:
@@ -502,7 +582,8 @@ class Runtime:
         if engine.motion is self.engine.motion:
             motion = engine.motion
             inputs = _inputs_of(engine.scene)
-            if changed & {"omega", "input_omegas"}:
+            resume = bool(ours.keys() & RESUMING) and motion.segment_at(t).tag == SEGMENT_HOLD
+            if changed & {"omega", "input_omegas"} or resume:
                 motion.set_omega(t, per_input(new, "omega", inputs), epsilon=per_input(new, "epsilon", inputs))
             elif changed & {"epsilon", "input_epsilons"}:
                 motion.set_epsilon(t, per_input(new, "epsilon", inputs))
@@ -551,17 +632,18 @@ class Runtime:
                 motion = Motions.of(len(inputs), phi0=phi0, omega=omega, epsilon=epsilon, t0=t0)
         return Engine(scene, motion, points=points, on_unassemblable=settings["on_unassemblable"])
 
-    def _builder(self, engine: Engine, frame_id: str, relay: Relay | None) -> tuple[MessageBuilder, TickSerializer]:
+    def _builder(self, engine: Engine, frame_id: str, relay: Relay | None) -> tuple[MessageBuilder, Serializer]:
         omit = () if relay is None else relay.input_joints
         builder = MessageBuilder(engine, self.types, frame_id=frame_id, omit_joints=omit)
-        return builder, TickSerializer(builder, self._serialize)
+        return builder, Serializer(builder, self._serialize)
 
     @staticmethod
     def _relay(engine: Engine, settings: Mapping[str, Any]) -> Relay | None:
         """The topic mode's relay (None in clock mode); ValueError for an unknown input_joint."""
         if settings["input_source"] != "topic":
             return None
-        return Relay(engine, input_joint=settings["input_joint"] or None)
+        return Relay(engine, input_joint=settings["input_joint"] or None,
+                     epsilon=settings["topic_epsilon"], max_gap=float(settings["topic_max_gap"]))
 
     def _open_recorder(self, path: str, engine: Engine, frame_id: str) -> Recorder:
         if self._recorder_factory is None:

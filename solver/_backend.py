@@ -47,6 +47,11 @@ class Backend:
         np.sin(angle, out=out.imag)
         return out
 
+    def call(self, fn: Callable[..., Num], *args: Num) -> Num:
+        """``fn(*args)`` for a scalar function the formulas use as a whole (a wrap to (−π, π]);
+        the tracing evaluator (solver._trace) records it as one call."""
+        return fn(*args)
+
 
 def _sqrt0_array(x: Num) -> Num:
     if isinstance(x, np.ndarray) and x.ndim:
@@ -92,8 +97,9 @@ SCALAR = Backend(
 
 def minus(a: Num, b: Num) -> Num:
     """``a − b``; ``a`` itself when ``b`` is the float 0.0 (a fixed point's derivative), since
-    ``x − 0.0`` is ``x`` to the bit (−0.0 and NaN included): no array pass for a copy."""
-    if type(b) is float and b == 0.0:
+    ``x − 0.0`` is ``x`` to the bit (−0.0 and NaN included): no array pass for a copy.
+    (``__class__``, not ``type()``: a traced value answers it, and records the test as a guard.)"""
+    if b.__class__ is float and b == 0.0:
         return a
     return a - b
 

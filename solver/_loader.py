@@ -13,6 +13,7 @@ from ._fields import ANGLE_UNITS, LENGTH_UNITS, Entry, Units, show, suggest
 from ._inputs import check_drivers
 from ._yaml import load_yaml
 from .errors import SceneError
+from .forces.parse import FORCE_KEYS, parse_forces
 from .groups import GROUP_TYPES, JOINT_KINDS, RRR, Crank, Group, JointExpression
 from .groups.joints import URDF_JOINT_KINDS
 from .groups.rrr import CrankFeed
@@ -39,10 +40,14 @@ class SceneData:
     output_joints: tuple[str, ...]
     #: one-line descriptions of points and joints (``descriptions:``), for summaries and viewers
     descriptions: Mapping[str, str] = field(default_factory=dict)
+    #: bodies, gravity and loads (solver.forces, docs/forces.md); None when the scene names none
+    forces: Any = None
 
 
 #: The top-level fields of a scene file; the sections in SECTION_PARSERS are known too.
-TOP_FIELDS = ["scene", "provenance", "description", "descriptions", "units", "fixed", "groups", "joints", "outputs"]
+TOP_FIELDS = [
+    "scene", "provenance", "description", "descriptions", "units", "fixed", "groups", "joints", "outputs", *FORCE_KEYS
+]
 
 #: The fields of each group type, checked first so that a misspelt key is reported as such
 #: (a group's ``from_entry`` reads them; its ``done()`` stays the exact check).
@@ -127,9 +132,10 @@ def _parse_scene(data: Any, *, file: str | None, default_name: str = "scene") ->
     if not out_points and not out_joints:
         raise out.error("name at least one point or joint")
     descriptions = _descriptions(top, points | joints)
+    forces = parse_forces(top, units, fixed, groups)
     top.done()
     return SceneData(
-        name, file, provenance, dim, fixed, tuple(groups), input_joint, out_points, out_joints, descriptions
+        name, file, provenance, dim, fixed, tuple(groups), input_joint, out_points, out_joints, descriptions, forces
     )
 
 

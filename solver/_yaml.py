@@ -7,7 +7,9 @@ bytes that are not UTF-8, and a key given twice (silently last-wins). :func:`loa
 each of these with one :class:`~solver.errors.SceneError` line naming the file and the line:
 
 * the file is read up to :data:`MAX_BYTES` and must be UTF-8 text (a BOM is allowed) without NULs;
-* nesting deeper than :data:`MAX_DEPTH` is refused before the composer recurses;
+* nesting deeper than :data:`MAX_DEPTH` is refused before the composer recurses, with the same
+  message whichever PyYAML and libyaml are installed (a file the C parser refuses is read again
+  by the pure-Python parser, see :func:`_read`);
 * the structure, with every alias expanded, may hold at most :data:`MAX_NODES` nodes and use at
   most :data:`MAX_ALIASES` aliases; the expanded size is counted while composing (an alias adds
   the size of the node it repeats), so a bomb is refused after reading its few lines, before
@@ -238,28 +240,51 @@ def parse_yaml(raw: bytes | str, *, file: str | None = None) -> Any:
         text = raw
     if len(text) > MAX_BYTES:
         raise SceneError(f"larger than {MAX_BYTES >> 20} MiB: not a scene file", file=file)
-    loader = _LOADERS[0](text)
     # The collector is paused while the tree is built: its young-generation passes rescan the
     # growing tree and make reading superlinear (8,000 groups: 1.2 s with it, 0.56 s without;
     # bench/load_scaling.py). What the tree can hold is bounded by the limits above.
     collecting = gc.isenabled()
     gc.disable()
     try:
-        return loader.get_single_data()
-    except _Limit as exc:
-        raise SceneError(f"refused: {exc.message}", file=file, line=exc.line) from None
-    except yaml.MarkedYAMLError as exc:
-        raise SceneError(_yaml_message(exc), file=file, line=_line(exc)) from None
-    except yaml.YAMLError as exc:
-        raise SceneError(f"not valid YAML: {_one_line(str(exc))}", file=file) from None
-    except (ValueError, OverflowError) as exc:  # e.g. an integer of more than 4,300 digits, a bad date
-        what = "an integer of more than 4,300 digits" if "digits" in str(exc) else _one_line(str(exc), 80)
-        raise SceneError(f"not valid YAML: a value that cannot be read ({what})", file=file) from None
-    except RecursionError:  # pragma: no cover - depth is limited above
-        raise SceneError(f"refused: nested more than {MAX_DEPTH} levels deep", file=file) from None
+        return _read(text, file)
     finally:
         if collecting:
             gc.enable()
+
+
+def _read(text: str, file: str | None) -> Any:
+    """The document, or the SceneError of the pure-Python parser whatever libyaml says.
+
+    libyaml's own refusals depend on its version (PyYAML 6.0.4's C parser stops flow nesting
+    itself, with "exceeded maximum nesting depth", before our composer sees the depth): when the
+    fast loader fails, the text is read again by PyYAML's pure-Python parser, which has no limits
+    of its own, so the refusal and its wording are ours (or that one parser's) on every version.
+    The retry costs time only for a file that is refused anyway.
+    """
+    for loader_cls in _LOADERS:
+        try:
+            return _compose(loader_cls, text)
+        except _Limit as exc:
+            raise SceneError(f"refused: {exc.message}", file=file, line=exc.line) from None
+        except yaml.YAMLError as exc:
+            if loader_cls is not _Loader:
+                continue
+            if isinstance(exc, yaml.MarkedYAMLError):
+                raise SceneError(_yaml_message(exc), file=file, line=_line(exc)) from None
+            raise SceneError(f"not valid YAML: {_one_line(str(exc))}", file=file) from None
+        except (ValueError, OverflowError) as exc:  # e.g. an integer of more than 4,300 digits, a bad date
+            what = "an integer of more than 4,300 digits" if "digits" in str(exc) else _one_line(str(exc), 80)
+            raise SceneError(f"not valid YAML: a value that cannot be read ({what})", file=file) from None
+        except RecursionError:  # pragma: no cover - depth is limited above
+            raise SceneError(f"refused: nested more than {MAX_DEPTH} levels deep", file=file) from None
+    raise AssertionError("unreachable: the pure-Python loader is always the last")  # pragma: no cover
+
+
+def _compose(loader_cls: Any, text: str) -> Any:
+    loader = loader_cls(text)
+    try:
+        return loader.get_single_data()
+    finally:
         loader.dispose()
 
 

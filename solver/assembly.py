@@ -91,13 +91,21 @@ def _four_bar_intervals(scene: Scene, group: Any) -> list[tuple[float, float]] |
     lo_bound = (base - (l1 + l2) ** 2) / (2.0 * g * r)  # cos(φ − θ) ≥ this
     if hi_bound < -1.0 or lo_bound > 1.0:
         return [(0.0, TWO_PI)]  # D never reaches the band: the dyad closes nowhere
-    # a bound within rounding of ±1 is a touch (a change point), not a gap: the solver clamps
-    # such a residual (tolerances.ASSEMBLY_SLACK), so the gap must be judged on the same scale
-    slack = ASSEMBLY_SLACK * (l1 + l2) ** 2
-    if hi_bound < 1.0 and (l1 - l2) ** 2 - (g - r) ** 2 > slack:
-        half = math.acos(hi_bound)
+    # a residual within its rounding is a touch (a change point), not a gap: judged where D is
+    # smallest (φ = θ) and largest (φ = θ + π) exactly as the solve judges it (rrr.closure_slack)
+    from .groups.rrr import closure_slack
+
+    near, far = (g - r) ** 2, (g + r) ** 2
+    size_near, size_far = abs(o + r * v / g) + abs(c), abs(o - r * v / g) + abs(c)
+    folded = (l1 - l2) ** 2 > near and ((l1 + l2) ** 2 - near) * (near - (l1 - l2) ** 2) < -closure_slack(
+        (l1, l2), near, size_near)
+    if folded:  # D² = (g − r)² + 4gr·sin²(x/2) < (l₁ − l₂)²: |x| < 2·asin(…), exact for a tiny gap
+        dl, dg = abs(l1 - l2), abs(g - r)
+        half = 2.0 * math.asin(min(1.0, math.sqrt((dl - dg) * (dl + dg) / (4.0 * g * r))))
         out.append(_interval(theta - half, theta + half))
-    if lo_bound > -1.0 and (g + r) ** 2 - (l1 + l2) ** 2 > slack:
+    stretched = far > (l1 + l2) ** 2 and ((l1 + l2) ** 2 - far) * (far - (l1 - l2) ** 2) < -closure_slack(
+        (l1, l2), far, size_far)
+    if lo_bound > -1.0 and stretched:
         half = math.acos(lo_bound)
         out.append(_interval(theta + half, theta + TWO_PI - half))
     return sorted(out)

@@ -12,14 +12,15 @@ import numpy as np
 
 from . import assembly, classify
 from ._cmdline import EPSILON_MAX, OMEGA_MAX, PHI_MAX, Parser, bounded, check_output, count, one_line, quiet_pipe
-from .cli_inputs import is_multi_input
+from ._extremes import Evaluate
+from .cli_inputs import help_epilog, is_multi_input
 from .cli_inputs import main as main_inputs
 from .errors import SolverError, format_intervals
 from .kinematics import Kinematics
 from .scene import Scene, load_scene
-from .summary import Output, Sweep, motion_line, summary_lines
+from .summary import Output, Section, Sweep, motion_line, provenance_lines, summary_lines
 
-__all__ = ["main", "csv_header", "write_csv", "summary"]
+__all__ = ["main", "csv_header", "write_csv", "summary", "stability_lines"]
 
 AXES = "xyz"
 
@@ -28,6 +29,8 @@ def _parser() -> argparse.ArgumentParser:
     p = Parser(
         prog="linkage-solve",
         description="Exact kinematics of a linkage scene over one turn of its input (or given angles).",
+        epilog=help_epilog(),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("scene", help="scene file, or the name of a shipped scene (e.g. harvester_finger)")
     grid = p.add_mutually_exclusive_group()
@@ -92,10 +95,13 @@ def write_csv(scene: Scene, k: Kinematics, out: TextIO) -> None:
     np.savetxt(out, data, delimiter=",", fmt="%.17g")
 
 
-def summary(scene: Scene, k: Kinematics, *, deg: bool = True, periodic: bool = False) -> str:
+def summary(
+    scene: Scene, k: Kinematics, *, deg: bool = True, periodic: bool = False, sections: Sequence[Section] = ()
+) -> str:
     """The summary of a sweep (solver.summary: one vocabulary with linkage-run, angles in
-    degrees), then the singular positions, transmission angles and gaps. ``periodic``: the
-    samples are one whole turn (a joint's net rotation includes the step back to the start);
+    degrees, extremes refined to the closed form), then the singular positions, dead centres,
+    transmission angles and gaps, then ``sections``. ``periodic``: the samples are one whole turn
+    (a joint's net rotation includes the step back to the start; extremes refined across it);
     ``deg`` is kept for callers of the old signature (angles are always in degrees)."""
     valid = np.asarray(k.valid, bool)
     phi = k.phi[valid]
@@ -103,17 +109,47 @@ def summary(scene: Scene, k: Kinematics, *, deg: bool = True, periodic: bool = F
     e = float(k.epsilon.flat[0]) if k.epsilon.size else 0.0
     span = " over one turn" if periodic else ""
     lines = [f"scene {scene.name}: {len(phi)} positions{span} of the input '{scene.input_joint}'; {motion_line(w, e)}"]
-    if scene.provenance:
-        lines.append(f"  ({scene.provenance.split('. ')[0].rstrip('.')}.)")  # its first sentence
+    lines += provenance_lines(scene.provenance)
     desc = getattr(scene, "descriptions", {})
-    def output(name: str, m: Any, unit: str = "m") -> Output:
-        return Output(name, m.position[valid], m.velocity[valid], m.acceleration[valid], unit, desc.get(name, ""))
+    # the samples of a sweep in increasing φ can be refined between neighbours; given angles cannot
+    ordered = len(phi) > 1 and bool(np.all(np.diff(k.phi) > 0))
+
+    def output(name: str, m: Any, unit: str = "m", point: bool = True) -> Output:
+        evaluate = _evaluator(scene, name, point=point, omega=w, epsilon=e) if ordered else None
+        return Output(name, m.position[valid], m.velocity[valid], m.acceleration[valid], unit, desc.get(name, ""),
+                      evaluate)
 
     points = [output(p, k.point(p)) for p in scene.output_points]
-    joints = [output(j, k.joint(j), scene.joint_units.get(j, "rad")) for j in scene.output_joints]
-    lines += summary_lines(Sweep(phi=phi, points=points, joints=joints, periodic=periodic and bool(valid.all())))
+    joints = [output(j, k.joint(j), scene.joint_units.get(j, "rad"), False) for j in scene.output_joints]
+    idx = np.flatnonzero(valid)
+    gaps = np.diff(idx, append=idx[-1] + 1 if idx.size else 0) > 1
+    if periodic and idx.size and (idx[0] != 0 or idx[-1] != len(valid) - 1):
+        gaps[-1] = True  # the step from the last sample round to the first crosses a gap
+    sweep = Sweep(phi=phi, points=points, joints=joints, periodic=periodic and bool(valid.all()),
+                  inputs=tuple(scene.inputs) if len(phi) else (), wraps=periodic, gaps=gaps,
+                  sampling=(f"the samples (every {360.0 / len(valid):.4g}°)" if periodic
+                            else None if ordered else "the given angles"))
+    lines += summary_lines(sweep)
     lines.extend(stability_lines(scene, k))
+    for section in sections:
+        lines += section(sweep)
     return "\n".join(lines)
+
+
+def _evaluator(scene: Scene, name: str, *, point: bool, omega: float, epsilon: float) -> Evaluate:
+    """``name`` at any φ from the closed form (NaN where not assemblable): refines extremes."""
+    one = scene.with_outputs(points=(name,) if point else (), joints=() if point else (name,))
+
+    def evaluate(phi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        k = one.solve(phi, omega=omega, epsilon=epsilon, mask=True)
+        m = k.point(name) if point else k.joint(name)
+        bad = ~np.asarray(k.valid, bool)
+        out = tuple(np.array(a, float) for a in (m.position, m.velocity, m.acceleration))
+        for a in out:
+            a[bad] = np.nan
+        return out[0], out[1], out[2]
+
+    return evaluate
 
 
 def _degrees(values: Sequence[float]) -> str:
@@ -121,8 +157,12 @@ def _degrees(values: Sequence[float]) -> str:
 
 
 def stability_lines(scene: Scene, k: Kinematics) -> list[str]:
-    """Singular positions, dead centres, transmission angles, Grashof class and gaps (issue 4).
+    """Singular positions, dead centres, transmission angles, Grashof class and gaps.
 
+    Named as docs/stability.md defines them: a *singular position* is one where a group's
+    conditioning is 0 (its linear system is singular): a *change point* (both assemblies meet)
+    or a toggle at the edge of an unassemblable range; a *dead centre* is a regular position
+    where an output joint stands still (dq/dφ = 0, a rocker's or slider's extreme position).
     Every angle is computed over the whole turn in closed form or by bisection to rounding
     (solver.classify), not read off the sampled sweep.
     """
@@ -135,15 +175,19 @@ def stability_lines(scene: Scene, k: Kinematics) -> list[str]:
                 "range edges": "toggles at the edges of the unassemblable range (conditioning 0)",
             }[kind]
             singular.append(f"    {g.name}: {what} at φ = {_degrees(where)}")
+    centres: list[str] = []
     for j in scene.output_joints:
         if j == scene.input_joint:
             continue
         stops = classify.dead_centres(scene, j)
         if stops:
-            singular.append(f"    {j}: dead centre (dq/dφ = 0) at φ = {_degrees(stops)}")
+            centres.append(f"    {j}: dead centre (dq/dφ = 0) at φ = {_degrees(stops)}")
     flagged = int(np.count_nonzero(k.singular & k.valid))
-    lines.append(f"  singular positions over the turn ({flagged} of the samples singular):")
+    lines.append(f"  singular positions over the turn, a group's conditioning 0 ({flagged} of the samples singular):")
     lines.extend(singular or ["    none"])
+    if centres:
+        lines.append("  dead centres over the turn (an output joint at rest, its extreme position; not singular):")
+        lines.extend(centres)
     for g in scene.plan.groups:
         mu = classify.transmission_range(scene, g)
         if mu is not None:

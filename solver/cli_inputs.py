@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+import textwrap
 from collections.abc import Sequence
 from typing import TextIO
 
@@ -28,8 +29,9 @@ from .errors import SolverError
 from .kinematics import Kinematics
 from .multi import assemblable
 from .scene import Scene, load_scene
+from .summary import Output, Section, Sweep, provenance_lines, summary_lines
 
-__all__ = ["csv_header", "is_multi_input", "main", "per_input_values", "region_lines", "samples_of"]
+__all__ = ["csv_header", "help_epilog", "is_multi_input", "main", "per_input_values", "region_lines", "samples_of"]
 
 AXES = "xy"
 #: The most samples a grid may have (N^k grows fast; an (N, k) solve keeps every output's arrays).
@@ -50,16 +52,30 @@ def _parser() -> argparse.ArgumentParser:
                    help="an input's range on the grid, both ends included (default one turn, end excluded)")
     p.add_argument("--samples", metavar="Q1,Q2;Q1,Q2;...", help="these rows of input values instead of a grid")
     p.add_argument("--deg", action="store_true", help="--range and --samples values are in degrees")
-    p.add_argument("--omega", action="append", default=[], metavar="Q=W",
-                   help="an input's angular velocity, rad/s (repeat per input; default 1)")
-    p.add_argument("--epsilon", action="append", default=[], metavar="Q=E",
-                   help="an input's angular acceleration, rad/s² (repeat per input; default 0)")
+    p.add_argument("--omega", action="append", default=[], metavar="W|Q=W",
+                   help="angular velocity, rad/s: W for every input, Q=W for input Q (repeatable; default 1)")
+    p.add_argument("--epsilon", action="append", default=[], metavar="E|Q=E",
+                   help="angular acceleration, rad/s²: E for every input, Q=E for input Q (repeatable; default 0)")
     p.add_argument("--csv", metavar="FILE|-", help="write the table as CSV (SI units, inputs in rad)")
     p.add_argument("--derivatives", action="store_true", help="add every output's jacobian and hessian to the CSV")
     p.add_argument("--mask", action="store_true", help="leave out the samples that cannot be assembled")
     p.add_argument("--region", action="store_true",
                    help="print the assemblable region of a two-input scene over the grid (a text image)")
     return p
+
+
+def help_epilog() -> str:
+    """The options of the several-input form, for ``linkage-solve --help`` without a scene."""
+    p = _parser()
+    rows = []
+    for action in p._actions:  # the parser's own option list: one source for both helps
+        if not action.option_strings or action.dest in ("help", "scene"):
+            continue
+        flags = ", ".join(action.option_strings) + (f" {action.metavar}" if action.metavar else "")
+        rows += textwrap.wrap(str(action.help), 96, initial_indent=f"  {flags:<26} ", subsequent_indent=" " * 29)
+    head = ("A scene with several inputs (e.g. five_bar) is swept over a grid of its inputs instead, with "
+            "these options (docs/inputs.md; linkage-solve five_bar --help):")
+    return "\n".join([*textwrap.wrap(head, 96), *rows])
 
 
 def is_multi_input(argv: Sequence[str]) -> bool:
@@ -82,12 +98,25 @@ def is_multi_input(argv: Sequence[str]) -> bool:
 def per_input_values(
     scene: Scene, items: Sequence[str], *, option: str, default: float, limit: float
 ) -> np.ndarray:
-    """``Q=V`` items to one value per input (``default`` for those not named)."""
-    out = {q: default for q in scene.inputs}
+    """``V`` and ``Q=V`` items to one value per input, as linkage-run reads them: the last plain
+    ``V`` applies to every input (else ``default``), then each ``Q=V`` sets input Q."""
+    expected = f"give INPUT=VALUE with INPUT one of {', '.join(scene.inputs)}, or one VALUE for every input"
+    base = default
+    named: list[tuple[str, str, str]] = []
     for item in items:
         name, sep, value = item.partition("=")
-        if not sep or name not in out:
-            raise SolverError(f"{option} {item!r}: give INPUT=VALUE with INPUT one of {', '.join(scene.inputs)}")
+        if sep:
+            named.append((item, name, value))
+            continue
+        try:
+            base = bounded(limit)(item)
+        except argparse.ArgumentTypeError as exc:
+            why = "" if "not a number" in str(exc) else f" ({exc})"
+            raise SolverError(f"{option} {item!r}: {expected}{why}") from None
+    out = {q: base for q in scene.inputs}
+    for item, name, value in named:
+        if name not in out:
+            raise SolverError(f"{option} {item!r}: {expected}")
         try:
             out[name] = bounded(limit)(value)
         except argparse.ArgumentTypeError as exc:
@@ -172,41 +201,43 @@ def _sample(scene: Scene, row: np.ndarray) -> str:
     return "(" + ", ".join(f"{q} = {math.degrees(v):.2f}°" for q, v in zip(scene.inputs, row)) + ")"
 
 
-def summary(scene: Scene, k: Kinematics) -> str:
-    """Each output's range and the largest |v| and |a| with the sample where they occur."""
+def summary(scene: Scene, k: Kinematics, *, sampling: str | None = None, sections: Sequence[Section] = ()) -> str:
+    """The one summary of :mod:`solver.summary` (as for one input: degrees, descriptions, input
+    joints in one line), over the samples of the inputs, then the singular samples. Extremes are
+    those of the samples (said so: a grid is not refined), ``sampling`` says how they were taken."""
     valid = np.asarray(k.valid, bool)
     w = ", ".join(f"{q} = {x:g}" for q, x in zip(scene.inputs, k.omega[0])) if len(k.omega) else ""
     e = ", ".join(f"{q} = {x:g}" for q, x in zip(scene.inputs, k.epsilon[0])) if len(k.epsilon) else ""
     lines = [
         f"scene {scene.name}: {int(valid.sum())} of {len(valid)} samples of the inputs ({', '.join(scene.inputs)}) "
-        f"assemblable; ω: {w} rad/s; ε: {e} rad/s²"
+        f"assemblable; ω: {w} rad/s; ε: {e} rad/s²; angles in degrees, everything else SI"
     ]
-    if scene.provenance:
-        lines.append(f"  ({scene.provenance.split('. ')[0].rstrip('.')}.)")
-    ok = valid & ~np.asarray(k.singular, bool)
-    for name in (*scene.output_points, *scene.output_joints):
-        m = k.point(name) if name in scene.output_points else k.joint(name)
-        unit = "m" if name in scene.output_points else scene.joint_units.get(name, "rad")
-        pos = m.position[valid]
-        if not len(pos):
-            continue
-        if pos.ndim == 2:
-            span = ", ".join(f"{a} {pos[:, i].min():.6g} … {pos[:, i].max():.6g}" for i, a in enumerate(AXES))
-            speed, accel = np.linalg.norm(m.velocity, axis=1), np.linalg.norm(m.acceleration, axis=1)
-        else:
-            span = f"{pos.min():.6g} … {pos.max():.6g}"
-            speed, accel = np.abs(m.velocity), np.abs(m.acceleration)
-        line = f"  {name}: {span} {unit}"
-        if ok.any():
-            iv, ia = (int(np.flatnonzero(ok)[np.argmax(x[ok])]) for x in (speed, accel))
-            line += (f"; max |v| = {speed[iv]:.6g} {unit}/s at {_sample(scene, k.phi[iv])}, "
-                     f"max |a| = {accel[ia]:.6g} {unit}/s² at {_sample(scene, k.phi[ia])}")
-        lines.append(line)
+    lines += provenance_lines(scene.provenance)
+    desc = getattr(scene, "descriptions", {})
+
+    def output(name: str, point: bool) -> Output:
+        m = k.point(name) if point else k.joint(name)
+        unit = "m" if point else scene.joint_units.get(name, "rad")
+        return Output(name, m.position[valid], m.velocity[valid], m.acceleration[valid], unit, desc.get(name, ""))
+
+    sweep = Sweep(
+        phi=k.phi[valid], points=[output(p, True) for p in scene.output_points],
+        joints=[output(j, False) for j in scene.output_joints], inputs=tuple(scene.inputs), sampling=sampling)
+    lines += summary_lines(sweep, sections=sections)
     singular = np.flatnonzero(valid & np.asarray(k.singular, bool))
     shown = ", ".join(_sample(scene, k.phi[i]) for i in singular[:4])
     more = f" and {len(singular) - 4} more" if len(singular) > 4 else ""
     lines.append(f"  singular samples (derivatives NaN there): {len(singular)}{': ' + shown + more if shown else ''}")
     return "\n".join(lines)
+
+
+def _sampling(axes: Sequence[np.ndarray] | None) -> str:
+    """The grid in words: its size and the step of each input."""
+    if axes is None:
+        return "the given samples"
+    steps = [f"{math.degrees(float(a[1] - a[0])):.4g}°" if len(a) > 1 else "one value" for a in axes]
+    each = f"every {steps[0]}" if len(set(steps)) == 1 else "every " + " × ".join(steps)
+    return f"the {' × '.join(str(len(a)) for a in axes)} grid ({each})"
 
 
 def region_lines(scene: Scene, axes: Sequence[np.ndarray]) -> list[str]:
@@ -263,7 +294,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 with open(args.csv, "w", encoding="utf-8", newline="") as fh:
                     write_csv(scene, k, fh, derivatives=args.derivatives)
         else:
-            print(summary(scene, k))
+            print(summary(scene, k, sampling=_sampling(axes)))
     except (SolverError, ValueError) as exc:
         print(f"linkage-solve: error: {one_line(str(exc))}", file=sys.stderr)
         return 2

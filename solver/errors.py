@@ -8,8 +8,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Any
 
-__all__ = ["SolverError", "SceneError", "AssemblyError", "format_intervals"]
+import numpy as np
+
+__all__ = ["SolverError", "SceneError", "AssemblyError", "SampleAssemblyError", "format_intervals"]
 
 
 class SolverError(ValueError):
@@ -73,3 +76,37 @@ class AssemblyError(SolverError):
             more = f" and {len(self.phi) - 5} more" if len(self.phi) > 5 else ""
             text += f"; requested φ = {shown}{more}"
         super().__init__(text)
+
+
+class SampleAssemblyError(AssemblyError):
+    """A group cannot be assembled at some samples of several inputs.
+
+    ``samples`` is an (M, k) array of the failing input vectors (rad or m, in the order of
+    ``inputs``); ``phi`` the same as a tuple of k-tuples; ``intervals`` is empty (the
+    unassemblable set is a region of the k-dimensional input space, see :func:`assemblable`).
+    """
+
+    def __init__(
+        self,
+        *,
+        group: str,
+        samples: Any,
+        inputs: Sequence[str],
+        reason: str = "cannot be assembled",
+        scene: str | None = None,
+    ) -> None:
+        rows = np.asarray(samples, float).reshape(-1, len(inputs))
+        self.group = group
+        self.samples = rows
+        self.inputs = tuple(inputs)
+        self.phi = tuple(tuple(float(x) for x in r) for r in rows)  # type: ignore[assignment,misc]
+        self.intervals = ()
+        self.reason = reason
+        self.scene = scene
+        head = f"{scene}: " if scene else ""
+        text = f"{head}group '{group}' {reason}"
+        if len(rows):
+            shown = ", ".join("(" + ", ".join(f"{math.degrees(x):.4f}°" for x in r) + ")" for r in rows[:5])
+            more = f" and {len(rows) - 5} more" if len(rows) > 5 else ""
+            text += f" at {len(rows)} sample(s) of ({', '.join(inputs)}) = {shown}{more}"
+        SolverError.__init__(self, text)

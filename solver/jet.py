@@ -35,8 +35,8 @@ def constant(value: Num) -> Jet:
 
 def sub(a: Jet, b: Jet) -> Jet:
     """``a − b`` term by term (a fixed ``b``'s zero derivatives cost no array pass)."""
-    d1 = a.d1 if type(b.d1) is float and b.d1 == 0.0 else a.d1 - b.d1  # x − 0.0 is x to the bit
-    d2 = a.d2 if type(b.d2) is float and b.d2 == 0.0 else a.d2 - b.d2
+    d1 = a.d1 if b.d1.__class__ is float and b.d1 == 0.0 else a.d1 - b.d1  # x − 0.0 is x to the bit
+    d2 = a.d2 if b.d2.__class__ is float and b.d2 == 0.0 else a.d2 - b.d2
     return Jet(a.value - b.value, d1, d2)
 
 

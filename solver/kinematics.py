@@ -166,6 +166,7 @@ class Kinematics:
         floats: Mapping[str, tuple[Any, Any, Any]] | None = None,
         derivatives: Derivatives | None = None,
         inputs: tuple[str, ...] | None = None,
+        forces: Any = None,
     ) -> None:
         #: The input joints, in order (k of them); with several, ``phi`` is (N, k) — (k,) for
         #: one instant — and so are ``omega`` and ``epsilon``.
@@ -182,6 +183,31 @@ class Kinematics:
         self._conditioning = conditioning
         self._valid = valid
         self._conditioning_arrays: dict[str, Any] | None = None
+        self._forces = forces  # solver.forces.ForceResult, for a scene with bodies, gravity or loads
+
+    # -- forces (solver.forces, docs/forces.md) --------------------------------------------------
+    def _force_result(self) -> Any:
+        if self._forces is None:
+            raise SolverError("this scene names no bodies, gravity or loads: it has no efforts or reactions")
+        return self._forces
+
+    def effort(self, joint: str) -> Any:
+        """The effort of input ``joint``: the torque (N·m, about +z) its actuator applies to the
+        crank; (N,) for a sweep, a float for one instant. NaN where ``singular``."""
+        return self._force_result().effort(joint)
+
+    def reaction(self, point: str, *, on: str, by: str | None = None) -> np.ndarray:
+        """The force (N) on body ``on`` at pin ``point`` from the other body there (``by`` when three
+        meet): (N, 2), or (2,) for one instant. Third law: ``reaction(P, on=Y) == -reaction(P, on=X)``."""
+        return self._force_result().reaction(point, on=on, by=by)  # type: ignore[no-any-return]
+
+    def slide_reaction(self, body: str) -> Any:
+        """The whole reaction of slider block ``body``'s prismatic pair: ``.force`` (normal to the
+        guide, on the block, at its pin) and ``.couple`` (N·m about +z), from ``.guide``."""
+        return self._force_result().slide_reaction(body)
+
+    #: the same as :meth:`slide_reaction`
+    slide = slide_reaction
 
     def point(self, name: str) -> OutputMotion:
         """Position, velocity and acceleration of point ``name``: (N, 2) or (N, 3) arrays."""

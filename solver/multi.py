@@ -37,78 +37,22 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ._backend import NUMPY, SCALAR
-from .errors import AssemblyError, SolverError
+from .errors import SampleAssemblyError, SolverError
+from .forces import ForceBuffers, ForceResult
 from .groups import Context
+from .groups.base import require_samples
 from .jet import Jet
 from .kinematics import Derivatives, Kinematics, empty_motion, fill_motion, motion_rows
 
 if TYPE_CHECKING:
-    from .groups import Group
     from .scene import Scene
 
-__all__ = ["SampleAssemblyError", "assemblable", "require_samples", "solve_multi"]
+__all__ = ["SampleAssemblyError", "assemblable", "require_samples", "solve_instant", "solve_multi"]
 
 #: Samples per block of the vectorised path (as solver.scene.CHUNK).
 CHUNK = 1 << 13
 
 _SCALARS = (float, int, np.floating, np.integer)
-
-
-class SampleAssemblyError(AssemblyError):
-    """A group cannot be assembled at some samples of several inputs.
-
-    ``samples`` is an (M, k) array of the failing input vectors (rad or m, in the order of
-    ``inputs``); ``phi`` the same as a tuple of k-tuples; ``intervals`` is empty (the
-    unassemblable set is a region of the k-dimensional input space, see :func:`assemblable`).
-    """
-
-    def __init__(
-        self,
-        *,
-        group: str,
-        samples: Any,
-        inputs: Sequence[str],
-        reason: str = "cannot be assembled",
-        scene: str | None = None,
-    ) -> None:
-        rows = np.asarray(samples, float).reshape(-1, len(inputs))
-        self.group = group
-        self.samples = rows
-        self.inputs = tuple(inputs)
-        self.phi = tuple(tuple(float(x) for x in r) for r in rows)  # type: ignore[assignment,misc]
-        self.intervals = ()
-        self.reason = reason
-        self.scene = scene
-        head = f"{scene}: " if scene else ""
-        text = f"{head}group '{group}' {reason}"
-        if len(rows):
-            shown = ", ".join("(" + ", ".join(f"{math.degrees(x):.4f}°" for x in r) + ")" for r in rows[:5])
-            more = f" and {len(rows) - 5} more" if len(rows) > 5 else ""
-            text += f" at {len(rows)} sample(s) of ({', '.join(inputs)}) = {shown}{more}"
-        SolverError.__init__(self, text)
-
-
-def require_samples(ctx: Context, group: Group, ok: Any, reason: str) -> None:
-    """``Context.require`` with several inputs: stop at (or, in mask mode, record) the samples
-    where ``ok`` is false, naming them as rows of (q₁ … q_k)."""
-    assert ctx.seeds is not None
-    if not ctx.xp.vectorised:
-        if ok:
-            return
-        if ctx.mask:
-            ctx.invalid = True
-            return
-        raise SampleAssemblyError(group=group.name, samples=[ctx.phi], inputs=list(ctx.seeds), reason=reason,
-                                  scene=ctx.scene)
-    if bool(np.all(ok)):
-        return
-    bad = ~np.asarray(ok, dtype=bool)
-    if ctx.mask:
-        ctx.invalid = ctx.invalid | bad
-        return
-    phi = np.asarray(ctx.phi)
-    rows = phi[np.broadcast_to(bad, phi.shape[:1])]
-    raise SampleAssemblyError(group=group.name, samples=rows, inputs=list(ctx.seeds), reason=reason, scene=ctx.scene)
 
 
 # -- arguments ---------------------------------------------------------------------------------
@@ -199,6 +143,7 @@ def _solve_sweep(scene: Scene, phi: np.ndarray, omega: list[Any], epsilon: list[
     fills += [(j, motion_rows(motions[j], planar=False)) for j in scene.output_joints]
     conditioning: dict[str, np.ndarray] = {}
     valid = np.ones(n, bool) if mask else None
+    forces = None if scene.forces is None else ForceBuffers(scene.forces, n)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         for lo in range(0, max(n, 1), CHUNK):
             rows = slice(lo, min(lo + CHUNK, n))
@@ -208,6 +153,8 @@ def _solve_sweep(scene: Scene, phi: np.ndarray, omega: list[Any], epsilon: list[
             scene.plan.run(ctx)
             for name, targets in fills:  # the jet is the real motion itself: v = J·ω, a = J·ε + ωᵀHω
                 fill_motion(targets, rows, ctx.values[name], 1.0, 0.0)
+            if forces is not None:  # the jets are real motion: ω = 1, ε = 0 (solver.forces.model)
+                forces.put(rows, forces.model.evaluate(ctx.values, NUMPY, ctx.conditioning, 1.0, 0.0))
             for name, c in ctx.conditioning.items():
                 if name not in conditioning:
                     conditioning[name] = np.empty(n)
@@ -227,10 +174,24 @@ def _solve_sweep(scene: Scene, phi: np.ndarray, omega: list[Any], epsilon: list[
         valid=valid,
         derivatives=Derivatives(lambda: _sweep_derivatives(scene, phi)),
         inputs=scene.inputs,
+        forces=None if forces is None else forces.result(),
     )
 
 
 def _solve_instant(scene: Scene, q: tuple[float, ...], omega: list[Any], epsilon: list[Any], mask: bool) -> Kinematics:
+    """One instant: the scene's compiled function (solver._codegen), or, where one of its guards
+    trips, :func:`solve_instant` — today's scalar path."""
+    derivatives = Derivatives(each=lambda name: _instant_derivatives(scene, q, name))
+    unit = scene.compiled()
+    flat = unit.core(*q, *omega, *epsilon)
+    if flat is not None:
+        return scene._from_flat(unit, flat, q, omega, epsilon, mask, derivatives)  # type: ignore[no-any-return]
+    return solve_instant(scene, q, omega, epsilon, mask)
+
+
+def solve_instant(scene: Scene, q: tuple[float, ...], omega: Sequence[Any], epsilon: Sequence[Any],
+                  mask: bool = False) -> Kinematics:
+    """One instant of several inputs on the scalar path (plain Python floats, the groups run in turn)."""
     ctx = _context(scene, q, _seeds(scene, q, omega, epsilon), mask, False)
     scene.plan.run(ctx)
     floats: dict[str, tuple[Any, Any, Any]] = {}
@@ -253,6 +214,9 @@ def _solve_instant(scene: Scene, q: tuple[float, ...], omega: list[Any], epsilon
         valid=np.array(not ctx.invalid) if mask else None,
         derivatives=Derivatives(each=lambda name: _instant_derivatives(scene, q, name)),
         inputs=scene.inputs,
+        forces=None if scene.forces is None else ForceResult(
+            scene.forces, scene.forces.evaluate(ctx.values, SCALAR, ctx.conditioning, 1.0, 0.0), None
+        ),
     )
 
 

@@ -84,10 +84,20 @@ class Plan:
     def fixed_jets(self) -> dict[str, Jet]:
         return {name: constant(value) for name, value in self.fixed.items()}
 
+    @cached_property
+    def _steps(self) -> tuple[tuple[Group, bool], ...]:
+        return tuple((g, bool(g.singular_names())) for g in self.groups)
+
     def run(self, ctx: Context) -> Context:
+        """Solve the groups in order. After each group that can be singular, the context's owner
+        (the Scene) refines its analogs there: ``owner.refine_group(ctx, group)``
+        (solver.singular); the groups themselves never look beyond their inputs."""
         ctx.values.update(self.fixed_jets)
-        for group in self.groups:
+        refine = getattr(ctx.owner, "refine_group", None)
+        for group, singular in self._steps:
             group.solve(ctx)
+            if singular and refine is not None:
+                refine(ctx, group)
         return ctx
 
     @property

@@ -19,12 +19,17 @@ from typing import Any
 import numpy as np
 
 from ._backend import NUMPY, SCALAR
+from ._codegen import Compiled, FlatFloats, layout_of
 from ._inputs import check_outputs_move, input_joints
 from ._loader import SceneData, parse_scene, read_yaml
+from .assembly import unassemblable_intervals
 from .errors import AssemblyError, SceneError, SolverError
+from .forces import ForceBuffers, ForceModel, ForceResult
 from .groups import Context
 from .kinematics import Derivatives, Kinematics, empty_motion, fill_motion, motion_rows
+from .multi import solve_multi
 from .plan import Plan, build_plan, order_groups
+from .singular import change_points, refine_singular
 
 __all__ = ["Scene", "Link", "load_scene", "find_scene", "shipped_scenes", "scene_dirs", "CHUNK"]
 
@@ -74,6 +79,10 @@ def find_scene(name_or_path: str | os.PathLike[str]) -> Path:
     shipped = shipped_scenes()
     if key in shipped:
         return shipped[key]
+    if path.is_dir():
+        inside = sorted(p.name for p in path.glob("*.yaml"))[:5]
+        hint = f"; scene files in it: {', '.join(inside)}" if inside else ""
+        raise SceneError(f"is a directory, not a scene file{hint}", file=str(name_or_path))
     raise SceneError(
         f"no such scene file, and no shipped scene of that name; shipped: {', '.join(sorted(shipped))}",
         file=str(name_or_path),
@@ -121,7 +130,10 @@ class Scene:
                 )
         if points is None and joints is None:  # the declared outputs: every input must move one
             check_outputs_move(self.ordered, data.fixed, (*self.output_points, *self.output_joints), file=data.file)
-        self.plan: Plan = build_plan(self.ordered, data.fixed, (*self.output_points, *self.output_joints))
+        #: bodies, gravity and loads (solver.forces, docs/forces.md); None when the scene names none
+        self.forces: ForceModel | None = None if data.forces is None else ForceModel(data.forces, self.inputs)
+        more = () if self.forces is None else self.forces.targets  # what the force layer reads
+        self.plan: Plan = build_plan(self.ordered, data.fixed, (*self.output_points, *self.output_joints, *more))
 
     # -- what the scene is -------------------------------------------------------------------
 
@@ -151,6 +163,26 @@ class Scene:
             for g in self.ordered
             for i, pts in enumerate(g.links())
         )
+
+    @property
+    def has_forces(self) -> bool:
+        """True when the scene names bodies, gravity or loads: its solves give efforts and reactions."""
+        return self.forces is not None
+
+    @property
+    def bodies(self) -> tuple[Any, ...]:
+        """Every link as a :class:`~solver.forces.Body` (name, points, mass, centre, inertia); () without forces."""
+        return () if self.forces is None else self.forces.spec.bodies
+
+    @property
+    def pins(self) -> tuple[Any, ...]:
+        """Every revolute pair as a :class:`~solver.forces.Pin` (point, body, other); () without forces."""
+        return () if self.forces is None else self.forces.spec.pins
+
+    @property
+    def slides(self) -> tuple[Any, ...]:
+        """Every prismatic pair as a :class:`~solver.forces.Slide` (body, guide, point); () without forces."""
+        return () if self.forces is None else self.forces.spec.slides
 
     def with_outputs(self, *, points: Iterable[str] | None = None, joints: Iterable[str] | None = None) -> Scene:
         """The same mechanism asked for other outputs (``None`` keeps the current ones)."""
@@ -189,8 +221,6 @@ class Scene:
         Every output's ``.jacobian`` and ``.hessian`` give the exact derivatives in the inputs.
         """
         if self._multi:  # several inputs: phi (N, k) or (k,) (solver.multi, docs/inputs.md)
-            from .multi import solve_multi
-
             return solve_multi(self, phi, omega, epsilon, mask)
         if type(phi) is float and type(omega) is float and type(epsilon) is float:  # the per-tick call
             return self._solve_scalar(phi, omega, epsilon, mask)
@@ -229,6 +259,7 @@ class Scene:
         valid = np.ones(n, bool) if mask else None
         w_block, e_block = np.ndim(omega) != 0, np.ndim(epsilon) != 0
         w, e = omega, epsilon
+        forces = None if self.forces is None else ForceBuffers(self.forces, n)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             for lo in range(0, max(n, 1), CHUNK):
                 rows = slice(lo, min(lo + CHUNK, n))
@@ -248,6 +279,8 @@ class Scene:
                 values = ctx.values
                 for name, targets in fills:
                     fill_motion(targets, rows, values[name], w, e)
+                if forces is not None:  # from the jets just computed (solver.forces.model)
+                    forces.put(rows, forces.model.evaluate(values, NUMPY, ctx.conditioning, w, e))
                 for name, c in ctx.conditioning.items():
                     if name not in conditioning:
                         conditioning[name] = np.empty(n)
@@ -265,6 +298,7 @@ class Scene:
             valid=valid,
             derivatives=Derivatives(lambda: self._analogs(phi, mask)),
             inputs=self.inputs,
+            forces=None if forces is None else forces.result(),
         )
 
     def _analogs(self, phi: Any, mask: bool) -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -277,7 +311,15 @@ class Scene:
             out[name] = (m.velocity[..., None], m.acceleration[..., None, None])
         return out
 
-    def _solve_scalar(self, phi: float, omega: float, epsilon: float, mask: bool) -> Kinematics:
+    def _solve_scalar(
+        self, phi: float, omega: float, epsilon: float, mask: bool, *, compiled: bool = True
+    ) -> Kinematics:
+        if compiled:  # the compiled instant; None where a guard trips (then today's path below)
+            unit = self.compiled()
+            flat = unit.core(phi, omega, epsilon)
+            if flat is not None:
+                return self._from_flat(unit, flat, phi, omega, epsilon, mask,
+                                       Derivatives(lambda: self._analogs(phi, mask)))
         if not (math.isfinite(phi) and math.isfinite(omega) and math.isfinite(epsilon)):
             for label, v in (("phi", phi), ("omega", omega), ("epsilon", epsilon)):
                 if not math.isfinite(v):
@@ -298,6 +340,9 @@ class Scene:
             valid=np.array(not ctx.invalid) if mask else None,
             derivatives=Derivatives(lambda: self._analogs(phi, mask)),
             inputs=self.inputs,
+            forces=None if self.forces is None else ForceResult(
+                self.forces, self.forces.evaluate(ctx.values, SCALAR, ctx.conditioning, omega, epsilon), None
+            ),
         )
 
     def plan_for(self, names: tuple[str, ...]) -> Plan:
@@ -308,9 +353,69 @@ class Scene:
         return plans[names]  # type: ignore[no-any-return]
 
     def _intervals(self, group: str) -> list[tuple[float, float]]:
-        from .assembly import unassemblable_intervals
-
         return unassemblable_intervals(self, group)
+
+    # -- the plan's runner's part (solver.singular): Plan.run calls these on its context's owner --
+    #: a singular group's analogs replaced by their limit along the branch (or NaN, flagged)
+    refine_group = staticmethod(refine_singular)
+
+    def change_points_of(self, group: Any) -> tuple[float, ...]:
+        """Where the continuous RRR branch ``group`` flips its assembly mode (solver.singular)."""
+        return change_points(self, group)
+
+    # -- one instant, compiled (solver._codegen, docs/compiled.md) -------------------------------
+    def compiled(self, *, order: int = 2) -> Compiled:
+        """The plan traced into one straight-line Python function for one instant (built on first
+        use, then kept): ``.function(phi, omega, epsilon)`` — with k inputs
+        ``.function(q1, …, qk, ω1, …, ωk, ε1, …, εk)`` — returns a flat tuple of floats,
+        :meth:`instant_layout` first, then ``.conditioning`` (one figure per group), then the force
+        layer's values (``self.forces.layout``) when the scene has bodies or loads. ``order``
+        (0, 1, 2): positions only, with velocities, with accelerations."""
+        units = self.__dict__.setdefault("_compiled", {})
+        unit = units.get(order)
+        if unit is None:
+            unit = units[order] = Compiled(self, order)
+        return unit  # type: ignore[no-any-return]
+
+    def compiled_source(self, *, order: int = 2) -> str:
+        """The generated Python of :meth:`compiled`, to read (docs/compiled.md)."""
+        return self.compiled(order=order).source
+
+    def instant_layout(self, *, order: int = 2) -> tuple[str, ...]:
+        """Names of the outputs in :meth:`instant`'s tuple, in order: per output point ``P.x, P.y``
+        (``P.z``), ``P.vx …``, ``P.ax …``; per output joint ``J.q, J.dq, J.ddq`` (up to ``order``)."""
+        return layout_of(self, order)
+
+    def instant(self, phi: Any, omega: Any = 1.0, epsilon: Any = 0.0, *, order: int = 2) -> tuple[Any, ...]:
+        """One instant as a flat tuple (:meth:`instant_layout`, then conditioning and forces, see
+        :meth:`compiled`): the compiled path, with today's scalar path wherever a guard trips.
+        With k inputs ``phi``, ``omega``, ``epsilon`` are k-tuples (a float rate: every input)."""
+        f = self.compiled(order=order).function
+        if not self._multi:
+            return f(float(phi), float(omega), float(epsilon))  # type: ignore[no-any-return]
+        k = len(self.inputs)
+        w = (omega,) * k if np.ndim(omega) == 0 else omega
+        e = (epsilon,) * k if np.ndim(epsilon) == 0 else epsilon
+        return f(*map(float, phi), *map(float, w), *map(float, e))  # type: ignore[no-any-return]
+
+    def _from_flat(self, unit: Compiled, flat: tuple[Any, ...], phi: Any, omega: Any, epsilon: Any,
+                   mask: bool, derivatives: Derivatives) -> Kinematics:
+        """The result of a compiled instant, read lazily from its flat tuple."""
+        n, names = unit.size, unit.conditioning or ()
+        return Kinematics(
+            phi=np.array(phi),
+            omega=np.array(omega, float),
+            epsilon=np.array(epsilon, float),
+            motions={},
+            floats=FlatFloats(flat, unit.index),
+            points=self.output_points,
+            joints=self.output_joints,
+            conditioning=dict(zip(names, flat[n:])),
+            valid=np.array(True) if mask else None,
+            derivatives=derivatives,
+            inputs=self.inputs,
+            forces=None if self.forces is None else ForceResult(self.forces, flat[n + len(names):], None),
+        )
 
     def __repr__(self) -> str:
         return f"Scene({self.name!r}, points={self.output_points}, joints={self.output_joints})"

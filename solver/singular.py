@@ -39,12 +39,15 @@ from __future__ import annotations
 import contextvars
 import math
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from ._backend import NUMPY, dot
+from .groups.base import Context, Group
+from .groups.rrr import branch_sign
 from .jet import Jet
+from .plan import Plan, build_plan
 from .tolerances import (
     ASSEMBLY_SLACK,
     LIMIT_AGREEMENT,
@@ -54,10 +57,6 @@ from .tolerances import (
     ROOT_ITERATIONS,
     SINGULAR,
 )
-
-if TYPE_CHECKING:
-    from .groups.base import Context, Group
-    from .plan import Plan
 
 __all__ = [
     "refine_singular",
@@ -88,15 +87,11 @@ def turn_grid(n: int = GRID) -> np.ndarray:
 
 def upstream_plan(owner: Any, names: Sequence[str]) -> Plan:
     """The part of ``owner``'s plan that computes ``names``."""
-    from .plan import build_plan
-
     return build_plan(owner.plan.groups, owner.plan.fixed, tuple(names))
 
 
 def probe(owner: Any, phi: np.ndarray, plan: Plan | None = None) -> Context:
     """Run ``plan`` (default: the owner's) at the angles ``phi``, unassemblable samples flagged."""
-    from .groups.base import Context
-
     ctx = Context(phi=np.asarray(phi, float), xp=NUMPY, mask=True, owner=owner)
     token = _refining.set(True)
     try:
@@ -111,11 +106,15 @@ def _broadcast(x: Any, n: int, dtype: type) -> np.ndarray:
     return np.array(np.broadcast_to(np.asarray(x, dtype), (n,)))
 
 
-def refine_singular(ctx: Context, group: Group, names: Sequence[str]) -> None:
-    """Replace the analogs of ``names`` at ``group``'s singular samples by their limit (or NaN).
+def refine_singular(ctx: Context, group: Group, names: Sequence[str] | None = None) -> None:
+    """Replace the analogs of ``names`` (default: ``group.singular_names()``) at ``group``'s
+    singular samples by their limit (or NaN).
 
-    Called by a group at the end of its ``solve``; costs one comparison when nothing is singular.
+    Called by whoever runs the plan, after the group's ``solve`` (``Plan.run`` calls the owning
+    scene's ``refine_group``); costs one comparison when nothing is singular.
     """
+    if names is None:
+        names = group.singular_names()
     cond = ctx.conditioning.get(group.name)
     if cond is None:
         return
@@ -264,18 +263,6 @@ def bisect_roots(f: Callable[[np.ndarray], np.ndarray], lo: np.ndarray, hi: np.n
 
 
 # -- change points ------------------------------------------------------------------------------
-def branch_sign(phi: Any, points: Sequence[float]) -> Any:
-    """(−1)^(number of change points in (0, φ mod 2π]): +1 on the arc just after φ = 0."""
-    if not points:
-        return 1.0
-    c = np.asarray(points, float)
-    at_zero = int(np.count_nonzero(c <= 0.0))
-    u = np.mod(phi, 2.0 * math.pi)
-    count = np.searchsorted(c, u, side="right") - at_zero
-    sign = 1.0 - 2.0 * (count % 2)
-    return float(sign) if np.ndim(sign) == 0 else sign
-
-
 def change_points(owner: Any, group: Any) -> tuple[float, ...]:
     """The φ in [0, 2π) where the RRR dyad ``group`` of ``owner`` passes a change point."""
     plan = upstream_plan(owner, group.ends)

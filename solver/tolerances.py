@@ -20,6 +20,7 @@ __all__ = [
     "STATIONARY",
     "REFINE_BELOW",
     "LIMIT_NODE",
+    "CLOSURE_ROUNDING",
 ]
 
 #: Machine epsilon of float64.
@@ -74,3 +75,12 @@ REFINE_BELOW: float = 1e-2
 #: Measured on the parallelogram over 1e-12 ≤ |φ − φ_change| ≤ 0.3: velocity and acceleration
 #: analogs within 4e-10 relative of the exact B' = A', B'' = A''.
 LIMIT_NODE: float = 1e-2
+
+#: An RRR dyad's closure h²·4D⁴ = ((l₁+l₂)² − D²)·(D² − (l₁−l₂)²) a little below zero is rounding
+#: at a toggle, not a failure to assemble, when it is within this many units of its own rounding
+#: bound: each factor is a difference of magnitudes — (l₁ ± l₂)², D², and 2·D·S for D² taken
+#: from coordinates of size S = |A| + |C| (the conditioning of D) — and rounds to EPS times their
+#: sum. Relative to the lengths and to that conditioning, so that a folded dyad (|l₁ − l₂| tiny)
+#: is held to its own scale: a miss of the circles' intersection beyond rounding is refused
+#: (solver/groups/rrr.py, tests/stability/test_stability_folded_boundary.py).
+CLOSURE_ROUNDING: float = 16 * EPS

@@ -29,6 +29,7 @@ import time
 import zlib
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import Any, BinaryIO
 
@@ -76,9 +77,12 @@ class Recorder:
     """Writes ``(topic, message)`` lists, one call per tick, into a rosbag2-profile MCAP file.
 
     ``topics``: ``(name, ros type)`` pairs, e.g. ``("joint_states", "sensor_msgs/msg/JointState")``;
-    relative names are resolved in ``namespace``. Messages of other topics are accepted when they
+    relative names are resolved in ``namespace``, or by ``resolve(name) -> absolute name`` when
+    given (a live node passes its ``resolve_topic_name``, so that remapped topics are recorded
+    under the names on the wire). Messages of other topics are accepted when they
     carry their type (rosbags messages have ``__msgtype__``). ``serialize(msg, typename) -> bytes``
-    defaults to the rosbags type store's CDR serialiser; a live rclpy node passes
+    defaults to the rosbags type store's CDR serialiser, padded to 4 bytes as every producer of
+    the node's messages writes them (:func:`linkage_ros.serialize.cdr_bytes`); a live rclpy node passes
     ``lambda m, _: rclpy.serialization.serialize_message(m)``. ``metadata``: extra metadata
     records written when the file is opened (name → string map), e.g. the ``linkage_ros`` scene
     description of :func:`linkage_ros.record.replay.scene_metadata` that names what the markers
@@ -87,6 +91,7 @@ class Recorder:
 
     def __init__(self, path: str | os.PathLike[str], topics: Sequence[tuple[str, str]] = (), *,
                  typestore: Any = None, namespace: str = "/",
+                 resolve: Callable[[str], str] | None = None,
                  serialize: Callable[[Any, str], bytes] | None = None,
                  chunk_interval_s: float = CHUNK_INTERVAL_S, chunk_size: int = CHUNK_SIZE,
                  qos_depth: int = QOS_DEPTH, fsync: bool = False,
@@ -96,8 +101,12 @@ class Recorder:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._ts = typestore if typestore is not None else default_typestore()
-        self._serialize = serialize or self._ts.serialize_cdr
-        self._namespace = namespace
+        if serialize is None:
+            from linkage_ros.serialize import cdr_bytes
+
+            serialize = partial(cdr_bytes, self._ts.serialize_cdr)
+        self._serialize = serialize
+        self._resolve = resolve or (lambda name: absolute_topic(name, namespace))
         self._interval_ns = int(round(chunk_interval_s * NS_PER_S))
         self._interval_s = chunk_interval_s
         self._qos = offered_qos_profiles(depth=qos_depth)
@@ -123,7 +132,7 @@ class Recorder:
     # -- topics -------------------------------------------------------------------------------
     def add_topic(self, name: str, typename: str) -> str:
         """Declare a topic (schema and channel); returns its absolute name."""
-        topic = absolute_topic(name, self._namespace)
+        topic = self._resolve(name)
         if topic in self._topics:
             if self._topics[topic].typename != typename:
                 raise ValueError(f"topic {topic} already recorded as {self._topics[topic].typename}")
@@ -149,7 +158,7 @@ class Recorder:
     def _topic(self, name: str, msg: Any) -> TopicInfo:
         topic = self._lookup.get(name)
         if topic is None:
-            topic = self._topics.get(absolute_topic(name, self._namespace))
+            topic = self._topics.get(self._resolve(name))
             if topic is None:
                 typename = getattr(msg, "__msgtype__", None)
                 if typename is None:

@@ -5,6 +5,8 @@ What each array comes from:
 
 * ticks: the stamps of ``joint_kinematics`` (every topic of a tick carries the same stamp); a
   tick that lacks one of the needed topics (the last tick of a file cut by a crash) is dropped;
+  ``t`` is run time, s from the first tick (``start_ns``: that tick's stamp — for a live node a
+  wall-clock time);
 * φ, ω, ε: ``diagnostics`` key values ``phi``, ``omega``, ``epsilon`` (written with ``repr``,
   so exact); without diagnostics, the input joint of ``joint_kinematics``. A scene with several
   inputs (docs/inputs.md) has the keys ``phi/<Q>``, ``omega/<Q>``, ``epsilon/<Q>`` per input Q
@@ -30,19 +32,36 @@ from typing import Any
 
 import numpy as np
 
+from ..forces import TOPIC_PREFIX
 from .cdr import extract
+from .forces import forces_from_mcap, forces_metadata
 from .mcap import McapContents, read_mcap
 from .rerun import RunData
 
-__all__ = ["METADATA_NAME", "scene_metadata", "run_data_from_mcap"]
+__all__ = ["METADATA_NAME", "scene_metadata", "run_data_from_mcap", "stamp_text"]
 
 METADATA_NAME = "linkage_ros"
 NS_PER_S = 1_000_000_000
+#: Stamps from this many ns on are wall-clock times (after 2001-09-09), shown as dates.
+WALL_CLOCK_NS = 10**18
+
+
+def stamp_text(ns: int) -> str:
+    """A message stamp for people: a UTC date and time for a wall-clock stamp (a live node's),
+    else the (simulated) clock's seconds."""
+    if ns >= WALL_CLOCK_NS:
+        from datetime import datetime, timezone
+
+        when = datetime.fromtimestamp(ns // NS_PER_S, tz=timezone.utc)
+        return f"{when:%Y-%m-%d %H:%M:%S}.{ns % NS_PER_S // 1_000_000:03d} UTC"
+    return f"clock time {ns / NS_PER_S:g} s"
 POINT_KINDS = ("position", "velocity", "acceleration")
 
 
-def scene_metadata(engine: Any, *, frame_id: str = "world", **extra: Any) -> dict[str, str]:
-    """The ``linkage_ros`` metadata record: how to name and join what the markers draw."""
+def scene_metadata(engine: Any, *, frame_id: str = "world", topics: Mapping[str, str] | None = None,
+                   **extra: Any) -> dict[str, str]:
+    """The ``linkage_ros`` metadata record: how to name and join what the markers draw, and
+    (``topics``: relative name → name on the wire) where remapped topics were recorded."""
     scene = engine.scene
     fixed = {k: [float(x) for x in np.asarray(v).reshape(-1)]
              for k, v in scene.fixed_points.items()}
@@ -58,6 +77,9 @@ def scene_metadata(engine: Any, *, frame_id: str = "world", **extra: Any) -> dic
         "links": json.dumps([[str(link.name), list(link.points)] for link in scene.links]),
         "joints": json.dumps(list(engine.joint_names)),
     }
+    if topics:
+        record["topics"] = json.dumps(dict(topics))
+    record.update(forces_metadata(engine))  # scenes with forces: the loads and effort units
     record.update({k: str(v) for k, v in extra.items()})
     return record
 
@@ -68,16 +90,20 @@ def _typestore() -> Any:
     return get_typestore(Stores.ROS2_JAZZY)
 
 
-def _suffix(contents: McapContents) -> dict[str, str]:
-    """Relative topic name (``joint_states``, ``points/B/position``) → absolute, for one node."""
-    out: dict[str, str] = {}
-    for name in contents.topics():
+def _suffix(contents: McapContents, meta: Mapping[str, str]) -> dict[str, str]:
+    """Relative topic name (``joint_states``, ``points/B/position``) → absolute, for one node:
+    the names the metadata record gives (remapped topics), else found by their endings."""
+    recorded = contents.topics()
+    out = {rel: name for rel, name in json.loads(meta.get("topics", "{}")).items() if name in recorded}
+    for name in recorded:
         for rel in ("joint_kinematics", "joint_states", "markers", "diagnostics"):
             if name.endswith("/" + rel):
                 out.setdefault(rel, name)
         parts = name.rsplit("/", 3)
         if len(parts) == 4 and parts[1] == "points" and parts[3] in POINT_KINDS:
             out.setdefault(f"points/{parts[2]}/{parts[3]}", name)
+        if len(parts) >= 3 and parts[-2] in TOPIC_PREFIX.values():  # scenes with forces
+            out.setdefault(f"{parts[-2]}/{parts[-1]}", name)
     return out
 
 
@@ -93,13 +119,13 @@ def run_data_from_mcap(path: str | os.PathLike[str],
         datas.append(message.data)
 
     contents = read_mcap(path, on_message=keep)
-    topics = _suffix(contents)
-    if "joint_kinematics" not in topics:
-        raise ValueError(f"{path}: no joint_kinematics topic; is this a linkage_ros recording?")
     meta: dict[str, str] = {}
     for m in contents.metadata:
         if m.name == METADATA_NAME:
             meta = dict(m.metadata)
+    topics = _suffix(contents, meta)
+    if "joint_kinematics" not in topics:
+        raise ValueError(f"{path}: no joint_kinematics topic; is this a linkage_ros recording?")
     types = contents.topics()
     kind_of = {rel: (raw[topics[rel]], types[topics[rel]]) for rel in topics}
 
@@ -111,7 +137,8 @@ def run_data_from_mcap(path: str | os.PathLike[str],
     needed += [t for t in ("markers",) if t in topics]
     stamps = _common_stamps([kind_of[rel][0][0] for rel in needed])
     n = stamps.size
-    t = stamps / NS_PER_S
+    start_ns = int(stamps[0]) if n else 0
+    t = (stamps - start_ns) / NS_PER_S  # run time: a live node's stamps are wall-clock (epoch) times
 
     def rows(rel: str) -> list[bytes]:
         (st, datas), _ = kind_of[rel]
@@ -172,7 +199,8 @@ def run_data_from_mcap(path: str | os.PathLike[str],
         dim=dim, t=t, phi=phi, omega=omega, epsilon=eps, positions=positions,
         velocities=velocities, accelerations=accelerations, joints=joints, links=links,
         fixed=fixed, paths=paths, input_joint=input_joint, note=note,
-        inputs=tuple(inputs) if len(inputs) > 1 else ())
+        inputs=tuple(inputs) if len(inputs) > 1 else (), start_ns=start_ns,
+        **forces_from_mcap(ts, meta, topics, rows, types, (kind_of["joint_kinematics"][1], kin_rows, joint_names)))
     return data, contents
 
 

@@ -14,6 +14,7 @@ Entity layout::
     mechanism/paths/<P>             static path of each published point over one cycle
     mechanism/velocity/<P>          Arrows per tick, v · scale (scale in the legend and label)
     mechanism/acceleration/<P>      Arrows per tick, a · scale
+    mechanism/loads/<K>             scenes with forces: Arrows per tick at the pins (:mod:`.forces`)
     mechanism/legend                static TextDocument: the arrow scales, the scene
 
 A 2-D view draws its y axis downwards (image coordinates; rerun ignores view coordinates in 2-D
@@ -23,13 +24,14 @@ coordinates.
     plots/input/{phi,omega,epsilon} Scalars (one input)
     plots/input/<kind>/<Q>          Scalars per input Q of a several-input scene (kind = phi | omega | epsilon)
     plots/joints/<kind>/<J>         Scalars, kind = position | velocity | acceleration
+    plots/effort/<Q>                scenes with forces: Scalars, the effort of input Q (:mod:`.forces`)
 """
 
 from __future__ import annotations
 
 import math
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -55,6 +57,12 @@ ARROW_PERCENTILE = 95.0
 NICE_STEPS = (1.0, 2.0, 5.0)
 PLOT_MARGIN = 0.05
 """Fraction of the data range added above and below in each plot."""
+LEGEND_ROWS = 6
+"""Most series in one plot: at the default window (1280 × 800) a plot, three to a column, shows a
+legend of this many names in full (rerun draws the legend inside the plot and cuts what does not
+fit); more joints go to more plots, side by side."""
+PLOTS_SHARE = (2, 1)
+"""Width of the mechanism column : width of each column of plots."""
 # Sizes relative to the link radius, itself a fraction of the drawing's extent.
 LINK_RADIUS = 0.004
 POINT_SIZE, PIVOT_SIZE, PATH_WIDTH, ARROW_WIDTH = 1.4, 1.7, 0.35, 0.5
@@ -62,7 +70,7 @@ DRAW_ORDER = {"paths": 5.0, "links": 10.0, "arrows": 20.0, "points": 30.0}
 """2-D stacking: arrows above the links they start on, joints on top."""
 Y_UP = (1.0, -1.0, 1.0)
 """Scale of the mirror that shows a planar mechanism y up in rerun's y-down 2-D view."""
-DRAWN_2D = ("links", "points", "fixed", "paths", "velocity", "acceleration")
+DRAWN_2D = ("links", "points", "fixed", "paths", "velocity", "acceleration", "loads")
 """The children of ``mechanism`` that carry it."""
 EYE_OFFSET = (0.5, -0.7, 0.45)
 """3-D camera position from the middle of the drawing, in units of its extent."""
@@ -102,6 +110,13 @@ class RunData:
     note: str = ""
     inputs: tuple[str, ...] = ()
     """The input joints when there are several (then phi, omega, epsilon are (N, k)); else empty."""
+    start_ns: int = 0
+    """The stamp (ns) of the first tick, from which ``t`` counts (a replayed live recording's
+    stamps are wall-clock times; a simulated run starts at 0)."""
+    efforts: dict[str, Array] = field(default_factory=dict)  # input → (N,) N·m | N (forces only)
+    loads: dict[str, Array] = field(default_factory=dict)  # load key → (N, 3) Fx, Fy N, M N·m
+    load_pins: dict[str, tuple[str, str, str]] = field(default_factory=dict)  # key → (point, on, from)
+    effort_units: dict[str, str] = field(default_factory=dict)  # input → "N·m" | "N"
 
     @property
     def n(self) -> int:
@@ -153,6 +168,8 @@ class RunBuilder:
         self.vel = {p: np.empty((n, dim)) for p in engine.published_points}
         self.acc = {p: np.empty((n, dim)) for p in engine.published_points}
         self.jnt = {j: (np.empty(n), np.empty(n), np.empty(n)) for j in engine.joint_names}
+        self.eff = {q: np.empty(n) for q in getattr(engine, "effort_units", {})}  # forces only
+        self.lds = {p.key: np.empty((n, 3)) for p in getattr(engine, "load_pairs", ())}
 
     def add(self, frame: Any) -> None:
         k = self.k
@@ -166,6 +183,10 @@ class RunBuilder:
         for name, (p, v, a) in self.jnt.items():
             js = frame.joints[name]
             p[k], v[k], a[k] = js.position, js.velocity, js.acceleration
+        for name, e in self.eff.items():
+            e[k] = frame.efforts[name]
+        for key, f in self.lds.items():
+            f[k] = frame.loads[key]
         self.k += 1
 
     def build(self) -> RunData:
@@ -183,6 +204,10 @@ class RunBuilder:
             paths={p: np.asarray(x, dtype=float) for p, x in self.engine.paths.items()},
             input_joint=str(getattr(scene, "input_joint", "")),
             inputs=self.inputs,
+            efforts={q: e[:k] for q, e in self.eff.items()},
+            loads={key: f[:k] for key, f in self.lds.items()},
+            load_pins={p.key: (p.point, p.body, p.other) for p in getattr(self.engine, "load_pairs", ())},
+            effort_units=dict(getattr(self.engine, "effort_units", {})),
         )
 
 
@@ -219,11 +244,32 @@ def _range(*series: Array) -> tuple[float, float]:
     return lo - pad, hi + pad
 
 
-def _plot(origin: str, name: str, *series: Array) -> Any:
+def _plot(origin: str, name: str, *series: Array, contents: Sequence[str] = ("$origin/**",)) -> Any:
     import rerun.blueprint as rrb
 
-    return rrb.TimeSeriesView(origin=origin, name=name,
-                              axis_y=rrb.ScalarAxis(range=_range(*series)))
+    return rrb.TimeSeriesView(origin=origin, name=name, contents=list(contents),
+                              axis_y=rrb.ScalarAxis(range=_range(*series)),
+                              plot_legend=rrb.PlotLegend(visible=True))
+
+
+def plot_columns(data: RunData) -> list[list[tuple[str, list[str]]]]:
+    """The plots, column by column, as ``(title, [entity paths of its series])``: the inputs'
+    φ, ω, ε (one plot each), then the joints' positions, velocities, accelerations, with at most
+    :data:`LEGEND_ROWS` joints a plot (more joints: more columns), so that each legend shows
+    every series name."""
+    plural = "inputs" if data.phi.ndim == 2 else "input"
+    inputs = []
+    for kind, symbol, unit in (("phi", "φ", "rad"), ("omega", "ω", "rad/s"), ("epsilon", "ε", "rad/s²")):
+        paths = [f"plots/input/{kind}/{q}" if q else f"plots/input/{kind}"
+                 for k, q, _ in data.input_series() if k == kind]
+        inputs.append((f"{plural} {symbol} ({unit})", paths))
+    names = list(data.joints)
+    chunks = [names[i: i + LEGEND_ROWS] for i in range(0, len(names), LEGEND_ROWS)]
+    titles = {"position": "joint positions (rad | m)", "velocity": "joint velocities (rad/s | m/s)",
+              "acceleration": "joint accelerations (rad/s² | m/s²)"}
+    joints = [[(title, [f"plots/joints/{kind}/{j}" for j in chunk]) for kind, title in titles.items()]
+              for chunk in chunks]
+    return [inputs, *joints]
 
 
 def blueprint(data: RunData) -> Any:
@@ -239,25 +285,30 @@ def blueprint(data: RunData) -> Any:
     mechanism = rrb.Vertical(
         view, rrb.TextDocumentView(origin="mechanism/legend", name="legend"),
         row_shares=[5, 1])
-    kinds = ("position", "velocity", "acceleration")
-    titles = ("joint positions (rad | m)", "joint velocities (rad/s | m/s)",
-              "joint accelerations (rad/s² | m/s²)")
-    several = data.phi.ndim == 2
-    plots = rrb.Vertical(
-        _plot("plots/input/phi", "inputs φ (rad)" if several else "input φ (rad)", data.phi),
-        rrb.TimeSeriesView(origin="plots/input",
-                           contents=(["plots/input/omega/**", "plots/input/epsilon/**"] if several
-                                     else ["plots/input/omega", "plots/input/epsilon"]),
-                           name="inputs ω (rad/s), ε (rad/s²)" if several else "input ω (rad/s), ε (rad/s²)",
-                           axis_y=rrb.ScalarAxis(range=_range(data.omega, data.epsilon))),
-        *(_plot(f"plots/joints/{kind}", title, *(j[i] for j in data.joints.values()))
-          for i, (kind, title) in enumerate(zip(kinds, titles))),
-    )
+    values = {f"plots/input/{kind}" + (f"/{q}" if q else ""): v for kind, q, v in data.input_series()}
+    for kind, i in (("position", 0), ("velocity", 1), ("acceleration", 2)):
+        values.update({f"plots/joints/{kind}/{j}": series[i] for j, series in data.joints.items()})
+    columns = []
+    for c, column in enumerate(plot_columns(data)):
+        views = [_plot(paths[0] if len(paths) == 1 else paths[0].rsplit("/", 1)[0], title,
+                       *(values[p] for p in paths), contents=[f"/{p}" for p in paths])
+                 for title, paths in column if paths]
+        columns.append(rrb.Vertical(*views, *(_effort_views(data) if c == 0 else [])))
+    plots = rrb.Horizontal(*columns)
     return rrb.Blueprint(
-        rrb.Horizontal(mechanism, plots, column_shares=[3, 2]),
+        rrb.Horizontal(mechanism, plots, column_shares=[PLOTS_SHARE[0], PLOTS_SHARE[1] * len(columns)]),
         rrb.TimePanel(state="collapsed"),
         collapse_panels=True,
     )
+
+
+def _effort_views(data: RunData) -> list[Any]:
+    """The input effort plot of a scene with forces (:mod:`.forces`); none otherwise."""
+    if not data.efforts:
+        return []
+    from .forces import effort_views
+
+    return effort_views(data)
 
 
 def _eye(data: RunData) -> Any:
@@ -319,6 +370,10 @@ def log_run(rec: Any, data: RunData) -> dict[str, float]:
         f"{n} ticks, t = {_fmt(float(data.t[0]) if n else 0.0)} … "
         f"{_fmt(float(data.t[-1]) if n else 0.0)} s.\n"
     )
+    if data.loads:  # scenes with forces: the pin-load arrows (.forces)
+        from .forces import forces_legend, load_scale
+
+        legend += forces_legend(data, load_scale(data)) + "\n"
     if data.note:
         legend += f"\n{data.note}\n"
     rec.log("mechanism/legend", rr.TextDocument(legend, media_type="text/markdown"), static=True)
@@ -357,7 +412,9 @@ def log_run(rec: Any, data: RunData) -> dict[str, float]:
 
     # -- time series -----------------------------------------------------------------------
     units = {"phi": "rad", "omega": "rad/s", "epsilon": "rad/s²"}
-    for i, (name, q, values) in enumerate(data.input_series()):
+    joints = list(data.joints)
+    for name, q, values in data.input_series():
+        i = joints.index(q or data.input_joint) if (q or data.input_joint) in joints else 0  # the joint's colour
         if q:  # several inputs: one series per input, e.g. plots/input/phi/q1 "φ q1 (rad)"
             _series(rec, f"plots/input/{name}/{q}", f"{_greek(name)} {q} ({units[name]})", times, values, i)
         else:
@@ -365,6 +422,10 @@ def log_run(rec: Any, data: RunData) -> dict[str, float]:
     for i, (joint, (p, v, a)) in enumerate(data.joints.items()):
         for kind, values in (("position", p), ("velocity", v), ("acceleration", a)):
             _series(rec, f"plots/joints/{kind}/{joint}", joint, times, values, i)
+    if data.loads or data.efforts:  # scenes with forces: arrows at the pins, efforts (.forces)
+        from .forces import log_forces
+
+        return {"velocity": v_scale, "acceleration": a_scale, "load": log_forces(rec, data, times, radius=radius)}
     return {"velocity": v_scale, "acceleration": a_scale}
 
 

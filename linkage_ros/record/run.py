@@ -135,9 +135,9 @@ def run_standalone(opts: RunOptions, *, progress: TextIO | None = None) -> RunRe
     from linkage_ros.engine import Engine
     from linkage_ros.messages import MessageBuilder, topic_types
     from linkage_ros.motion import Motion, Motions
+    from linkage_ros.serialize import Serializer
     from solver import load_scene
 
-    from .fast import TemplateSerializer, stack_block
     from .mcap import Recorder
     from .replay import METADATA_NAME, scene_metadata
 
@@ -170,7 +170,7 @@ def run_standalone(opts: RunOptions, *, progress: TextIO | None = None) -> RunRe
             metadata={METADATA_NAME: scene_metadata(
                 engine, frame_id=opts.frame_id, rate_hz=opts.rate, omega=opts.omega,
                 epsilon=opts.epsilon, phi0=opts.phi0)})
-    fast = TemplateSerializer(builder, ts.serialize_cdr) if (recorder and opts.fast) else None
+    serializer = Serializer(builder, ts.serialize_cdr) if recorder else None
     rb = RunBuilder(engine, n)
     statuses: dict[str, int] = {}
     bar = _Progress(n, progress or sys.stderr,
@@ -189,14 +189,9 @@ def run_standalone(opts: RunOptions, *, progress: TextIO | None = None) -> RunRe
                     block_frames.append(frame)
                     statuses[frame.status] = statuses.get(frame.status, 0) + 1
                 stop = start + len(block_frames)
-                if recorder is not None and block_frames:
-                    if fast is not None:  # first tick of every block, rendered both ways
-                        bad = fast.verify(block_frames[0], int(stamps[start]),
-                                          stack_block(stamps, rb, start, start + 1))
-                        if bad:
-                            fast.demote(bad)
-                    _record_block(recorder, builder, fast, ts, topics, block_frames,
-                                  stamps, rb, start, stop, sigint)
+                if recorder is not None and serializer is not None and block_frames:
+                    _record_block(recorder, serializer, block_frames, stamps[start:stop].tolist(),
+                                  templates=opts.fast)
                 bar.update(rb.k)
                 if sigint.stop:
                     interrupted = True
@@ -216,7 +211,8 @@ def run_standalone(opts: RunOptions, *, progress: TextIO | None = None) -> RunRe
         seconds["rerun"] = time.perf_counter() - clock2
     seconds["total"] = time.perf_counter() - clock
     return RunResult(data, rb.k, recorder.message_count if recorder else 0, interrupted,
-                     seconds, scales, list(fast.topics) if fast is not None else [], statuses)
+                     seconds, scales, serializer.template_topics if serializer and opts.fast else [],
+                     statuses)
 
 
 def _single(value: float | Sequence[float], label: str) -> float:
@@ -229,24 +225,25 @@ def _single(value: float | Sequence[float], label: str) -> float:
     return values[0]
 
 
-def _record_block(recorder: Any, builder: Any, fast: Any, ts: Any,
-                  topics: list[tuple[str, str]], frames: list[Any], stamps: np.ndarray,
-                  rb: RunBuilder, start: int, stop: int, sigint: _StopOnSigint) -> None:
-    from .fast import stack_block
-
-    types = dict(topics)
-    rendered = ({t: fast.render(t, stack_block(stamps, rb, start, stop)) for t in fast.topics}
-                if fast is not None else {})
-    for i, frame in enumerate(frames):
-        stamp = int(stamps[start + i])
-        if fast is not None and not builder.wants_paths(frame.t):
-            generic = dict(builder.build_topics(frame, stamp, fast.generic, include_paths=False))
-            out = [(t, rendered[t][i] if t in rendered else
-                    bytes(ts.serialize_cdr(generic[t], types[t]))) for t, _ in topics]
-        else:
-            out = [(t, bytes(ts.serialize_cdr(m, types[t])))
-                   for t, m in builder.build(frame, stamp)]
-        recorder.write_serialized(stamp, out)
+def _record_block(recorder: Any, serializer: Any, frames: list[Any], stamps: list[int], *,
+                  templates: bool) -> None:
+    """Every topic of a block of ticks into the recording: the byte templates of
+    :mod:`linkage_ros.serialize`, one numpy pass per topic for the block (checked against the
+    builder on the run's first frame), and the ordinary path for the diagnostics and the path
+    markers (or, without ``templates``, for everything)."""
+    builder = serializer.builder
+    types = list(serializer.types)
+    rendered: dict[str, list[bytes]] = {}
+    if templates:
+        if not serializer.verified:
+            serializer.verify(frames[0], stamps[0])
+        rows = np.array([serializer.numbers(f, s) for f, s in zip(frames, stamps)], dtype=np.float64)
+        rendered = {t: serializer.render_block(t, rows) for t in serializer.template_topics}
+    for i, (frame, stamp) in enumerate(zip(frames, stamps)):
+        paths = builder.wants_paths(frame.t)
+        ordinary = [t for t in types if t not in rendered or (paths and t == "markers")]
+        built = dict(serializer.generic(frame, stamp, ordinary, paths=paths))
+        recorder.write_serialized(stamp, [(t, built[t] if t in built else rendered[t][i]) for t in types])
 
 
 def summary_lines(
@@ -256,12 +253,16 @@ def summary_lines(
     units: Mapping[str, str] | None = None,
     *,
     descriptions: Mapping[str, str] | None = None,
+    inputs: Sequence[str] = (),
+    sections: Sequence[Any] = (),
 ) -> list[str]:
     """The run's summary in linkage-solve's words (:mod:`solver.summary`): per output point its
     position ranges and the largest speed and acceleration with the t and φ where they occur (or
-    "constant"); per output joint its motion (a "full turn" for a joint that turns a revolution),
-    velocity and acceleration. ``units``: each joint's "rad" or "m" (default rad);
-    ``descriptions``: the scene's one-line descriptions of points and joints."""
+    "constant"), read off the ticks (said so); per output joint its motion (a "full turn" for a
+    joint that turns a revolution), velocity and acceleration. ``units``: each joint's "rad" or
+    "m" (default rad); ``descriptions``: the scene's one-line descriptions of points and joints;
+    ``inputs``: the scene's input joints (one line each: their law is the run's heading);
+    ``sections``: more :data:`solver.summary.Section` functions, appended."""
     from solver.summary import Output, Sweep
     from solver.summary import summary_lines as lines_of
 
@@ -278,4 +279,5 @@ def summary_lines(
         for j in output_joints
         if j in data.joints
     ]
-    return lines_of(Sweep(phi=data.phi, points=points, joints=joints, t=data.t))
+    sweep = Sweep(phi=data.phi, points=points, joints=joints, t=data.t, inputs=tuple(inputs))
+    return lines_of(sweep, sections=sections)

@@ -9,15 +9,15 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .._backend import Backend
-from ..errors import AssemblyError
+from ..errors import AssemblyError, SampleAssemblyError
 from ..jet import Jet
 
-__all__ = ["Group", "Context", "at_most_one"]
+__all__ = ["Group", "Context", "at_most_one", "require_samples"]
 
 
 def at_most_one(x: Any) -> Any:
     """``min(x, 1)`` for a scalar or elementwise for an array."""
-    return min(x, 1.0) if isinstance(x, float) else np.minimum(x, 1.0)
+    return np.minimum(x, 1.0) if isinstance(x, np.ndarray) else min(x, 1.0)
 
 
 Num = Any
@@ -55,8 +55,6 @@ class Context:
     def require(self, group: Group, ok: Num, *, reason: str = "cannot be assembled") -> None:
         """Stop (or, in mask mode, record) the samples where ``ok`` is false."""
         if self.seeds is not None:  # several inputs: the failing samples are rows of (q₁ … q_k)
-            from ..multi import require_samples
-
             require_samples(self, group, ok, reason)
             return
         if not self.xp.vectorised:
@@ -136,6 +134,34 @@ class Group:
     def solve(self, ctx: Context) -> None:
         raise NotImplementedError
 
+    def singular_names(self) -> tuple[str, ...]:
+        """The provided names whose analogs come from a linear system that can be singular: the
+        runner of the plan refines them there (solver.singular.refine_singular)."""
+        return ()
+
     def restricted(self, wanted: set[str]) -> Group:
         """This group computing only what ``wanted`` needs of it (itself where it cannot narrow)."""
         return self
+
+
+def require_samples(ctx: Context, group: Group, ok: Any, reason: str) -> None:
+    """``Context.require`` with several inputs: stop at (or, in mask mode, record) the samples
+    where ``ok`` is false, naming them as rows of (q₁ … q_k)."""
+    assert ctx.seeds is not None
+    if not ctx.xp.vectorised:
+        if ok:
+            return
+        if ctx.mask:
+            ctx.invalid = True
+            return
+        raise SampleAssemblyError(group=group.name, samples=[ctx.phi], inputs=list(ctx.seeds), reason=reason,
+                                  scene=ctx.scene)
+    if bool(np.all(ok)):
+        return
+    bad = ~np.asarray(ok, dtype=bool)
+    if ctx.mask:
+        ctx.invalid = ctx.invalid | bad
+        return
+    phi = np.asarray(ctx.phi)
+    rows = phi[np.broadcast_to(bad, phi.shape[:1])]
+    raise SampleAssemblyError(group=group.name, samples=rows, inputs=list(ctx.seeds), reason=reason, scene=ctx.scene)

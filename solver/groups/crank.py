@@ -74,14 +74,14 @@ class Crank(Group):
         arm = ctx.xp.cis(q)
         arm *= self.length
         point = ctx.values[self.center].value + arm
-        if type(u) is float and u == 0.0 and type(s) is float and s == 0.0:
+        if u.__class__ is float and u == 0.0 and s.__class__ is float and s == 0.0:
             ctx.values[self.point] = Jet(point, 0.0, 0.0)
-        elif type(u) is float and u == 1.0 and type(s) is float and s == 0.0:  # a unit direction
+        elif u.__class__ is float and u == 1.0 and s.__class__ is float and s == 0.0:  # a unit direction
             ctx.values[self.point] = Jet(point, 1j * arm, ctx.xp.negative(arm))
         else:
             ja = 1j * arm
             acc = arm * (-(u * u))
-            if not (type(s) is float and s == 0.0):
+            if not (s.__class__ is float and s == 0.0):
                 acc += ja * s
             ctx.values[self.point] = Jet(point, ja * u, acc)
         ctx.values[self.joint] = Jet(q, u, s)

@@ -196,11 +196,15 @@ def _real(x: Any) -> Any:
 def _wrap(x: Any, xp: Backend) -> Any:
     """``x`` wrapped to (−π, π] (exact for |x| ≤ π)."""
     if not xp.vectorised:
-        y = math.remainder(x, TWO_PI)
-        return math.pi if y == -math.pi else y
+        return xp.call(_wrap_scalar, x)
     arr = np.asarray(x, dtype=np.float64)
     arr = arr - TWO_PI * np.round(arr / TWO_PI)
     return np.where(arr <= -math.pi, arr + TWO_PI, arr)
+
+
+def _wrap_scalar(x: float) -> float:
+    y = math.remainder(x, TWO_PI)
+    return math.pi if y == -math.pi else y
 
 
 def _part(part, value):  # type: ignore[no-untyped-def]

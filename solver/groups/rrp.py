@@ -31,7 +31,6 @@ from typing import Any
 from .._backend import abs2, cross, dot
 from .._fields import Entry, Units
 from ..jet import Jet
-from ..singular import refine_singular
 from ..tolerances import ASSEMBLY_SLACK
 from .base import Context, Group
 
@@ -67,6 +66,9 @@ class RRP(Group):
     def links(self) -> tuple[tuple[str, ...], ...]:
         return ((self.end, self.point),)
 
+    def singular_names(self) -> tuple[str, ...]:
+        return self.provides()
+
     def restricted(self, wanted: set[str]) -> RRP:
         return self if self.joint is None or self.joint in wanted else replace(self, joint=None)
 
@@ -92,7 +94,6 @@ class RRP(Group):
         if self.joint is not None:
             vals[self.joint] = Jet(s, s1, s2)
         ctx.conditioning[self.name] = abs(ep) / length if xp.vectorised or ep == ep else 0.0
-        refine_singular(ctx, self, self.provides())
 
     def assembly_residual(self, vals: Mapping[str, Jet]) -> tuple[Any, Any, float]:
         """``R = l² − n²`` (≥ 0 where assemblable, n = A's signed distance from the guide), R', scale."""

@@ -20,14 +20,15 @@ Conditioning
     |p × q| / (l₁·l₂) = |sin| of the angle between the links (the transmission angle in a
     four-bar): 0 at a toggle. There the system is singular; the analogs returned are the limit
     along the branch where it exists, else NaN, and the sample is flagged (solver.singular).
-Assembly fails where h² < 0 (|l₁ − l₂| ≤ D ≤ l₁ + l₂ violated); the φ intervals come from
-``assembly_residual`` (solver.assembly).
+Assembly fails where h² < 0 (|l₁ − l₂| ≤ D ≤ l₁ + l₂ violated) by more than h²'s rounding bound
+(``closure_slack``: relative to the lengths and to the conditioning of D, tolerances.
+CLOSURE_ROUNDING); the φ intervals come from ``assembly_residual`` (solver.assembly).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
@@ -36,11 +37,10 @@ import numpy as np
 from .._backend import abs2, cross, dot, minus
 from .._fields import Entry, Units
 from ..jet import Jet
-from ..singular import branch_sign, change_points, refine_singular
-from ..tolerances import ASSEMBLY_SLACK
+from ..tolerances import ASSEMBLY_SLACK, CLOSURE_ROUNDING
 from .base import Context, Group
 
-__all__ = ["RRR", "CrankFeed", "solve_linear"]
+__all__ = ["RRR", "CrankFeed", "solve_linear", "branch_sign"]
 
 
 class CrankFeed(NamedTuple):
@@ -84,6 +84,17 @@ def _j_over(det: np.ndarray) -> np.ndarray:
     np.divide(0.0, det, out=out.real)
     np.divide(1.0, det, out=out.imag)
     return out
+
+
+def closure_slack(lengths: tuple[float, float], dd: Any, size: Any) -> Any:
+    """The rounding bound of h²·4D⁴ = f₁·f₂ = ((l₁+l₂)² − D²)·(D² − (l₁−l₂)²) for D² = ``dd``
+    taken from coordinates of magnitude ``size`` = |A| + |C|: CLOSURE_ROUNDING·(|f₁|·m₂ + |f₂|·m₁)
+    with m₁,₂ = (l₁ ± l₂)² + D² + 2·D·size, the magnitudes each factor is a difference of."""
+    l1, l2 = lengths
+    cross_term = 2.0 * dd**0.5 * size
+    f1, f2 = (l1 + l2) ** 2 - dd, dd - (l1 - l2) ** 2
+    m1, m2 = (l1 + l2) ** 2 + dd + cross_term, (l1 - l2) ** 2 + dd + cross_term
+    return CLOSURE_ROUNDING * (abs(f1) * m2 + abs(f2) * m1)
 
 
 @dataclass(frozen=True)
@@ -133,9 +144,8 @@ class RRR(Group):
         else:
             h2n, f2 = self._fed_factors(vals[self.feed.point].value, xp)
             h2n *= f2
-        # rounding at a toggle can leave h² a few ulps below zero: clamp that, report the rest.
-        # (the slack is scaled by the largest D² = (l₁+l₂)², a constant: no array work)
-        ctx.require(self, h2n >= -4.0 * ASSEMBLY_SLACK * (l1 * l1 + l2 * l2) * (l1 + l2) ** 2)
+        # rounding at a toggle can leave h² a few ulps below zero: clamp that, report the rest
+        ctx.require(self, self._closes(h2n, dd, a_, c_))
         h = xp.sqrt0(h2n)
         h *= half_inv
         mode = self.mode if not self.continuous else self.mode * branch_sign(ctx.phi, self.flips(ctx))
@@ -163,7 +173,22 @@ class RRR(Group):
         vals[self.point] = Jet(b, b1, b2)
         cond /= l1 * l2
         ctx.conditioning[self.name] = cond
-        refine_singular(ctx, self, (self.point,))
+
+    def _closes(self, h2n: Any, dd: Any, a_: Any, c_: Any) -> Any:
+        """Where the dyad closes: h² ≥ 0, or below by no more than its rounding bound.
+
+        Each factor of h²·4D⁴ rounds to EPS times the magnitudes it is the difference of:
+        m₁ = (l₁+l₂)² + D² + 2·D·S and m₂ = (l₁−l₂)² + D² + 2·D·S, with S = |A| + |C| (D² from
+        coordinates of that size carries 2·D·S·EPS); the product is accepted down to
+        −CLOSURE_ROUNDING·(|f₁|·m₂ + |f₂|·m₁). Relative to the lengths and to the conditioning of
+        D, not to the largest D²: a folded dyad with |l₁ − l₂| ≪ l₁ + l₂ no longer passes
+        positions that miss the circles' intersection by ~1e-8·(l₁ + l₂). Only the samples with
+        h² < 0 pay for the bound.
+        """
+        ok = h2n >= 0.0
+        if ok is True or (ok.__class__ is np.ndarray and ok.all()):  # (no numpy call per tick)
+            return ok
+        return h2n >= -closure_slack(self.lengths, dd, abs(a_) + abs(c_))
 
     def _fed_factors(self, crank_point: Any, xp: Any) -> tuple[Any, Any]:
         """(l₁+l₂)² − D² and D² − (l₁−l₂)² for a crank-fed dyad.
@@ -206,19 +231,26 @@ class RRR(Group):
         f2 += ((big_r - l1) - (crank - l2)) * ((big_r + l1) - (crank + l2))
         return f1, f2
 
-    def flips(self, ctx: Context) -> tuple[float, ...]:
-        """The change points where a continuous branch flips M (none without the owning scene)."""
-        return () if ctx.owner is None else change_points(ctx.owner, self)
+    def singular_names(self) -> tuple[str, ...]:
+        return (self.point,)
 
-    def assembly_residual(self, vals: Mapping[str, Jet]) -> tuple[Any, Any, float]:
-        """``R = ((l₁+l₂)² − D²)(D² − (l₁−l₂)²)`` (≥ 0 where assemblable), ``dR/dφ``, R's scale."""
+    def flips(self, ctx: Context) -> tuple[float, ...]:
+        """The change points where a continuous branch flips M (none without the owning scene,
+        which finds them: ``owner.change_points_of``, solver.singular)."""
+        return () if ctx.owner is None else tuple(ctx.owner.change_points_of(self))
+
+    def assembly_residual(self, vals: Mapping[str, Jet]) -> tuple[Any, Any, Any]:
+        """``R = ((l₁+l₂)² − D²)(D² − (l₁−l₂)²)`` (≥ 0 where assemblable), ``dR/dφ``, and R's
+        scale: ASSEMBLY_SLACK·scale is the bound below which :meth:`solve` refuses a sample
+        (:func:`closure_slack`, per sample), so that the gaps found agree with the solve."""
         l1, l2 = self.lengths
         ja, jc = vals[self.ends[0]], vals[self.ends[1]]
         d, d1 = jc.value - ja.value, jc.d1 - ja.d1
         dd = abs2(d)
         dd1 = 2.0 * dot(d, d1)
         f1, f2 = (l1 + l2) ** 2 - dd, dd - (l1 - l2) ** 2
-        return f1 * f2, dd1 * (f1 - f2), (l1 + l2) ** 4
+        slack = closure_slack(self.lengths, dd, abs(ja.value) + abs(jc.value))
+        return f1 * f2, dd1 * (f1 - f2), slack / ASSEMBLY_SLACK
 
     @classmethod
     def from_entry(cls, e: Entry, units: Units, fixed: Mapping[str, Any]) -> RRR:
@@ -236,6 +268,25 @@ class RRR(Group):
             mode=e.mode(),
             continuous=_through(e),
         )
+
+
+def branch_sign(phi: Any, points: Sequence[float]) -> Any:
+    """(−1)^(number of change points in (0, φ mod 2π]): +1 on the arc just after φ = 0.
+
+    For one φ in plain Python (``%`` is numpy's ``mod`` for floats, and a comparison per change
+    point, which the tracing evaluator records), for an array with numpy."""
+    if not points:
+        return 1.0
+    if not isinstance(phi, np.ndarray):
+        u = phi % (2.0 * math.pi)
+        flips = sum(1 for c in points if c <= u) - sum(1 for c in points if c <= 0.0)
+        return 1.0 - 2.0 * (flips % 2)
+    c = np.asarray(points, float)
+    at_zero = int(np.count_nonzero(c <= 0.0))
+    u = np.mod(phi, 2.0 * math.pi)
+    count = np.searchsorted(c, u, side="right") - at_zero
+    sign = 1.0 - 2.0 * (count % 2)
+    return float(sign) if np.ndim(sign) == 0 else sign
 
 
 def _through(e: Entry) -> bool:

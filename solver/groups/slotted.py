@@ -26,7 +26,6 @@ from typing import Any
 
 from .._fields import Entry, Units
 from ..jet import sub
-from ..singular import refine_singular
 from .attached import points_on_link
 from .base import Context, Group, at_most_one
 
@@ -66,7 +65,9 @@ class Slotted(Group):
         for name, jet in zip(self._names, jets):
             vals[name] = jet
         ctx.conditioning[self.name] = at_most_one(rho / self._scale)
-        refine_singular(ctx, self, self._names)
+
+    def singular_names(self) -> tuple[str, ...]:
+        return self._names
 
     @cached_property
     def _names(self) -> tuple[str, ...]:

@@ -126,7 +126,7 @@ def test_summary_names_the_inputs_and_the_extremes(capsys: pytest.CaptureFixture
     code, out, err = _run(capsys, "five_bar", "--count", "8", "--omega", "q1=2", "--omega", "q2=-1")
     assert code == 0, err
     assert out.startswith("scene five_bar: 64 of 64 samples of the inputs (q1, q2) assemblable; ω: q1 = 2, q2 = -1")
-    assert "  P: x " in out and "max |v| = " in out
+    assert "  point P" in out and "    position: x " in out and "max speed |v| = " in out
     assert "singular samples (derivatives NaN there): 1: (q1 = 180.00°, q2 = 0.00°)" in out
 
 

@@ -229,5 +229,5 @@ def test_mcap_cli_tells_a_cut_file_and_recovers_it(tmp_path: Path,
     assert mcap_main(["recover", str(cut), str(fixed)]) == 0
     assert "recovered" in capsys.readouterr().out
     assert mcap_main(["info", str(fixed)]) == 0
-    assert "finished (footer present)" in capsys.readouterr().out
+    assert f"{fixed}: finished;" in capsys.readouterr().out
     assert mcap_main(["info", str(tmp_path / "missing.mcap")]) == 2

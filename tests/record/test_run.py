@@ -153,7 +153,8 @@ def test_summary_gives_range_and_maxima_with_where_they_occur() -> None:
     acc[3] = (0.0, -2.0)
     data = RunData("demo", 2, t, 2 * t, np.ones(5), np.zeros(5), {"P": pos}, {"P": vel},
                    {"P": acc}, {"J": (t, -3 * t, t)}, [], {})
-    lines = summary_lines(data, ["P"], ["J"], {"J": "m"}, descriptions={"P": "the tip"})
+    note, *lines = summary_lines(data, ["P"], ["J"], {"J": "m"}, descriptions={"P": "the tip"})
+    assert note == "  extremes read off the ticks (every 0.25 s)"  # not refined: said so once
     assert lines[0] == "  point P — the tip"
     assert lines[1] == "    position: x 0 … 1 m, y -1 … 0 m"
     assert lines[2] == "    velocity: max speed |v| = 5 m/s at t = 0.25 s (φ = 28.65°)"

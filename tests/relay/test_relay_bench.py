@@ -22,7 +22,7 @@ from bench.relay import (
     reference,
     run,
 )
-from linkage_ros.wire import pad4
+from linkage_ros.serialize import pad4
 
 #: The reference rounded to double, against the solver (rad or m; analogs relative to max(|v|, 1)).
 TOL = 1e-13

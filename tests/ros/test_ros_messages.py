@@ -48,7 +48,8 @@ def test_every_topic_is_built_in_the_declared_order(harvester: Engine) -> None:
     declared = topic_types(harvester)
     assert [t for t, _ in messages] == [t for t, _ in declared]
     assert [type(m).__msgtype__ for _, m in messages] == [ty for _, ty in declared]  # type: ignore[attr-defined]
-    assert len(declared) == len(FIXED_TOPIC_TYPES) + 3 * len(harvester.published_points)
+    # the harvester finger has bodies and loads: a wrench topic per pin and slide (issue 17)
+    assert len(declared) == len(FIXED_TOPIC_TYPES) + 3 * len(harvester.published_points) + len(harvester.load_pairs)
     assert point_topics("C") == ("points/C/position", "points/C/velocity", "points/C/acceleration")
 
 
@@ -62,7 +63,10 @@ def test_cdr_round_trip_keeps_names_and_values(harvester: Engine) -> None:
     assert js.name == joints + list(tree.names)  # type: ignore[attr-defined]
     np.testing.assert_array_equal(js.position, [*(frame.joints[j].position for j in joints), *tree.position])  # type: ignore[attr-defined]
     np.testing.assert_array_equal(js.velocity, [*(frame.joints[j].velocity for j in joints), *tree.velocity])  # type: ignore[attr-defined]
-    assert len(js.effort) == 0  # type: ignore[attr-defined]
+    # bodies and loads (issue 17): the input's effort, on the tree's drum joint too, 0 elsewhere
+    effort = dict(zip(js.name, js.effort))  # type: ignore[attr-defined]
+    assert effort.pop("drum") == effort.pop("drum_joint") == frame.efforts["drum"]
+    assert set(effort.values()) == {0.0}
     jk = back["joint_kinematics"]
     assert jk.joint_names == joints and len(jk.points) == 1  # type: ignore[attr-defined]
     (point,) = jk.points  # type: ignore[attr-defined]
@@ -109,7 +113,8 @@ def test_markers_draw_links_joints_fixed_pivots_and_paths(harvester: Engine) -> 
     back = round_trip(build_messages(frame, STORE.types, frame_id=FRAME_ID, stamp=STAMP, engine=harvester))
     M = STORE.types["visualization_msgs/msg/Marker"]
     markers = {(m.ns, m.id): m for m in back["markers"].markers}  # type: ignore[attr-defined]
-    assert set(markers) == {("links", 0), ("joints", 0), ("fixed_pivots", 0), *(("paths", i) for i in range(3))}
+    assert set(markers) == {("links", 0), ("joints", 0), ("fixed_pivots", 0), *(("paths", i) for i in range(3)),
+                            *(("loads", i) for i in range(len(harvester.load_pairs)))}
     links = markers[("links", 0)]
     assert links.type == M.LINE_LIST and len(links.points) % 2 == 0
     segments = sum(len(link.points) - 1 for link in harvester.scene.links)

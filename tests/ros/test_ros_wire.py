@@ -1,4 +1,4 @@
-"""Per-tick CDR bytes from templates (linkage_ros.wire): byte for byte what the message builder
+"""CDR bytes from templates (linkage_ros.serialize): byte for byte what the message builder
 and rosbags' serialiser give, for every shipped scene; readable by rclpy's deserialiser."""
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ import solver
 from linkage_ros.engine import Engine
 from linkage_ros.messages import DIAGNOSTICS, MARKERS, MessageBuilder
 from linkage_ros.motion import Motion
-from linkage_ros.wire import TickSerializer, pad4
+from linkage_ros.serialize import Serializer, pad4
 
 STORE = get_typestore(Stores.ROS2_JAZZY)
 STAMP = 1_700_000_000_123_456_789
@@ -33,7 +33,7 @@ def ordinary(engine: Engine, frame: object, stamp: int, *, paths: bool) -> list[
 @pytest.mark.parametrize("scene", SCENES, ids=lambda p: p.stem)
 def test_templates_give_the_builders_bytes(scene: Path) -> None:
     engine = Engine(scene, Motion(phi0=0.1, omega=2.0, epsilon=0.3))
-    wire = TickSerializer(MessageBuilder(engine, STORE.types, frame_id="world"), STORE.serialize_cdr)
+    wire = Serializer(MessageBuilder(engine, STORE.types, frame_id="world"), STORE.serialize_cdr)
     first = engine.frame(0.0)
     assert wire.verify(first, STAMP) == []
     assert set(wire.template_topics) == {t for t, _ in engine_topics(engine)} - {DIAGNOSTICS}
@@ -56,7 +56,7 @@ def test_rclpy_reads_the_bytes() -> None:
 
     engine = Engine("four_bar", Motion(omega=2.0))
     builder = MessageBuilder(engine, STORE.types, frame_id="world")
-    wire = TickSerializer(builder, STORE.serialize_cdr)
+    wire = Serializer(builder, STORE.serialize_cdr)
     frame = engine.frame(0.25)
     classes = message_classes(sorted(set(dict(builder.topics).values())))
     for topic, data in wire.render(frame, STAMP, paths=True):

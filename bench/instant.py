@@ -1,0 +1,279 @@
+"""One instant: the compiled per-tick path against plain Python and a warm Gauss–Newton loop.
+
+Run from the repository root::
+
+    .venv/bin/python -m bench.instant            # writes the "One instant" section of docs/speed-vs-error.md
+    .venv/bin/python -m bench.instant --quick    # seconds; writes bench/.cache/quick/speed-vs-error.md
+
+four_bar with every point and joint as an output (``scene.everything()``), φ in 1° steps, ω = 2,
+ε = 0.5, side by side in one process, round-robin (bench._common.median_times):
+
+* ours through the public API: ``scene.instant(φ, ω, ε)`` (the flat tuple), and
+  ``scene.solve(φ, omega=ω, epsilon=ε)`` with every output read by ``k.floats(name)``;
+* the compiled function itself (``scene.compiled().function``, what the node calls);
+* today's scalar path before this change (``Scene._solve_scalar(..., compiled=False)``);
+* plain Python: the closed-form position of B alone (no derivatives), the floor;
+* bench.relay's warm-started Gauss–Newton loop closure with velocity (the relay's anchor).
+
+Also: ours against that Gauss–Newton (B within 1e-12 m, joints within 1e-12 rad), the build time
+of every shipped scene's compiled function, and the vectorised path against bare numpy
+(bench.alternatives), which must stay about 2× (the figure in "Where the time goes").
+"""
+
+from __future__ import annotations
+
+import argparse
+import cmath
+import math
+import statistics
+import sys
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+if __package__ in (None, ""):  # run as a file: make the repository root importable
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+import solver
+from bench import alternatives
+from bench._common import CACHE, ROOT, machine, median_times, turn
+from bench.relay import FOUR_BAR, GaussNewton
+from solver._codegen import Compiled
+from solver.scene import shipped_scenes
+
+__all__ = ["HEADING", "Report", "measure", "plain_b", "section", "write_section", "carry_section", "main"]
+
+HEADING = "## One instant"
+OMEGA, EPSILON = 2.0, 0.5
+STEPS = [math.radians(i) for i in range(360)]  # 1° steps, one turn
+TARGET_PLAIN = 8.0  # × plain-Python B position
+VALUE_TOL = 1e-12  # m and rad, against Gauss–Newton
+
+
+def plain_b(phi: float) -> complex:
+    """B of four_bar in closed form, plain Python floats (the floor: positions only, no derivatives)."""
+    ax, ay = 0.1 * math.cos(phi), 0.1 * math.sin(phi)
+    dx, dy = 0.4 - ax, -ay
+    d2 = dx * dx + dy * dy
+    along = (0.16 - 0.09 + d2) / (2.0 * d2)
+    across = math.sqrt(0.16 / d2 - along * along)
+    return complex(ax + along * dx + across * dy, ay + along * dy - across * dx)
+
+
+@dataclass
+class Report:
+    quick: bool
+    machine: dict[str, str]
+    per_instant_us: dict[str, float] = field(default_factory=dict)
+    worst_b_m: float = math.nan
+    worst_joint_rad: float = math.nan
+    build_ms: dict[str, float] = field(default_factory=dict)
+    paths: dict[str, int] = field(default_factory=dict)
+    vectorised: dict[str, float] = field(default_factory=dict)
+
+
+OURS_API = "ours: scene.instant(φ, ω, ε) → flat tuple"
+OURS_SOLVE = "ours: scene.solve(φ, …) + k.floats(every output)"
+OURS_FN = "ours: the compiled function itself"
+OURS_OLD = "today's scalar path (before, uncompiled)"
+PLAIN = "plain Python: closed-form B position only"
+GN = "Gauss–Newton, warm, 1° steps, with velocity (bench.relay)"
+
+
+def _loops(scene: solver.Scene, repeat: int) -> dict[str, Callable[[], object]]:
+    names = (*scene.output_points, *scene.output_joints)
+    fn = scene.compiled().function
+    gn = GaussNewton(FOUR_BAR, STEPS[0])
+    steps = STEPS * repeat
+
+    def api() -> None:
+        instant = scene.instant
+        for p in steps:
+            instant(p, OMEGA, EPSILON)
+
+    def solve() -> None:
+        for p in steps:
+            k = scene.solve(p, omega=OMEGA, epsilon=EPSILON)
+            for n in names:
+                k.floats(n)
+
+    def compiled() -> None:
+        for p in steps:
+            fn(p, OMEGA, EPSILON)
+
+    def old() -> None:
+        for p in steps[: len(STEPS)]:
+            scene._solve_scalar(p, OMEGA, EPSILON, False, compiled=False)
+
+    def plain() -> None:
+        for p in steps:
+            plain_b(p)
+
+    def newton() -> None:
+        for p in steps:
+            gn.solve(p, OMEGA)
+
+    return {OURS_API: api, OURS_SOLVE: solve, OURS_FN: compiled, OURS_OLD: old, PLAIN: plain, GN: newton}
+
+
+def _against_newton(scene: solver.Scene) -> tuple[float, float]:
+    """Largest |B − B_GN| (m) and largest joint difference (rad, angles and rates) over the turn."""
+    layout = scene.instant_layout()
+    at = {name: i for i, name in enumerate(layout)}
+    gn = GaussNewton(FOUR_BAR, STEPS[0])
+    worst_b = worst_j = 0.0
+    for p in STEPS:
+        flat = scene.instant(p, OMEGA, EPSILON)
+        (coupler, rocker), (dcoupler, drocker), _ = gn.solve(p, OMEGA)
+        b_gn = complex(FOUR_BAR.ground, 0.0) + FOUR_BAR.rocker * cmath.exp(1j * rocker)
+        worst_b = max(worst_b, abs(complex(flat[at["B.x"]], flat[at["B.y"]]) - b_gn))
+        for ours, theirs in ((flat[at["coupler.q"]], coupler), (flat[at["rocker.q"]], rocker),
+                             (flat[at["coupler.dq"]], dcoupler), (flat[at["rocker.dq"]], drocker)):
+            worst_j = max(worst_j, abs(math.remainder(ours - theirs, 2 * math.pi)))
+    return worst_b, worst_j
+
+
+def _build_times(repeat: int) -> tuple[dict[str, float], dict[str, int]]:
+    times: dict[str, float] = {}
+    paths: dict[str, int] = {}
+    for name in sorted(shipped_scenes()):
+        scene = solver.load_scene(name).everything()
+        scene.solve(0.3 if len(scene.inputs) == 1 else (0.3,) * len(scene.inputs), mask=True)  # warm caches
+        samples = []
+        for _ in range(repeat):
+            start = time.perf_counter()
+            unit = Compiled(scene)
+            samples.append(time.perf_counter() - start)
+        times[name] = 1e3 * statistics.median(samples)
+        paths[name] = unit.paths
+    return times, paths
+
+
+def measure(quick: bool, log: Callable[[str], None] = print) -> Report:
+    report = Report(quick, machine())
+    scene = solver.load_scene("four_bar").everything()
+    scene.instant(0.1, OMEGA, EPSILON)  # built (and its first retraces done) before timing
+    repeat = 2 if quick else 20
+    times = median_times(_loops(scene, repeat), repeat=3 if quick else 9)
+    for name, seconds in times.items():
+        count = len(STEPS) * (1 if name == OURS_OLD else repeat)
+        report.per_instant_us[name] = 1e6 * seconds / count
+    log("  per-instant timings done")
+    report.worst_b_m, report.worst_joint_rad = _against_newton(scene)
+    report.build_ms, report.paths = _build_times(1 if quick else 5)
+    log("  build times done")
+    n = 10_000 if quick else 100_000
+    phi = turn(n)
+    vec = median_times(
+        {
+            "ours, vectorised, every output fetched": lambda: _fetch(scene, phi),
+            "bare numpy positions only (bench.alternatives)": lambda: alternatives.four_bar(phi),
+        },
+        repeat=3 if quick else 9,
+    )
+    report.vectorised = {k: 1e6 * v / n for k, v in vec.items()}
+    return report
+
+
+def _fetch(scene: solver.Scene, phi: Any) -> None:
+    k = scene.solve(phi, omega=OMEGA, epsilon=EPSILON)
+    for p in scene.output_points:
+        m = k.point(p)
+        m.position, m.velocity, m.acceleration  # noqa: B018
+    for j in scene.output_joints:
+        m = k.joint(j)
+        m.position, m.velocity, m.acceleration  # noqa: B018
+
+
+def section(r: Report) -> str:
+    us = r.per_instant_us
+    plain, gn = us[PLAIN], us[GN]
+    lines = [
+        HEADING,
+        "",
+        f"Measured by `bench/instant.py` ({'quick' if r.quick else 'full'} run) on {r.machine.get('cpu', '?')}, "
+        f"Python {r.machine.get('python', '?')}. four_bar, every point and joint an output (`scene.everything()`): "
+        "positions, velocities and accelerations, φ in 1° steps, ω = 2, ε = 0.5, all methods side by side in "
+        "one process, round-robin (medians). The compiled function is the groups' own code traced once per "
+        "scene and output set (docs/compiled.md).",
+        "",
+        "| method | µs per instant | × plain B | × Gauss–Newton |",
+        "|---|---:|---:|---:|",
+    ]
+    for name, t in us.items():
+        lines.append(f"| {name} | {t:.2f} | {t / plain:.1f}× | {t / gn:.2f}× |")
+    api = us[OURS_API]
+    lines += [
+        "",
+        f"Targets (issue 18): the public API at ≤ {TARGET_PLAIN:g}× plain B — "
+        f"{'met' if api <= TARGET_PLAIN * plain else 'NOT met'} ({api / plain:.1f}×); no slower than "
+        f"Gauss–Newton — {'met' if api <= gn else 'NOT met'} ({api / gn:.2f}×). Values against Gauss–Newton over "
+        f"the turn: B within {r.worst_b_m:.1e} m, joint angles and rates within {r.worst_joint_rad:.1e} "
+        f"(bound {VALUE_TOL:g}). The compiled values equal the uncompiled scalar path's to the bit "
+        "(tests/compiled).",
+        "",
+        "Build time of the compiled function (`scene.everything()`, traced at 12 angles, merged, "
+        "compiled; median), and the paths it holds (a path per branch the group code takes: "
+        "both sides of the crank-fed dyad's accurate-toggle factors, each side of a change point):",
+        "",
+        "| scene | build ms | paths |",
+        "|---|---:|---:|",
+    ]
+    lines += [f"| {name} | {ms:.1f} | {r.paths[name]} |" for name, ms in r.build_ms.items()]
+    v = r.vectorised
+    ours_v, bare = v["ours, vectorised, every output fetched"], v["bare numpy positions only (bench.alternatives)"]
+    lines += [
+        "",
+        f"Vectorised path unchanged: {ours_v:.4f} µs per position with every output fetched, against "
+        f"{bare:.4f} µs for bare numpy positions only: {ours_v / bare:.1f}× (it was 1.9× in \"Where the time goes\").",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def write_section(md: Path, text: str) -> None:
+    """Replace the "One instant" section of ``md`` (up to the next ``## `` heading), or append it."""
+    old = md.read_text() if md.exists() else ""
+    start = old.find(f"\n{HEADING}\n")
+    if start < 0:
+        md.write_text(old.rstrip("\n") + "\n\n" + text)
+        return
+    end = old.find("\n## ", start + 1)
+    md.write_text(old[: start + 1] + text + (old[end:] if end >= 0 else ""))
+
+
+class carry_section:  # noqa: N801 — used as ``with carry_section(md):`` like bench.forces'
+    """Keep the "One instant" section of ``md`` across a rewrite of the rest of the file."""
+
+    def __init__(self, md: Path) -> None:
+        self.md = md
+
+    def __enter__(self) -> None:
+        old = self.md.read_text() if self.md.exists() else ""
+        start = old.find(f"\n{HEADING}\n")
+        end = old.find("\n## ", start + 1) if start >= 0 else -1
+        self.kept = old[start + 1 : end + 1 if end >= 0 else None] if start >= 0 else ""
+
+    def __exit__(self, *exc: object) -> None:
+        if self.kept and self.md.exists():
+            write_section(self.md, self.kept.rstrip("\n") + "\n")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description="One instant: compiled per-tick path, plain Python, Gauss–Newton")
+    parser.add_argument("--quick", action="store_true", help="small sizes (seconds), for smoke tests")
+    parser.add_argument("--out", type=Path, help="output folder (default: docs/, or bench/.cache/quick/ with --quick)")
+    args = parser.parse_args(argv)
+    folder = args.out or (CACHE / "quick" if args.quick else ROOT / "docs")
+    folder.mkdir(parents=True, exist_ok=True)
+    report = measure(args.quick, lambda s: print(s, file=sys.stderr, flush=True))
+    out = folder / "speed-vs-error.md"
+    write_section(out, section(report))
+    print(f"wrote the One instant section of {out}")
+    return 0 if report.worst_b_m <= VALUE_TOL and report.worst_joint_rad <= VALUE_TOL else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

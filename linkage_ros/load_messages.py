@@ -1,0 +1,144 @@
+"""The force part of the one message builder: efforts on the joint topics, a wrench per load,
+arrows in the markers.
+
+:class:`~linkage_ros.messages.MessageBuilder` owns one :class:`LoadMessages` when its engine's
+scene has forces (:mod:`linkage_ros.forces`), and none otherwise (every message then stays as
+it was, byte for byte). What it adds (docs/ros.md, "Forces")::
+
+    pin_loads/<K>     geometry_msgs/msg/WrenchStamped   force (N, world frame) on the pin's first
+                                                        body from the other; torque 0
+    slide_loads/<K>   geometry_msgs/msg/WrenchStamped   force of the guide on the slider block
+                                                        (normal to the guide) and its couple
+                                                        (torque.z, N·m) about the block's point
+    joint_states      effort: each input joint's effort (and the URDF tree joint that turns the
+                      input link against the frame: the same number), 0.0 for every other joint
+    joint_kinematics  points[0].effort: the same, for every joint of the scene
+    markers           namespace ``loads``: one ARROW per load (id = its index), from the pair's
+                      point along the force, length = |F| × ``scale`` (m/N); its ``text`` says
+                      which load and the scale (:meth:`LoadMessages.label`)
+
+Every number comes from the frame (``frame.efforts``, ``frame.loads``), but the arrows' tips: the
+pair's point plus the force times a constant scale, derived like the URDF tree's joint states
+(:meth:`MessageBuilder.load_tips <linkage_ros.messages.MessageBuilder.load_tips>`; a byte
+template passes sentinels for them through ``build_topics(..., load_tips=...)``). A frame without
+forces gives NaN in their place, so that a template taken from it can never match a real frame.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING, Any
+
+from .forces import KIND_PIN, LoadPair
+from .urdf import BASE_LINK
+
+if TYPE_CHECKING:
+    from .messages import MessageBuilder, _Tick
+
+__all__ = ["LOADS_NAMESPACE", "WRENCH_STAMPED", "LoadMessages", "load_topic_types", "tree_effort_joints"]
+
+WRENCH_STAMPED = "geometry_msgs/msg/WrenchStamped"
+LOADS_NAMESPACE = "loads"
+_LOAD_COLOUR = (0.80, 0.25, 0.85, 1.0)
+#: Arrow shaft diameter, head diameter and head length, in line widths of the drawing.
+_ARROW_SHAPE = (1.5, 4.0, 5.0)
+_NAN = math.nan
+
+
+def load_topic_types(pairs: Sequence[LoadPair]) -> list[tuple[str, str]]:
+    """``(topic, type)`` of every load, in the order of ``pairs``."""
+    return [(p.topic, WRENCH_STAMPED) for p in pairs]
+
+
+def tree_effort_joints(tree: Any, inputs: Iterable[str]) -> list[tuple[str, str]]:
+    """``(tree joint, input)`` for each URDF tree joint (``linkage-urdf``) that turns an input
+    crank against the frame: its coordinate is the input angle plus a constant, so its effort is
+    the input's."""
+    if tree is None:
+        return []
+    inputs = set(inputs)
+    return [(j.name, str(j.data[0])) for j in tree.joints
+            if j.rule == "planar_pin" and j.parent == BASE_LINK and j.data and j.data[0] in inputs]
+
+
+class LoadMessages:
+    """The force messages of ``builder``'s engine (which must have forces)."""
+
+    def __init__(self, builder: MessageBuilder, *, size: float, tree_joints: Sequence[tuple[str, str]]) -> None:
+        from .record.rerun import arrow_scale
+
+        engine = builder.engine
+        c = builder.types.classes
+        self.types = builder.types
+        self.pairs = tuple(engine.load_pairs)
+        self.topics = [p.topic for p in self.pairs]
+        self._Vector3 = c["geometry_msgs/msg/Vector3"]
+        self._Point = c["geometry_msgs/msg/Point"]
+        self._Wrench = c["geometry_msgs/msg/Wrench"]
+        self._WrenchStamped = c[WRENCH_STAMPED]
+        self._Marker = c["visualization_msgs/msg/Marker"]
+        self._zero = self._Vector3(x=0.0, y=0.0, z=0.0)
+        #: m of arrow per N of load: a round number that draws a long load of one cycle at the
+        #: starting motion at about a quarter of the drawing's size.
+        self.scale: float = arrow_scale(engine.load_samples, size)
+        self._inputs = frozenset(engine.inputs)
+        #: joint name → the input whose effort it carries (None: a passive joint, 0.0)
+        self._carrier = {name: (name if name in self._inputs else None) for name in engine.joint_names}
+        self._carrier.update(tree_joints)
+        w = builder.line_width
+        style = builder._marker_style(LOADS_NAMESPACE, 0, self._Marker.ARROW, _LOAD_COLOUR, w)
+        shaft, head, length = (f * w for f in _ARROW_SHAPE)
+        style["scale"] = self._Vector3(x=shaft, y=head, z=length)
+        self._styles = [{**style, "id": i, "text": self.label(p)} for i, p in enumerate(self.pairs)]
+        fixed = engine.scene.fixed_points
+        self._fixed = [(float(fixed[p.point][0]), float(fixed[p.point][1])) if p.point in fixed else None
+                       for p in self.pairs]
+
+    def label(self, pair: LoadPair) -> str:
+        """The arrow marker's ``text``: what it shows and its scale, e.g. ``pin_loads/B: force on
+        coupler from rocker; arrow 0.005 m per N``."""
+        return f"{pair.topic}: force on {pair.body} from {pair.other}; arrow {self.scale:g} m per N"
+
+    def efforts(self, frame: Any, names: Iterable[str]) -> Any:
+        """The effort array of ``names`` (joint_states, joint_kinematics) at ``frame``."""
+        efforts = frame.efforts
+        row = []
+        for name in names:
+            q = self._carrier.get(name)
+            row.append(0.0 if q is None else efforts.get(q, _NAN))
+        return self.types.float64_rows([row])[0]
+
+    def wrenches(self, frame: Any, header: Any, wanted: set[str] | None) -> list[tuple[str, Any]]:
+        """``[(topic, WrenchStamped)]`` of the loads in ``wanted`` (None: all)."""
+        loads = frame.loads
+        out = []
+        for pair, topic in zip(self.pairs, self.topics):
+            if wanted is not None and topic not in wanted:
+                continue
+            fx, fy, m = loads.get(pair.key, (_NAN, _NAN, _NAN))
+            torque = self._zero if pair.kind == KIND_PIN else self._Vector3(x=0.0, y=0.0, z=m)
+            wrench = self._Wrench(force=self._Vector3(x=fx, y=fy, z=0.0), torque=torque)
+            out.append((topic, self._WrenchStamped(header=header, wrench=wrench)))
+        return out
+
+    def tips(self, frame: Any) -> tuple[float, ...]:
+        """(x, y) of each arrow's tip, flat: the pair's point + the force × :attr:`scale`."""
+        loads, points, s = frame.loads, frame.points, self.scale
+        out: list[float] = []
+        for pair, fixed in zip(self.pairs, self._fixed):
+            x, y = fixed if fixed is not None else points[pair.point].position[:2]
+            fx, fy, _ = loads.get(pair.key, (_NAN, _NAN, _NAN))
+            out += (x + s * fx, y + s * fy)
+        return tuple(out)
+
+    def arrows(self, tick: _Tick, header: Any, tips: Sequence[float] | None = None) -> list[Any]:
+        """One ARROW marker per load, from its point to its tip (:meth:`tips`)."""
+        if tips is None:
+            tips = self.tips(tick.frame)
+        out = []
+        for i, (pair, style) in enumerate(zip(self.pairs, self._styles)):
+            start = tick.point(pair.point)
+            end = self._Point(x=tips[2 * i], y=tips[2 * i + 1], z=0.0)
+            out.append(self._Marker(header=header, points=[start, end], **style))
+        return out

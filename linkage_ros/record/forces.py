@@ -1,0 +1,171 @@
+"""Forces in the recorded view: arrows at the pins and the input efforts over time.
+
+Scenes with ``bodies``, ``gravity`` or ``loads`` (docs/forces.md) carry, beside the kinematics of
+a :class:`~linkage_ros.record.rerun.RunData`, the effort of every input (``efforts``) and the
+load of every pin (``loads``: the force on one named body from the other, world frame, and for
+a prismatic pair the couple; docs/ros.md "Forces"). :mod:`.rerun` draws them with the functions
+here; :func:`forces_from_mcap` reads the same arrays back from a recording.
+
+Entity layout (beside :mod:`.rerun`'s)::
+
+    mechanism/loads/<K>      Arrows per tick at the point of pin load K: the force × scale (m/N),
+                             label ``R_K × s m/N``; the scale is in the legend
+    plots/effort/<Q>         Scalars: the effort of input Q (N·m for a crank, N for a slider)
+
+The scale is a round number (1, 2 or 5 × 10^k m/N) that draws a long load (the 95th percentile
+of all pin loads of the run) at about a quarter of the mechanism's extent, the same rule as the
+velocity and acceleration arrows (:func:`~linkage_ros.record.rerun.arrow_scale`).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..forces import KIND_PIN, TOPIC_PREFIX
+from .rerun import ARROW_WIDTH, DRAW_ORDER, RunData, _plot, _position, _series, arrow_scale
+
+__all__ = [
+    "EFFORT_ORIGIN",
+    "LOADS_ENTITY",
+    "LOAD_COLOR",
+    "effort_views",
+    "forces_from_mcap",
+    "forces_legend",
+    "forces_metadata",
+    "force_sections",
+    "log_forces",
+]
+
+LOADS_ENTITY = "mechanism/loads"
+EFFORT_ORIGIN = "plots/effort"
+LOAD_COLOR = (200, 70, 210)
+"""Magenta: apart from the links (blue), pivots (red), velocity (green), acceleration (orange)."""
+
+Array = NDArray[np.float64]
+
+
+def load_scale(data: RunData) -> float:
+    """m per N of the load arrows (1 when the run has no loads or all are zero)."""
+    return arrow_scale({k: v[:, : data.dim] for k, v in data.loads.items()}, data.extent())
+
+
+def log_forces(rec: Any, data: RunData, times: Any, *, radius: float) -> float:
+    """Log the load arrows and the effort series of ``data`` into ``rec`` (nothing when the run
+    has no forces); returns the arrow scale (m/N)."""
+    import rerun as rr
+
+    scale = load_scale(data)
+    if not data.n:
+        return scale
+    arrows: Any = rr.Arrows3D if data.dim == 3 else rr.Arrows2D
+    order: dict[str, Any] = {"draw_order": DRAW_ORDER["arrows"]} if data.dim == 2 else {}
+    for key, values in data.loads.items():
+        entity = f"{LOADS_ENTITY}/{key}"
+        point = data.load_pins.get(key, (key,))[0]
+        if point not in data.positions and point not in data.fixed:
+            continue
+        vectors = np.zeros((data.n, data.dim))
+        vectors[:, :2] = values[:, :2] * scale
+        rec.log(entity, arrows.from_fields(radii=ARROW_WIDTH * radius, colors=LOAD_COLOR,
+                                           labels=[f"R_{key} × {scale:g} m/N"], show_labels=False,
+                                           **order), static=True)
+        rec.send_columns(entity, indexes=[times], columns=arrows.columns(
+            origins=_position(data, point), vectors=vectors))
+    joints = list(data.joints)
+    for i, (joint, values) in enumerate(data.efforts.items()):
+        unit = data.effort_units.get(joint, "N·m")
+        colour = joints.index(joint) if joint in joints else i  # the input joint's colour
+        _series(rec, f"{EFFORT_ORIGIN}/{joint}", f"Q {joint} ({unit})", times, values, colour)
+    return scale
+
+
+def effort_views(data: RunData) -> list[Any]:
+    """The blueprint's plot of the input efforts (empty without forces)."""
+    if not data.efforts:
+        return []
+    units = sorted(set(data.effort_units.get(j, "N·m") for j in data.efforts))
+    plural = "inputs'" if len(data.efforts) > 1 else "input"
+    return [_plot(EFFORT_ORIGIN, f"{plural} effort ({' | '.join(units)})", *data.efforts.values(),
+                  contents=[f"/{EFFORT_ORIGIN}/{q}" for q in data.efforts])]
+
+
+def forces_legend(data: RunData, scale: float) -> str:
+    """The legend's sentence about the load arrows ("" without loads)."""
+    if not data.loads:
+        return ""
+    each = ", ".join(f"{key} on {on} from {by}" if on else key
+                     for key, (_, on, by) in ((k, data.load_pins.get(k, (k, "", ""))) for k in data.loads))
+    return f"Magenta: pin loads **R × {scale:g} m/N**: {each}. "
+
+
+def force_sections(scene: Any, data: RunData) -> list[Any]:
+    """The summary section of a run's forces (:func:`solver.forces.report.force_section`: peak and
+    RMS efforts, peak input power, peak pin and slide loads, read off the run's ticks), for
+    ``summary_lines(..., sections=...)``; none without forces or ticks. The ticks' input states are
+    solved once more, vectorised (the run keeps the efforts and loads, not a solver result)."""
+    if not getattr(scene, "has_forces", False) or not data.n:
+        return []
+    from solver.forces.report import force_section
+
+    k = scene.solve(data.phi, omega=data.omega, epsilon=data.epsilon, mask=True)
+    step = float(data.t[1] - data.t[0]) if data.n > 1 else 0.0
+    return [force_section(scene, k, sampling=f"read off {data.n} ticks, every {step:g} s")]
+
+
+# ---------------------------------------------------------------------------------- replay
+def forces_metadata(engine: Any) -> dict[str, str]:
+    """The metadata keys a recording of a scene with forces adds (none without forces):
+    ``loads`` (``[key, kind, point, body, other, topic]`` per load) and ``effort_units``."""
+    if not getattr(engine, "forces", False):
+        return {}
+    return {"loads": json.dumps([list(p) for p in engine.load_pairs]),
+            "effort_units": json.dumps(dict(engine.effort_units))}
+
+
+def forces_from_mcap(
+    ts: Any,
+    meta: Mapping[str, str],
+    topics: Mapping[str, str],
+    rows: Callable[[str], list[bytes]],
+    types: Mapping[str, str],
+    joint_kinematics: tuple[str, list[bytes], Sequence[str]],
+) -> dict[str, Any]:
+    """The :class:`RunData` fields ``efforts``, ``loads``, ``load_pins``, ``effort_units`` of a
+    recording: the loads from its ``pin_loads/<name>`` and ``slide_loads/<name>`` topics
+    (``topics``: relative name → recorded name; ``rows(rel)``: their messages at the run's
+    ticks; ``types``: recorded name → type), the inputs' efforts from ``joint_kinematics``'
+    effort (its type, messages and joint names; the inputs from the metadata, else the joints
+    whose effort is not zero at every tick). Empty for a recording without forces."""
+    from .cdr import extract
+
+    pairs = [(str(p[0]), (str(p[2]), str(p[3]), str(p[4])), str(p[5])) for p in json.loads(meta.get("loads", "[]"))]
+    if not pairs:  # no metadata: the keys from the topic names, the bodies unknown
+        pairs = [(name if kind == TOPIC_PREFIX[KIND_PIN] else f"{name}_slide", (name, "", ""), rel)
+                 for rel in sorted(topics) for kind, _, name in [rel.partition("/")]
+                 if kind in TOPIC_PREFIX.values()]
+    wrench = [("wrench", "force", "x"), ("wrench", "force", "y"), ("wrench", "torque", "z")]
+    loads = {key: extract(ts, types[topics[rel]], rows(rel), lambda _m: wrench)
+             for key, _, rel in pairs if rel in topics}
+    out: dict[str, Any] = {"loads": loads, "load_pins": {key: pin for key, pin, _ in pairs if key in loads},
+                           "efforts": {}, "effort_units": {}}
+    typename, messages, names = joint_kinematics
+    inputs = [str(q) for q in json.loads(meta.get("inputs", "[]"))] or [meta.get("input_joint", "")]
+    if not (loads and messages):
+        return out
+    first = ts.deserialize_cdr(messages[0], typename)
+    if not first.points or len(first.points[0].effort) != len(names):
+        return out
+    values = extract(ts, typename, messages, lambda _m: [("points", 0, "effort", i) for i in range(len(names))])
+    units = json.loads(meta.get("effort_units", "{}"))
+    if not any(inputs):  # no metadata: the joints that carry an effort are the inputs
+        inputs = [n for i, n in enumerate(names) if np.any(values[:, i] != 0.0)]
+    for q in inputs:
+        if q in names:
+            out["efforts"][q] = values[:, list(names).index(q)].copy()
+            out["effort_units"][q] = str(units.get(q, "N·m"))
+    return out

@@ -1,0 +1,110 @@
+"""Opening a rerun recording in the rerun viewer, or saying in one line why it cannot be.
+
+``linkage-run --spawn`` and ``linkage-view --spawn`` write the ``.rrd`` file first and then start
+the viewer on it (``rerun FILE.rrd``, its own session, so it outlives the command). Two ways it
+cannot show anything are caught early instead of the viewer's many lines of logs and a gRPC
+client that retries for seconds:
+
+* no display: on Linux and the BSDs none of ``DISPLAY``, ``WAYLAND_DISPLAY``,
+  ``WAYLAND_SOCKET`` is set (:func:`display_problem`); the viewer is not started;
+* the viewer fails fast (a display that cannot be opened, a broken GPU driver): it exits within
+  :data:`FAIL_FAST_S`; its last ``Error:`` line is the reason.
+
+Either way the caller prints one line that says how to view the file instead
+(:func:`how_to_view`).
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+__all__ = ["FAIL_FAST_S", "ViewerError", "display_problem", "how_to_view", "open_viewer", "show",
+           "temporary_rrd"]
+
+#: Seconds the viewer is watched after its start: one that exits within them has failed.
+FAIL_FAST_S = 1.5
+_POLL_S = 0.05
+_DISPLAY_VARIABLES = ("DISPLAY", "WAYLAND_DISPLAY", "WAYLAND_SOCKET")
+
+
+class ViewerError(RuntimeError):
+    """The viewer cannot show the recording; the message is one line saying why."""
+
+
+def display_problem(environ: dict[str, str] | None = None, platform: str | None = None) -> str | None:
+    """Why no viewer window can open here, or None (macOS and Windows always have a display)."""
+    env = os.environ if environ is None else environ
+    platform = sys.platform if platform is None else platform
+    if platform.startswith(("darwin", "win", "cygwin")):
+        return None
+    if any(env.get(name) for name in _DISPLAY_VARIABLES):
+        return None
+    return "no display (none of DISPLAY, WAYLAND_DISPLAY is set)"
+
+
+def how_to_view(rrd: str | os.PathLike[str]) -> str:
+    """What to run instead, on a machine with a display."""
+    return f"view it with `rerun {rrd}` where there is a display"
+
+
+def open_viewer(rrd: str | os.PathLike[str], *, executable: str | None = None,
+                fail_fast_s: float = FAIL_FAST_S) -> int:
+    """Start the rerun viewer on ``rrd`` in its own session; its process id. Raises
+    :class:`ViewerError` with one line when there is no display, no viewer, or the viewer exits
+    within ``fail_fast_s``."""
+    problem = display_problem()
+    if problem is not None:
+        raise ViewerError(problem)
+    if executable is None:
+        raise ViewerError("the rerun viewer is not installed (pip install rerun-sdk)")
+    log = tempfile.TemporaryFile()  # the viewer's logs: read only if it fails
+    try:
+        process = subprocess.Popen([executable, str(Path(rrd))], stdin=subprocess.DEVNULL,
+                                   stdout=log, stderr=log, start_new_session=True)
+    except OSError as exc:
+        log.close()
+        raise ViewerError(f"cannot start {executable}: {exc.strerror or exc}") from None
+    deadline = time.monotonic() + fail_fast_s
+    while time.monotonic() < deadline:
+        code = process.poll()
+        if code is not None:
+            log.seek(0)
+            reason = _last_error(log.read().decode("utf-8", "replace"))
+            log.close()
+            raise ViewerError(f"the rerun viewer exited at once (status {code}): {reason}")
+        time.sleep(_POLL_S)
+    log.close()  # the viewer keeps writing to the (already unlinked) file it was given
+    return process.pid
+
+
+def show(rrd: str | os.PathLike[str]) -> str | None:
+    """Open ``rrd`` in the viewer next to this Python (else on PATH); None when it started, else
+    one line: why not, and how to view the file instead."""
+    from .rerun import _viewer
+
+    try:
+        open_viewer(rrd, executable=_viewer())
+    except ViewerError as exc:
+        return f"no viewer started: {exc}; {how_to_view(rrd)}"
+    return None
+
+
+def temporary_rrd(stem: str) -> Path:
+    """A new empty ``.rrd`` file in the temporary folder, for a viewer to open."""
+    handle, name = tempfile.mkstemp(prefix=f"{stem}-", suffix=".rrd")
+    os.close(handle)
+    return Path(name)
+
+
+def _last_error(output: str) -> str:
+    """The viewer's reason: the tail of its last ``Error:`` line (after the source location)."""
+    errors = [line.strip() for line in output.splitlines() if line.strip().startswith("Error:")]
+    if not errors:
+        lines = [line.strip() for line in output.splitlines() if line.strip()]
+        return lines[-1][:200] if lines else "no output"
+    return errors[-1].rsplit(": ", 1)[-1][:200]

@@ -1,0 +1,375 @@
+"""One instant in straight-line Python: a scene's plan traced, printed and ``compile()``d.
+
+:class:`Compiled` runs a scene's plan on tracing values (solver._trace) — the groups' own code,
+nothing written per scene or per group — at a few samples, merges the recorded paths into one
+tree (paths agree line for line up to the guard where they part), drops what no output needs,
+and compiles the result once. The function it yields takes the inputs, their rates and their
+accelerations as floats and returns a flat tuple of floats (:attr:`Compiled.layout`, then the
+groups' conditioning figures, :attr:`Compiled.conditioning`). It performs exactly the Python
+operations the per-tick path performs for those outputs, on the same types and in the same order,
+so its values are the scalar path's to the bit.
+
+Guards: every comparison the group code made on a traced value is checked again; when one comes
+out otherwise (an assembly limit, a singular position, a branch not yet traced, a zero where the
+scalar path takes a fast path), or an arithmetic exception occurs, the instant goes to ``miss``:
+today's scalar path, whose values, flags and errors are then exactly today's. A miss at an
+untraced branch is traced in turn (up to :data:`MAX_TRACES` traces, :data:`MAX_PATHS` paths) and
+the function rebuilt. See docs/compiled.md.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from ._trace import TRACE, Guard, Let, Recorder, TraceError, Tracer
+from .errors import SolverError
+from .groups.base import Context
+from .jet import Jet
+from .multi import solve_instant
+
+__all__ = ["Compiled", "FlatFloats", "MAX_PATHS", "MAX_TRACES", "EAGER_SAMPLES", "layout_of"]
+
+#: Paths kept in one compiled function, and traces tried (failed ones included) per function.
+MAX_PATHS = 16
+MAX_TRACES = 48
+#: Single input: the angles traced when the function is first built (one turn, off the round angles).
+EAGER_SAMPLES = 12
+
+_MATH = {"sqrt": math.sqrt, "cos": math.cos, "sin": math.sin, "atan2": math.atan2, "tan": math.tan}
+
+
+@dataclass
+class _Node:
+    """Straight-line ``items``, then either a branch on a guard or the return of ``ret``."""
+
+    items: list[Let | Guard]
+    ret: tuple[str, ...] | None
+    ret_uses: tuple[str, ...] = ()
+    branch: tuple[Guard, dict[bool, _Node]] | None = None
+    live: list[Let | Guard] = field(default_factory=list)
+
+
+def _merge(node: _Node, items: list[Let | Guard], ret: tuple[str, ...], uses: tuple[str, ...]) -> bool:
+    """Add one traced path to the tree; False when it cannot be placed (it then stays uncompiled)."""
+    i = 0
+    while True:
+        for j, it in enumerate(node.items):
+            k = i + j
+            if k < len(items) and items[k] == it:
+                continue
+            other = items[k] if k < len(items) else None
+            if isinstance(it, Guard) and isinstance(other, Guard) and it.expr == other.expr:
+                tail = _Node(node.items[j + 1:], node.ret, node.ret_uses, node.branch)
+                new = _Node(items[k + 1:], ret, uses)
+                node.items, node.ret, node.ret_uses = node.items[:j], None, ()
+                node.branch = (it, {it.outcome: tail, other.outcome: new})
+                return True
+            return False
+        i += len(node.items)
+        if node.branch is None:
+            return False  # the same path again: nothing new
+        guard, kids = node.branch
+        other = items[i] if i < len(items) else None
+        if not isinstance(other, Guard) or other.expr != guard.expr:
+            return False
+        if other.outcome not in kids:
+            kids[other.outcome] = _Node(items[i + 1:], ret, uses)
+            return True
+        node, i = kids[other.outcome], i + 1
+
+
+def _prune(node: _Node) -> set[str]:
+    """Keep the lines some output or guard needs; returns the names live on entry."""
+    if node.branch is None:
+        live = set(node.ret_uses)
+    else:
+        guard, kids = node.branch
+        live = set(guard.uses)
+        for kid in kids.values():
+            live |= _prune(kid)
+    kept: list[Let | Guard] = []
+    for it in reversed(node.items):
+        if isinstance(it, Let):
+            if it.name not in live:
+                continue
+            live.discard(it.name)
+        live.update(it.uses)
+        kept.append(it)
+    node.live = kept[::-1]
+    return live
+
+
+def _emit(node: _Node, pad: str, miss: str, out: list[str]) -> None:
+    for it in node.live:
+        if isinstance(it, Let):
+            out.append(f"{pad}{it.name} = {it.expr}")
+        elif it.outcome:
+            out.append(f"{pad}if not ({it.expr}): return {miss}")
+        else:
+            out.append(f"{pad}if {it.expr}: return {miss}")
+    if node.branch is None:
+        if node.ret is None:  # the head of a branch whose tail follows the if/else
+            if not node.live:
+                out.append(f"{pad}pass")
+            return
+        out.append(f"{pad}return ({', '.join(node.ret)}{',' if len(node.ret) == 1 else ''})")
+        return
+    guard, kids = node.branch
+    yes, no = kids[True], kids[False]
+    shared = 0  # two leaves that end alike: their common tail is written once, after the if
+    if yes.branch is None and no.branch is None and yes.ret == no.ret:
+        while (shared < min(len(yes.live), len(no.live))
+               and yes.live[len(yes.live) - 1 - shared] == no.live[len(no.live) - 1 - shared]):
+            shared += 1
+    if shared:
+        tail = _Node([], yes.ret, yes.ret_uses, None, yes.live[len(yes.live) - shared:])
+        yes = _Node([], None, (), None, yes.live[: len(yes.live) - shared])
+        no = _Node([], None, (), None, no.live[: len(no.live) - shared])
+    out.append(f"{pad}if {guard.expr}:")
+    _emit(yes, pad + "    ", miss, out)
+    out.append(f"{pad}else:")
+    _emit(no, pad + "    ", miss, out)
+    if shared:
+        _emit(tail, pad, miss, out)
+
+
+def layout_of(scene: Any, order: int = 2) -> tuple[str, ...]:
+    """Names of the outputs in the flat tuple: per point ``P.x, P.y[, P.z]``, then ``P.vx …`` and
+    ``P.ax …`` (up to ``order``), then per joint ``J.q``, ``J.dq``, ``J.ddq`` (up to ``order``) —
+    linkage-solve's CSV columns, in the same order."""
+    axes = ("x", "y", "z")[: scene.dim]
+    names: list[str] = []
+    for p in scene.output_points:
+        for prefix in ("", "v", "a")[: order + 1]:
+            names.extend(f"{p}.{prefix}{a}" for a in axes)
+    for j in scene.output_joints:
+        names.extend(f"{j}.{s}" for s in ("q", "dq", "ddq")[: order + 1])
+    return tuple(names)
+
+
+class FlatFloats(Mapping[str, tuple[Any, Any, Any]]):
+    """``Kinematics.floats`` read from a flat tuple: a (position, velocity, acceleration) triple
+    is made only for the output the caller asks for."""
+
+    __slots__ = ("_flat", "_index")
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._index)
+
+    def __len__(self) -> int:
+        return len(self._index)
+
+    def __init__(self, flat: tuple[Any, ...], index: dict[str, tuple[int, int]]) -> None:
+        self._flat = flat
+        self._index = index
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._index
+
+    def __getitem__(self, name: str) -> tuple[Any, Any, Any]:
+        i, width = self._index[name]
+        f = self._flat
+        if width == 0:  # a joint
+            return f[i], f[i + 1], f[i + 2]
+        return f[i:i + width], f[i + width:i + 2 * width], f[i + 2 * width:i + 3 * width]
+
+
+def _as_float(rec: Recorder, x: Any) -> Any:
+    if type(x) is Tracer:
+        return x if type(x.value) is float else rec.let("float({0})", (x,), float(x.value))
+    return float(x)
+
+
+def _as_complex(rec: Recorder, x: Any) -> Any:
+    if type(x) is Tracer:
+        return x if type(x.value) is complex else rec.let("complex({0})", (x,), complex(x.value))
+    return complex(x)
+
+
+class Compiled:
+    """The compiled one-instant function of one scene, output set and derivative order.
+
+    ``function(*q, *omega, *epsilon)`` (k inputs: ``function(phi, omega, epsilon)`` for one)
+    returns the flat tuple; on a miss it runs the scalar path and returns the same tuple from it
+    (or raises its error). ``core`` is the same code returning ``None`` on a miss.
+    ``source`` is the generated Python (``Scene.compiled_source()``).
+    """
+
+    def __init__(self, scene: Any, order: int = 2) -> None:
+        if order not in (0, 1, 2):
+            raise SolverError(f"{scene.name}: order must be 0, 1 or 2, got {order!r}")
+        self.scene = scene
+        self.order = order
+        self.k = len(scene.inputs)
+        self.layout = layout_of(scene, order)
+        self.size = len(self.layout)
+        #: output name → (start in the flat tuple, point width or 0 for a joint); order 2 only
+        self.index: dict[str, tuple[int, int]] = {}
+        i = 0
+        for p in scene.output_points:
+            self.index[p] = (i, scene.dim)
+            i += scene.dim * (order + 1)
+        for j in scene.output_joints:
+            self.index[j] = (i, 0)
+            i += order + 1
+        self.conditioning: tuple[str, ...] | None = None
+        k = self.k
+        if k == 1:
+            self.args: tuple[str, ...] = ("phi", "w", "e")
+        else:
+            self.args = (*(f"q{i}" for i in range(k)), *(f"w{i}" for i in range(k)), *(f"e{i}" for i in range(k)))
+        self._constants: dict[Any, tuple[str, Any]] = {}
+        self._root: _Node | None = None
+        self.paths = 0
+        self.traces = 0
+        self.source = ""
+        self.core: Callable[..., Any] = self._no_code
+        self.function: Callable[..., Any] = self._on_miss
+        if k == 1:
+            for i in range(EAGER_SAMPLES):
+                self._trace((2.0 * math.pi * (i + 0.3819660112501051) / EAGER_SAMPLES, 1.3, 0.7))
+        self._build()
+
+    # -- the scalar path ------------------------------------------------------------------------
+    def _no_code(self, *args: float) -> None:
+        self._missed(args)
+        return None
+
+    def _on_miss(self, *args: float) -> tuple[float, ...]:
+        out = self.fallback(*args)  # (an error of the scalar path leaves nothing to trace)
+        self._missed(args)
+        return out
+
+    def fallback(self, *args: float) -> tuple[float, ...]:
+        """The flat tuple from today's scalar path (what a miss of the compiled code returns)."""
+        k = self.k
+        scene = self.scene
+        if k == 1:
+            result = scene._solve_scalar(args[0], args[1], args[2], False, compiled=False)
+        else:
+            result = solve_instant(scene, tuple(args[:k]), args[k:2 * k], args[2 * k:])
+        out: list[float] = []
+        n = self.order + 1
+        for p in scene.output_points:
+            for part in result.floats(p)[:n]:
+                out.extend(part)
+        for j in scene.output_joints:
+            out.extend(result.floats(j)[:n])
+        names = self.conditioning if self.conditioning is not None else tuple(result.conditioning)
+        out.extend(result.conditioning[g] for g in names)
+        if result._forces is not None:
+            out.extend(result._forces._data)
+        return tuple(out)
+
+    def _missed(self, args: Sequence[float]) -> None:
+        if self.traces < MAX_TRACES and self.paths < MAX_PATHS and all(type(a) is float for a in args):
+            if all(math.isfinite(a) for a in args) and self._trace(tuple(args)):
+                self._build()
+
+    # -- tracing --------------------------------------------------------------------------------
+    def _trace(self, sample: tuple[float, ...]) -> bool:
+        """Trace the plan at ``sample``; True when it added a path."""
+        self.traces += 1
+        rec = Recorder(self._constants)
+        inputs = [rec.input(name, v) for name, v in zip(self.args, sample)]
+        for t in inputs:  # a non-finite argument goes to the scalar path (which names it)
+            rec.guard("{0} - {0} == 0.0", (t,), True)
+        try:
+            values, conditioning, forces = self._run(rec, inputs)
+        except (TraceError, SolverError, ArithmeticError, ValueError, TypeError, AttributeError):
+            return False
+        names = tuple(conditioning)
+        if self.conditioning is None:
+            self.conditioning = names
+        elif names != self.conditioning:
+            return False
+        atoms = [rec.atom(v) for v in (*values, *conditioning.values(), *forces)]
+        ret = tuple(a for a, _ in atoms)
+        uses = tuple(dict.fromkeys(u for _, us in atoms for u in us))
+        if self._root is None:
+            self._root = _Node(rec.items, ret, uses)
+            self.paths = 1
+            return True
+        if _merge(self._root, rec.items, ret, uses):
+            self.paths += 1
+            return True
+        return False
+
+    def _run(self, rec: Recorder, inputs: list[Tracer]) -> tuple[list[Any], dict[str, Any], tuple[Any, ...]]:
+        """The plan on traced inputs: the outputs, the conditioning figures, the force layer's values."""
+        scene, k, n = self.scene, self.k, self.order + 1
+        model = scene.forces
+        if k == 1:
+            phi, w, e = inputs
+            ctx = Context(phi=phi, xp=TRACE, scene=scene._label, find_intervals=scene._intervals, owner=scene)
+            scene.plan.run(ctx)
+            forces = () if model is None else model.evaluate(ctx.values, TRACE, ctx.conditioning, w, e)
+            return self._single(rec, ctx.values, w, e, n), ctx.conditioning, tuple(forces)
+        q, u, s = inputs[:k], inputs[k:2 * k], inputs[2 * k:]
+        seeds = {name: Jet(q[i], u[i], s[i]) for i, name in enumerate(scene.inputs)}
+        ctx = Context(phi=tuple(q), xp=TRACE, scene=scene._label, owner=scene, seeds=seeds)
+        scene.plan.run(ctx)
+        forces = () if model is None else model.evaluate(ctx.values, TRACE, ctx.conditioning, 1.0, 0.0)
+        out: list[Any] = []
+        for p in scene.output_points:
+            z0, z1, z2 = ctx.values[p]
+            z1, z2 = _as_complex(rec, z1), _as_complex(rec, z2)
+            out.extend((z0.real, z0.imag, z1.real, z1.imag, z2.real, z2.imag)[: 2 * n])
+        for j in scene.output_joints:
+            out.extend(_as_float(rec, x) for x in ctx.values[j][:n])
+        return out, ctx.conditioning, tuple(forces)
+
+    def _single(self, rec: Recorder, vals: Any, w: Any, e: Any, n: int) -> list[Any]:
+        """The real motion of the outputs, as ``scene._scalar_floats`` computes it."""
+        scene = self.scene
+        out: list[Any] = []
+        ww = w * w
+        for p in scene.output_points:
+            z0, z1, z2 = vals[p]
+            if scene.dim == 2:
+                v, a = z1 * w, z2 * ww + z1 * e
+                out.extend((z0.real, z0.imag, v.real, v.imag, a.real, a.imag)[: 2 * n])
+            elif type(z0) is tuple:
+                parts = [z0, tuple(x * w for x in z1), tuple(x2 * ww + x1 * e for x1, x2 in zip(z1, z2))]
+                for part in parts[:n]:
+                    out.extend(part)
+            else:
+                out.extend([float(x) for x in z0] + [0.0] * (3 * (n - 1)))
+        for j in scene.output_joints:
+            q0, q1, q2 = vals[j]
+            parts = [_as_float(rec, q0), _as_float(rec, q1 * w), _as_float(rec, q2 * ww + q1 * e)]
+            out.extend(parts[:n])
+        return out
+
+    # -- code -----------------------------------------------------------------------------------
+    def _build(self) -> None:
+        if self._root is None:
+            self.source = "# no path could be traced: every instant takes the scalar path\n"
+            return
+        _prune(self._root)
+        args = ", ".join(self.args)
+        miss = f"_miss({args})"
+        consts = [name for name, _ in self._constants.values()]
+        lines = [
+            f"def _factory(_miss, _SolverError, {', '.join([*_MATH, *consts])}):",
+            f"    def compiled_instant({args}):",
+            "        try:",
+        ]
+        _emit(self._root, " " * 12, miss, lines)
+        lines += [
+            "        except (ArithmeticError, ValueError) as exc:",
+            "            if isinstance(exc, _SolverError):",
+            "                raise",
+            f"        return {miss}",
+            "    return compiled_instant",
+        ]
+        self.source = "\n".join(lines) + "\n"
+        namespace: dict[str, Any] = {}
+        exec(compile(self.source, f"<compiled {self.scene.name}>", "exec"), namespace)
+        factory = namespace["_factory"]
+        values = [v for _, v in self._constants.values()]
+        self.core = factory(self._no_code, SolverError, *_MATH.values(), *values)
+        self.function = factory(self._on_miss, SolverError, *_MATH.values(), *values)

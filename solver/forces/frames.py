@@ -1,0 +1,166 @@
+"""Each body's motion and loads from the plan's jets: centre of mass, angle, wrenches.
+
+Centre and angle (the body frame of docs/forces.md): with origin O and x axis toward X,
+    r = X − O,  θ' = Im(r'/r),  θ'' = Im(r''/r − (r'/r)²),
+    G = O + c·r/|r|,  G' = O' + jθ'·(G − O),  G'' = O'' + (jθ'' − θ'²)·(G − O)
+(seed 000's TurnRI differentiated, as for an attached point); a slider block on a fixed guide
+of unit direction e has G = B + c·e, G' = B', G'' = B'' and θ' = θ'' = 0; a slotted link's
+block turns with the link (r = eyelet − pivot, origin at the eyelet).
+Real motion: a = a_q·ω² + v_q·ε (one input; with several the jets are real motion already).
+
+A body's known loads are kept as one wrench (F, M): the resultant force F (complex, N) and its
+moment M about the world origin (N·m): a force F at P adds (F, P × F), a torque T adds (0, T).
+d'Alembert's inertial load with gravity: F = m·(g − a_G), M = G × F − I·α.
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+from collections.abc import Callable
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from .._backend import Backend, abs2, cross, minus
+from ..jet import Jet, direction, sub, turning
+from .spec import Body, Spring, TableForce
+
+__all__ = ["BodyMotion", "body_motion", "inertial_motion", "accel", "spring_force", "table_force", "divide", "moment"]
+
+_NAN = math.nan
+
+
+class BodyMotion(NamedTuple):
+    """Centre of mass G (a complex jet) and the angle's analogs θ', θ''."""
+
+    center: Jet
+    theta1: Any
+    theta2: Any
+
+
+def divide(x: Any, y: Any) -> Any:
+    """``x / y``; NaN (not a ZeroDivisionError) for a Python zero ``y`` — a singular position on
+    the per-tick path, flagged as on the vectorised path."""
+    if y.__class__ is float and y == 0.0:
+        return complex(_NAN, _NAN) if isinstance(x, complex) else _NAN
+    return x / y
+
+
+def _imag(x: Any) -> Any:
+    return x.imag if hasattr(x, "imag") else 0.0
+
+
+def body_motion(body: Body, values: Any, xp: Backend) -> BodyMotion:
+    """G and θ's analogs of ``body`` from the jets ``values`` of a plan run."""
+    link = body.link
+    c = body.center
+    if link.block and link.guide is not None:  # a slider block on a fixed guide: it translates
+        b = values[link.points[0]]
+        return BodyMotion(b if c == 0 else Jet(b.value + c * link.guide, b.d1, b.d2), 0.0, 0.0)
+    if link.block:  # a slotted link's block: origin at the eyelet, x along pivot → eyelet
+        assert link.along is not None
+        origin, r = values[link.along[1]], sub(values[link.along[1]], values[link.along[0]])
+    else:
+        origin, r = values[body.frame[0]], sub(values[body.frame[1]], values[body.frame[0]])
+    d = direction(r, xp)
+    t1, t2 = _imag(d.w), _imag(d.w1)
+    if c == 0:
+        return BodyMotion(origin, t1, t2)
+    v = c * d.unit
+    v1, v2 = turning(v, t1, t2)
+    return BodyMotion(Jet(origin.value + v, origin.d1 + v1, origin.d2 + v2), t1, t2)
+
+
+def inertial_motion(
+    body: Body,
+    values: Any,
+    a_of: Callable[[str], Any],
+    a_of_jet: Callable[[Jet], Any],
+    xp: Backend,
+    length: float | None = None,
+) -> tuple[Any, Any, Any]:
+    """(G, a_G, α) of ``body`` in real motion, ``a_of(point)`` giving a point's real acceleration
+    and ``a_of_jet`` a jet's; ``length`` = |r| when the frame's two points are a rigid pair.
+
+    The frame vector r = X − O keeps its length, so with κ = c/|r| (c the centre in the frame):
+        G = O + κ·r,   a_G = a_O + κ·a_r,   α = (r × a_r)/|r|²   (a_r = a_X − a_O)
+    — the real-motion form of G'' and θ'' above, in fewer array passes (route 2's evaluation;
+    route 1 uses :func:`body_motion`)."""
+    link = body.link
+    c = body.center
+    if link.block and link.guide is not None:  # a translating block
+        b = link.points[0]
+        return values[b].value + c * link.guide, a_of(b), 0.0
+    if link.along is not None:  # the slotted link's block: |pivot → eyelet| varies, the jets' way
+        m = body_motion(body, values, xp)
+        return m.center.value, a_of_jet(m.center), a_of_jet(Jet(0.0, m.theta1, m.theta2))
+    o, x = body.frame
+    origin = values[o].value
+    r = values[x].value - origin
+    a_o = a_of(o)
+    a_r = minus(a_of(x), a_o)
+    if length is not None:  # |r| = L: constants, no array pass
+        inv: Any = 1.0 / (length * length)
+        kappa: Any = c / length
+    else:
+        inv = divide(1.0, abs2(r))
+        kappa = c * xp.sqrt(inv)
+    alpha = cross(r, a_r)
+    alpha *= inv  # in place on fresh temporaries (never on a jet or a cached acceleration)
+    if c == 0:
+        return origin, a_o, alpha
+    center = r * kappa
+    center += origin
+    a_g = a_r * kappa
+    if not (a_o.__class__ is float and a_o == 0.0):
+        a_g += a_o
+    return center, a_g, alpha
+
+
+def accel(d1: Any, d2: Any, ww: Any, e: Any) -> Any:
+    """Real acceleration ``d2·ω² + d1·ε`` from the analogs (``d2`` itself when ω² = 1, ε = 0)."""
+    if ww.__class__ is float and ww == 1.0 and e.__class__ is float and e == 0.0:
+        return d2
+    if d2.__class__ is float and d2 == 0.0 and d1.__class__ is float and d1 == 0.0:
+        return 0.0  # a fixed point: no array work
+    a = d2 * ww
+    if not (e.__class__ is float and e == 0.0):
+        a += d1 * e  # in place on the fresh product
+    return a
+
+
+def spring_force(spring: Spring, values: Any, xp: Backend) -> Any:
+    """The force (complex, N) on the spring's first end: k·(ℓ − ℓ₀)·(Q − P)/ℓ, ℓ = |Q − P|."""
+    p, q = values[spring.ends[0][1]].value, values[spring.ends[1][1]].value
+    d = q - p
+    length = xp.sqrt(abs2(d))
+    return d * divide(spring.stiffness * (length - spring.free_length), length)
+
+
+def table_force(load: TableForce, values: Any, xp: Backend) -> Any:
+    """The tabulated force (complex, N): f(q)·direction, f linear between the table's entries."""
+    q = values[load.joint].value
+    if load.period is not None:  # an angle: into [at₀, at₀ + period), the turn the table starts
+        q = (q - load.at[0]) % load.period + load.at[0]
+    if xp.vectorised:
+        f = np.interp(q, load.at, load.force)
+    else:
+        f = xp.call(_interp, q, load.at, load.force)  # one call, as the compiled instant records it
+    return f * load.direction
+
+
+def _interp(x: float, at: tuple[float, ...], fs: tuple[float, ...]) -> float:
+    x = float(x)
+    if x <= at[0]:
+        return fs[0]
+    if x >= at[-1]:
+        return fs[-1]
+    i = bisect.bisect_right(at, x) - 1
+    t = (x - at[i]) / (at[i + 1] - at[i])
+    return fs[i] + t * (fs[i + 1] - fs[i])
+
+
+def moment(point: Any, force: Any) -> Any:
+    """The moment about the world origin of ``force`` at ``point``: P × F."""
+    return cross(point, force)

@@ -1,0 +1,199 @@
+"""The force layer of a scene: route 2 (Assur groups in reverse plan order) on a plan run's jets.
+
+``ForceModel.evaluate`` reads the jets a kinematics pass has just computed (no second pass),
+puts every body's d'Alembert load, gravity and applied loads into its wrench, then solves the
+groups from the last to the first (solver.forces.crank, .rrr, .rrp, .slotted), each handing
+the reactions at the pins it shares with earlier groups back to them, sign flipped. Closed form,
+no iteration; the same source runs on numpy arrays and on Python scalars (solver._backend).
+At samples where a group of the mechanism is singular (conditioning < tolerances.SINGULAR) every
+effort and reaction is NaN and ``Kinematics.singular`` is True there.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+
+from .._backend import Backend
+from ..groups import RRP, RRR, Crank, Slotted
+from ..jet import Jet
+from ..tolerances import SINGULAR
+from .crank import CrankForces
+from .frames import accel, inertial_motion, spring_force, table_force
+from .rrp import RRPForces
+from .rrr import RRRForces
+from .slotted import SlottedForces
+from .spec import Body, ForceSpec, PointForce, Spring, TableForce, Torque
+from .state import ForcePass
+from .structure import GROUND
+
+__all__ = ["ForceModel", "Step"]
+
+Step = CrankForces | RRRForces | RRPForces | SlottedForces
+
+
+@dataclass(frozen=True)
+class ForceModel:
+    """A scene's force layer: its spec, the route-2 steps in plan order, and the inputs."""
+
+    spec: ForceSpec
+    inputs: tuple[str, ...]
+
+    @cached_property
+    def steps(self) -> tuple[Step, ...]:
+        st = self.spec.structure
+        pin_index = {(p.point, p.body): i for i, p in enumerate(st.pins)}
+        slide_index = {s.body: i for i, s in enumerate(st.slides)}
+        owner = {(p.point, p.body): p.other for p in st.pins}
+        out: list[Step] = []
+        for g in st.groups:
+            if isinstance(g, Crank):
+                out.append(CrankForces(g.name, g.center, g.joint, pin_index[g.center, g.name]))
+            elif isinstance(g, RRR):
+                one, two = f"{g.name}.1", f"{g.name}.2"
+                (a, c), b = g.ends, g.point
+                out.append(RRRForces((one, two), (a, c), b, (owner[a, one], owner[c, two]),
+                                     (pin_index[a, one], pin_index[c, two], pin_index[b, one])))
+            elif isinstance(g, RRP):
+                block = f"{g.name}.block"
+                out.append(RRPForces(g.name, block, g.end, g.point, owner[g.end, g.name], g.direction,
+                                     (pin_index[g.end, g.name], pin_index[g.point, g.name]), slide_index[block]))
+            elif isinstance(g, Slotted):
+                block = f"{g.name}.block"
+                out.append(SlottedForces(g.name, block, g.pivot, g.through,
+                                         (owner[g.pivot, g.name], owner[g.through, block]),
+                                         (pin_index[g.pivot, g.name], pin_index[g.through, block]),
+                                         slide_index[block]))
+        return tuple(out)
+
+    @cached_property
+    def targets(self) -> tuple[str, ...]:
+        """The points and joints the force layer reads, and only those: the pins, the frames of
+        the bodies that carry inertia or a torque, the loads' points, the tables' joints."""
+        st = self.spec.structure
+        turned = {ld.body for ld in self.spec.loads if isinstance(ld, Torque)}
+        names = [p.point for p in st.pins]
+        for b in self.spec.bodies:
+            if not b.inert or b.name in turned:
+                names += b.link.along or b.frame
+        for ld in self.spec.loads:
+            if isinstance(ld, Spring):
+                names += [ld.ends[0][1], ld.ends[1][1]]
+            elif isinstance(ld, (PointForce, TableForce)):
+                names.append(ld.point)
+            if isinstance(ld, TableForce):
+                names.append(ld.joint)
+        return tuple(dict.fromkeys(names))
+
+    @cached_property
+    def link_of(self) -> Mapping[str, str]:
+        """A body's name → its link's (default) name, the key of the pass's wrenches."""
+        return {b.name: b.link.name for b in self.spec.bodies}
+
+    @cached_property
+    def _loaded(self) -> tuple[Body, ...]:
+        return tuple(b for b in self.spec.bodies if not b.inert)
+
+    @cached_property
+    def _lengths(self) -> dict[str, float]:
+        """|frame vector| of the bodies whose two frame points are a rigid pair of the groups."""
+        rigid = self.spec.structure.rigid
+        return {b.name: rigid[frozenset(b.frame)] for b in self._loaded if frozenset(b.frame) in rigid}
+
+    @cached_property
+    def groups(self) -> tuple[str, ...]:
+        return tuple(g.name for g in self.spec.structure.groups)
+
+    def evaluate(self, values: Any, xp: Backend, conditioning: Mapping[str, Any], omega: Any, epsilon: Any) -> tuple:
+        """Efforts (in ``inputs`` order), pin forces, slide forces and couples, as one flat tuple
+        (see :meth:`layout`), from the jets ``values`` of a plan run at the rates ω, ε (with
+        several inputs the jets are real motion: ω = 1, ε = 0)."""
+        s = ForcePass(values, xp, {b.link.name: [None, None] for b in self.spec.bodies})
+        st = self.spec.structure
+        s.pins = [0j] * len(st.pins)
+        s.slides = [(0j, 0.0)] * len(st.slides)
+        self._apply_loads(s, omega, epsilon)
+        for step in reversed(self.steps):
+            step.solve(s)
+        out = (*(s.efforts[j] for j in self.inputs), *s.pins, *(f for f, _ in s.slides), *(c for _, c in s.slides))
+        return _flag(out, conditioning, self.groups, xp)
+
+    def _apply_loads(self, s: ForcePass, omega: Any, epsilon: Any) -> None:
+        values, xp = s.values, s.xp
+        ww = omega * omega
+        g = self.spec.gravity
+        acc: dict[str, Any] = {}  # real accelerations of the frames' points, each computed once
+
+        def a_of(name: str) -> Any:
+            if name not in acc:
+                jet = values[name]
+                acc[name] = accel(jet.d1, jet.d2, ww, epsilon)
+            return acc[name]
+
+        def a_of_jet(jet: Jet) -> Any:
+            return accel(jet.d1, jet.d2, ww, epsilon)
+
+        for b in self._loaded:
+            center, a_g, alpha = inertial_motion(b, values, a_of, a_of_jet, xp, self._lengths.get(b.name))
+            if b.mass != 0.0:
+                f = a_g * -b.mass  # m·(g − a_G)
+                if g != 0:
+                    f += g * b.mass
+                s.add(b.link.name, center, f)
+            if b.inertia != 0.0:
+                s.couple(b.link.name, alpha * -b.inertia)
+        link = self.link_of
+        for ld in self.spec.loads:
+            if isinstance(ld, PointForce):
+                s.add(link[ld.body], values[ld.point].value, ld.force)
+            elif isinstance(ld, Torque):
+                s.couple(link[ld.body], ld.torque)
+            elif isinstance(ld, Spring):
+                f = spring_force(ld, values, xp)
+                (b0, p0), (b1, p1) = ld.ends
+                s.add(link.get(b0, GROUND), values[p0].value, f)
+                s.add(link.get(b1, GROUND), values[p1].value, -f)
+            else:
+                s.add(link[ld.body], values[ld.point].value, table_force(ld, values, xp))
+
+    @cached_property
+    def layout(self) -> tuple[tuple[str, Any, bool], ...]:
+        """What :meth:`evaluate` returns, in order: (kind, key, complex?) — ("effort", joint,
+        False), ("pin", index, True), ("slide", index, True), ("couple", index, False)."""
+        st = self.spec.structure
+        return (
+            *(("effort", j, False) for j in self.inputs),
+            *(("pin", i, True) for i in range(len(st.pins))),
+            *(("slide", i, True) for i in range(len(st.slides))),
+            *(("couple", i, False) for i in range(len(st.slides))),
+        )
+
+
+    @cached_property
+    def index(self) -> dict[tuple[str, Any], int]:
+        """(kind, key) → position in :attr:`layout`."""
+        return {(kind, key): i for i, (kind, key, _) in enumerate(self.layout)}
+
+
+def _flag(out: tuple, conditioning: Mapping[str, Any], groups: tuple[str, ...], xp: Backend) -> tuple:
+    """NaN at the samples where a group is singular (unbounded there: flagged, never wrong)."""
+    bad: Any = False
+    for name in groups:
+        c = conditioning.get(name)
+        if c is None:
+            continue
+        if not xp.vectorised:
+            if not c >= SINGULAR:
+                return tuple(complex(math.nan, math.nan) if isinstance(x, complex) else math.nan for x in out)
+            continue
+        below = np.asarray(c) < SINGULAR
+        if below.any():
+            bad = bad | below
+    if bad is False:
+        return out
+    return tuple(np.where(bad, np.nan, x) for x in out)

@@ -1,0 +1,96 @@
+"""Summary lines of a sweep's forces, in SI, for people (``linkage-solve``, ``linkage-run``).
+
+From a solve over samples of the input(s) — one turn of φ, or a run's ticks — the lines give,
+per input, the peak and RMS effort (N·m for a crank) and the peak input power Σ Q·ω (W), and
+per pin the peak load |R| (N), per slide the peak normal force and couple. Each value at a
+sample is exact (closed form, solver.forces); a peak or an RMS over the cycle is *read off the
+samples* — the line says how many and at what step — since between samples nothing is
+evaluated. Samples at singular positions (NaN, ``k.singular``) are left out and counted.
+
+``force_lines(scene, k)`` gives the lines; ``force_section(scene, k)`` the same as a section of
+:func:`solver.summary.summary_lines` (``sections=[force_section(scene, k)]``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+__all__ = ["force_lines", "force_section"]
+
+
+def _step(k: Any, sampling: str | None) -> str:
+    if sampling is not None:
+        return sampling
+    phi = np.asarray(k.phi, float)
+    n = phi.shape[0] if phi.ndim else 1
+    if phi.ndim == 1 and n > 2:
+        d = np.diff(phi)
+        if np.allclose(d, d[0], rtol=1e-9, atol=0.0):
+            return f"read off {n} samples, step {math.degrees(abs(d[0])):.3g}°"
+    return f"read off {n} samples"
+
+
+def _at(k: Any, i: int, inputs: tuple[str, ...]) -> str:
+    phi = np.asarray(k.phi, float)
+    if phi.ndim == 2:
+        return "(" + ", ".join(f"{q} = {math.degrees(v) % 360.0:.2f}°" for q, v in zip(inputs, phi[i])) + ")"
+    return f"φ = {math.degrees(float(phi[i])) % 360.0:.2f}°"
+
+
+def _g(x: float) -> str:
+    return f"{x:.6g}"
+
+
+def force_lines(scene: Any, k: Any, *, sampling: str | None = None) -> list[str]:
+    """The force summary of the sweep ``k`` of ``scene`` (none for a scene without forces)."""
+    if not getattr(scene, "has_forces", False) or np.ndim(k.phi) == 0:
+        return []
+    inputs = tuple(scene.inputs)
+    units = scene.joint_units
+    how = _step(k, sampling)
+    efforts = {q: np.asarray(k.effort(q), float) for q in inputs}
+    ok = np.ones(efforts[inputs[0]].shape, bool)
+    for v in efforts.values():
+        ok &= np.isfinite(v)
+    lines = [f"forces (SI; each sample exact, peaks and RMS {how})"]
+    if not ok.all():
+        lines.append(f"  {int((~ok).sum())} singular sample(s) left out (unbounded loads: k.singular)")
+    if not ok.any():
+        return lines
+    idx = np.flatnonzero(ok)
+    omega = np.asarray(k.omega, float)
+    power = np.zeros(ok.shape)
+    for i, q in enumerate(inputs):
+        unit = "N" if units.get(q) == "m" else "N·m"
+        v = efforts[q][ok]
+        j = int(idx[np.argmax(np.abs(v))])
+        rms = math.sqrt(float(np.mean(v * v)))
+        lines.append(f"  effort {q}: peak |Q| = {_g(abs(efforts[q][j]))} {unit} at {_at(k, j, inputs)} "
+                     f"(Q = {_g(efforts[q][j])}), RMS {_g(rms)} {unit}")
+        w = omega if omega.ndim <= 1 else omega[:, i]
+        power = power + efforts[q] * np.broadcast_to(w, ok.shape)
+    j = int(idx[np.argmax(np.abs(power[ok]))])
+    lines.append(f"  input power Σ Q·ω: peak |P| = {_g(abs(power[j]))} W at {_at(k, j, inputs)}")
+    for pin in scene.pins:
+        r = np.asarray(k.reaction(pin.point, on=pin.body, by=pin.other), float)
+        mag = np.hypot(r[..., 0], r[..., 1])[ok]
+        j = int(idx[np.argmax(mag)])
+        where = _at(k, j, inputs)
+        lines.append(f"  pin {pin.point} ({pin.body}–{pin.other}): peak load {_g(float(mag.max()))} N at {where}")
+    for s in scene.slides:
+        pair = k.slide_reaction(s.body)
+        mag = np.hypot(pair.force[..., 0], pair.force[..., 1])[ok]
+        couple = np.abs(np.broadcast_to(pair.couple, ok.shape))[ok]
+        j = int(idx[np.argmax(mag)])
+        lines.append(f"  slide {s.point} ({s.body} on {s.guide}): peak normal force {_g(float(mag.max()))} N at "
+                     f"{_at(k, j, inputs)}, peak couple {_g(float(couple.max()))} N·m")
+    return lines
+
+
+def force_section(scene: Any, k: Any, *, sampling: str | None = None) -> Callable[[Any], list[str]]:
+    """:func:`force_lines` as a section of :func:`solver.summary.summary_lines`."""
+    return lambda _sweep: force_lines(scene, k, sampling=sampling)

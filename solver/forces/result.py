@@ -1,0 +1,101 @@
+"""Efforts and reactions of a solve, as the user reads them (``k.effort``, ``k.reaction``, ``k.slide``)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from ..errors import SolverError
+from .model import ForceModel
+
+__all__ = ["ForceResult", "ForceBuffers", "SlideReaction"]
+
+
+class SlideReaction(NamedTuple):
+    """The whole reaction of a prismatic pair on its block: ``force`` (normal to the guide, N;
+    (N, 2) or (2,)) acting at the block's pin, and ``couple`` (N·m about +z; (N,) or float),
+    both from ``guide`` (the ground, or a slotted link) on ``body``. Its line of action lies at
+    the signed distance couple/|force| from the pin, along the guide."""
+
+    force: np.ndarray
+    couple: Any
+    body: str
+    guide: str
+
+
+def _vec(z: Any, n: int | None) -> np.ndarray:
+    if n is None:
+        z = complex(z)
+        return np.array([z.real, z.imag])
+    arr = np.broadcast_to(np.asarray(z, np.complex128), (n,))
+    return np.stack([arr.real, arr.imag], axis=-1)
+
+
+class ForceResult:
+    """The force layer's values of one solve: a flat list in ``model.layout`` order — Python
+    numbers for one instant (``samples=None``), (N,) arrays for a sweep."""
+
+    def __init__(self, model: ForceModel, data: Sequence[Any], samples: int | None) -> None:
+        self.model = model
+        self._data = list(data)
+        self._n = samples
+        self._index = model.index
+
+    def effort(self, joint: str) -> Any:
+        """The input ``joint``'s effort: torque (N·m, about +z) on a crank from its actuator."""
+        i = self._index.get(("effort", joint))
+        if i is None:
+            raise SolverError(f"'{joint}' is not an input joint; efforts are given for {list(self.model.inputs)}")
+        x = self._data[i]
+        return float(x) if self._n is None else np.broadcast_to(np.asarray(x, float), (self._n,))
+
+    def reaction(self, point: str, *, on: str, by: str | None = None) -> np.ndarray:
+        """The force (N, world frame) on body ``on`` at the pin ``point`` from the body ``by`` (the
+        other side; needed only where three bodies meet at one point): (N, 2) or (2,)."""
+        pins = self.model.spec.pins
+        found = []
+        for i, p in enumerate(pins):
+            if p.point != point or (by is not None and by not in (p.body, p.other)):
+                continue
+            if p.body == on and p.other != on:
+                found.append((i, 1.0, p.other))
+            elif p.other == on:
+                found.append((i, -1.0, p.body))
+        if not found:
+            here = [f"{p.body}–{p.other}" for p in pins if p.point == point]
+            where = f"pins at {point}: {', '.join(here)}" if here else f"no pin at '{point}'"
+            raise SolverError(f"no pin at '{point}' on body '{on}'{f' from {by!r}' if by else ''}; {where}")
+        if len(found) > 1:
+            others = ", ".join(o for _, _, o in found)
+            raise SolverError(f"'{on}' has {len(found)} pins at '{point}' (with {others}): say which with by=")
+        i, sign, _ = found[0]
+        z = self._data[self._index["pin", i]]
+        return _vec(z if sign > 0 else -z, self._n)
+
+    def slide_reaction(self, body: str) -> SlideReaction:
+        """The prismatic pair of the slider block ``body``: its normal force and couple."""
+        for i, s in enumerate(self.model.spec.slides):
+            if s.body == body:
+                c = self._data[self._index["couple", i]]
+                couple = float(c) if self._n is None else np.broadcast_to(np.asarray(c, float), (self._n,))
+                return SlideReaction(_vec(self._data[self._index["slide", i]], self._n), couple, s.body, s.guide)
+        blocks = [s.body for s in self.model.spec.slides]
+        raise SolverError(f"'{body}' is not a slider block; blocks: {blocks}")
+
+
+class ForceBuffers:
+    """The (N,) arrays a sweep's blocks write their force values into."""
+
+    def __init__(self, model: ForceModel, n: int) -> None:
+        self.model = model
+        self.n = n
+        self.arrays = [np.empty(n, np.complex128 if cplx else np.float64) for _, _, cplx in model.layout]
+
+    def put(self, rows: slice, values: Sequence[Any]) -> None:
+        for arr, v in zip(self.arrays, values):
+            arr[rows] = v
+
+    def result(self) -> ForceResult:
+        return ForceResult(self.model, self.arrays, self.n)

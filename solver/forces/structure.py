@@ -1,0 +1,163 @@
+"""The links and pins of a scene, read off its plan's groups (structure apart from solving).
+
+Which group makes which body, and which pin joins which two bodies:
+
+=========  ==========================================  =========================================
+group      bodies (default name: points, frame)         pins (point: body ↔ other) and slides
+=========  ==========================================  =========================================
+crank      ``name``: [O, A]                             O: crank ↔ ground; A: joins what uses A
+rrr        ``name.1``: [A, B];  ``name.2``: [C, B]      A: 1 ↔ owner(A); C: 2 ↔ owner(C); B: 1 ↔ 2
+rrp        rod ``name``: [A, B]; block ``name.block``:  A: rod ↔ owner(A); B: rod ↔ block;
+           [B] (frame: the guide's)                     slide: block on the ground's guide
+slotted    link ``name``: [pivot, C, E, …];              pivot: link ↔ owner(pivot); B: block ↔
+           block ``name.block``: [B] (frame: the link's) owner(B); slide: block along the link
+attached   none: the point joins the link that carries  —
+           its base and its ``along`` points
+joints     none (read-outs)                             —
+=========  ==========================================  =========================================
+
+The *owner* of a point is the body a later group's pin at that point attaches to: ground for a
+fixed point, the crank for its point, the first link (A–B) of an RRR for B, the slider block of
+an RRP for B, the slotted link for its points, the carrying link for an attached point. A point
+that several bodies carry (B of an RRR is on both links) is "on" each of them for loads.
+
+Spherical groups (seed 001) and vector-loop scenes (seed 004) have no planar body structure
+here: a scene of them with ``bodies``, ``gravity`` or ``loads`` is a one-line SceneError.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from ..groups import RRP, RRR, Attached, Crank, Group, JointExpression, Slotted
+
+__all__ = ["GROUND", "Link", "Pin", "Slide", "Structure", "derive_structure", "StructureFault"]
+
+#: The name of the frame: it carries the fixed points and is never solved.
+GROUND = "ground"
+
+
+class StructureFault(Exception):
+    """A group the force layer cannot model; the caller turns it into a SceneError."""
+
+
+@dataclass(frozen=True)
+class Link:
+    """A rigid body of the mechanism as the groups make it.
+
+    ``points``: the scene points it carries (the first two set its default frame); ``block``:
+    a slider block, named by its one point, whose frame is its guide's — the fixed unit
+    direction ``guide`` (an RRP's) or the direction pivot → eyelet of the slotted link ``along``.
+    """
+
+    name: str
+    group: str
+    points: tuple[str, ...]
+    block: bool = False
+    guide: complex | None = None
+    along: tuple[str, str] | None = None
+
+
+@dataclass(frozen=True)
+class Pin:
+    """A revolute pair at ``point`` between ``body`` and ``other`` (a body or ``ground``)."""
+
+    point: str
+    body: str
+    other: str
+
+
+@dataclass(frozen=True)
+class Slide:
+    """A prismatic pair: the block ``body`` slides along ``guide`` (``ground`` or a slotted link);
+    ``point`` is the block's pin, where the pair's normal force is taken to act."""
+
+    body: str
+    guide: str
+    point: str
+
+
+@dataclass(frozen=True)
+class Structure:
+    """Links, pins and slides in plan order, and the group that makes each."""
+
+    links: tuple[Link, ...]
+    pins: tuple[Pin, ...]
+    slides: tuple[Slide, ...]
+    owner: Mapping[str, str]  # point → the body a later pin at that point attaches to
+    groups: tuple[Group, ...]  # the groups that make bodies (no read-out joints)
+    rigid: Mapping[frozenset[str], float] = field(default_factory=dict)  # points at a fixed distance
+
+
+def derive_structure(ordered: Sequence[Group], fixed: Mapping[str, Any]) -> Structure:
+    """Bodies and pins of the groups ``ordered`` (dependency order)."""
+    owner: dict[str, str] = {name: GROUND for name in fixed}
+    links: list[Link] = []
+    extra: dict[str, list[str]] = {}  # attached points carried by a link
+    pins: list[Pin] = []
+    slides: list[Slide] = []
+    makers: list[Group] = []
+    for g in ordered:
+        if isinstance(g, JointExpression):
+            continue
+        if isinstance(g, Crank):
+            links.append(Link(g.name, g.name, (g.center, g.point)))
+            pins.append(Pin(g.center, g.name, owner[g.center]))
+            owner[g.point] = g.name
+        elif isinstance(g, RRR):
+            (a, c), b = g.ends, g.point
+            one, two = f"{g.name}.1", f"{g.name}.2"
+            links += [Link(one, g.name, (a, b)), Link(two, g.name, (c, b))]
+            pins += [Pin(a, one, owner[a]), Pin(c, two, owner[c]), Pin(b, one, two)]
+            owner[b] = one
+        elif isinstance(g, RRP):
+            block = f"{g.name}.block"
+            links += [Link(g.name, g.name, (g.end, g.point)), Link(block, g.name, (g.point,), True, g.direction)]
+            pins += [Pin(g.end, g.name, owner[g.end]), Pin(g.point, g.name, block)]
+            slides.append(Slide(block, GROUND, g.point))
+            owner[g.point] = block
+        elif isinstance(g, Slotted):
+            block = f"{g.name}.block"
+            carried = (g.pivot, *(name for name, _ in g.points))
+            links += [
+                Link(g.name, g.name, carried),
+                Link(block, g.name, (g.through,), True, None, (g.pivot, g.through)),
+            ]
+            pins += [Pin(g.pivot, g.name, owner[g.pivot]), Pin(g.through, block, owner[g.through])]
+            slides.append(Slide(block, g.name, g.through))
+            for name, _ in g.points:
+                owner[name] = g.name
+        elif isinstance(g, Attached):
+            need = {g.base, *g.along}
+            if need <= set(fixed):
+                owner[g.point] = GROUND
+                continue
+            carriers = [
+                ln for ln in links if not ln.block and need <= {*ln.points, *extra.get(ln.name, ())}
+            ]
+            if not carriers:
+                raise StructureFault(
+                    f"attached '{g.name}': its base {g.base} and along [{', '.join(g.along)}] are not points of "
+                    "one link, so the point is on no rigid body"
+                )
+            extra.setdefault(carriers[0].name, []).append(g.point)
+            owner[g.point] = carriers[0].name
+        elif getattr(g, "spatial", False):
+            raise StructureFault(
+                f"{g.kind} '{g.name}' is spatial (seed 001): 3-D forces and moments are not modelled; "
+                "bodies, gravity and loads apply to planar scenes (docs/forces.md)"
+            )
+        else:
+            raise StructureFault(
+                f"{g.kind} '{g.name}': forces are modelled for the planar groups (crank, rrr, rrp, slotted, "
+                "attached); a vector-loop scene (seed 004) has no body structure here (docs/forces.md)"
+            )
+        if not isinstance(g, Attached):
+            makers.append(g)
+    full = tuple(
+        Link(ln.name, ln.group, (*ln.points, *extra.get(ln.name, ())), ln.block, ln.guide, ln.along) for ln in links
+    )
+    rigid = {frozenset((p, q)): d for g in ordered for p, q, d in g.rigid_pairs() if p != q}
+    return Structure(full, tuple(pins), tuple(slides), owner, tuple(makers), rigid)

@@ -1,0 +1,110 @@
+"""The compiled instant equals today's scalar path to the bit on every shipped scene, and hands
+every instant near an assembly limit, a dead centre or a singular position back to it."""
+
+from __future__ import annotations
+
+import math
+import random
+
+import numpy as np
+import pytest
+from compiled_compare import agree, compiled_hit
+
+import solver
+from solver.assembly import gaps
+from solver.scene import shipped_scenes
+
+SCENES = sorted(shipped_scenes())
+
+
+def _samples(scene: solver.Scene, n: int, seed: int) -> list[tuple[float, ...]]:
+    rng = random.Random(seed)
+    k = len(scene.inputs)
+    if k == 1:
+        return [(rng.uniform(-7.0, 7.0), rng.uniform(-30.0, 30.0), rng.uniform(-50.0, 50.0)) for _ in range(n)]
+    return [
+        tuple(rng.uniform(0.3, 2.8) for _ in range(k)) + tuple(rng.uniform(-5.0, 5.0) for _ in range(2 * k))
+        for _ in range(n)
+    ]
+
+
+@pytest.mark.parametrize("name", SCENES)
+@pytest.mark.parametrize("everything", [False, True], ids=["outputs", "everything"])
+def test_compiled_values_are_the_scalar_paths_to_the_bit(name: str, everything: bool) -> None:
+    scene = solver.load_scene(name)
+    scene = scene.everything() if everything else scene
+    samples = _samples(scene, 150, seed=len(name))
+    assert all(agree(scene, *s) for s in samples)
+    # and the compiled code itself serves the regular samples (not the fallback every time)
+    served = sum(compiled_hit(scene, *s) for s in samples)
+    assert scene.compiled().paths >= 1
+    assert served >= 0.5 * len(samples) or name.startswith("hard/double_rocker")
+
+
+@pytest.mark.parametrize("name", [n for n in SCENES if n != "five_bar"])
+def test_near_the_limits_the_instant_is_exactly_todays(name: str) -> None:
+    """At the ends of unassemblable intervals (± a few ulps and 1e-12 … 1e-6 rad), change points,
+    dead centres and round angles: the same values, flags or error as the scalar path."""
+    scene = solver.load_scene(name).everything()
+    phis = [0.0, math.pi / 2, math.pi, -math.pi, 2 * math.pi, 1e-300, -0.0]
+    for intervals in gaps(scene).values():
+        for lo, hi in intervals:
+            for edge in (lo, hi):
+                for d in (0.0, 1e-15, 1e-12, 1e-9, 1e-6, 1e-3):
+                    phis += [edge + d, edge - d]
+                phis += [float(np.nextafter(edge, edge + 1)), float(np.nextafter(edge, edge - 1))]
+    k = scene.solve(np.linspace(0.0, 2 * math.pi, 721), mask=True)
+    worst = np.argsort(k.min_conditioning)[:6]  # the sweep's most singular samples, and around them
+    for i in worst:
+        f = float(k.phi[i])
+        phis += [f + d for d in (-1e-4, -1e-7, 0.0, 1e-7, 1e-4)]
+    for p in phis:
+        assert agree(scene, p, 1.0, 0.0), p
+        assert agree(scene, p, -2.5, 7.0), p
+
+
+@pytest.mark.parametrize("name", SCENES)
+def test_solve_at_one_instant_reads_the_same_through_the_compiled_path(name: str) -> None:
+    scene = solver.load_scene(name).everything()
+    k_in = len(scene.inputs)
+    for args in _samples(scene, 20, seed=7):
+        if k_in == 1:
+            phi, w, e = args
+            fast = scene.solve(phi, omega=w, epsilon=e, mask=True)
+            slow = scene._solve_scalar(phi, w, e, True, compiled=False)
+        else:
+            q, w, e = args[:k_in], args[k_in:2 * k_in], args[2 * k_in:]
+            fast = scene.solve(q, omega=w, epsilon=e, mask=True)
+            slow = solver.multi.solve_instant(scene, q, w, e, True)
+        assert bool(fast.valid) == bool(slow.valid)
+        if not bool(slow.valid):
+            continue
+        for name_ in (*scene.output_points, *scene.output_joints):
+            assert fast.floats(name_) == slow.floats(name_)
+            m, n = (fast.point(name_), slow.point(name_)) if name_ in scene.output_points else (
+                fast.joint(name_), slow.joint(name_))
+            for a, b in zip(m, n):
+                np.testing.assert_array_equal(a, b)
+        assert fast.conditioning == slow.conditioning
+        assert bool(fast.singular) == bool(slow.singular)
+
+
+def test_an_unassemblable_instant_raises_todays_error() -> None:
+    scene = solver.load_scene("hard/double_rocker")
+    (lo, hi), *_ = gaps(scene)["dyad"] if "dyad" in gaps(scene) else next(iter(gaps(scene).values()))
+    phi = 0.5 * (lo + hi)
+    with pytest.raises(solver.AssemblyError, match="cannot be assembled") as fast:
+        scene.instant(phi)
+    with pytest.raises(solver.AssemblyError) as slow:
+        scene._solve_scalar(phi, 1.0, 0.0, False, compiled=False)
+    assert str(fast.value) == str(slow.value)
+    assert not scene.solve(phi, mask=True).valid
+
+
+def test_a_non_finite_input_is_todays_error() -> None:
+    scene = solver.load_scene("four_bar")
+    for bad in (math.nan, math.inf):
+        with pytest.raises(solver.SolverError, match="must be finite"):
+            scene.instant(bad)
+        with pytest.raises(solver.SolverError, match="omega must be finite"):
+            scene.instant(0.3, bad, 0.0)

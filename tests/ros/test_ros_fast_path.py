@@ -1,0 +1,106 @@
+"""One serialiser, three ways to fill it (linkage_ros.serialize, linkage_ros.instant): the node's
+fast path (one flat instant, one pack per topic), a Frame, and a whole-run block give the bytes
+of the message builder + rosbags' serialiser, topic for topic, on one-input, several-input and
+force scenes."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+from rosbags.typesys import Stores, get_typestore
+
+from linkage_ros.engine import Engine
+from linkage_ros.messages import DIAGNOSTICS, MessageBuilder
+from linkage_ros.motion import Motion, Motions
+from linkage_ros.runtime import Runtime
+from linkage_ros.serialize import Serializer, cdr_bytes
+
+STORE = get_typestore(Stores.ROS2_JAZZY)
+NS = 1_000_000_000
+T0 = 1_700_000_000 * NS
+#: one input, several inputs, forces (efforts on joint_states, pin and slide loads, arrows)
+SCENES = ["four_bar", "five_bar", "harvester_finger", "four_bar_loaded", "slider_crank"]
+
+
+def _engine(scene: str) -> Engine:
+    if scene == "five_bar":
+        return Engine(scene, Motions.of(2, phi0=(1.7, 1.3), omega=(1.0, -2.0), epsilon=(0.5, 0.0)))
+    return Engine(scene, Motion(phi0=0.2, omega=2.0, epsilon=0.3))
+
+
+def _ordinary(builder: MessageBuilder, frame: Any, stamp: int) -> list[tuple[str, bytes]]:
+    types = dict(builder.topics)
+    return [(t, cdr_bytes(STORE.serialize_cdr, m, types[t]))
+            for t, m in builder.build(frame, stamp, include_paths=False) if t != DIAGNOSTICS]
+
+
+@pytest.mark.parametrize("scene", SCENES)
+def test_frames_and_blocks_give_the_builders_bytes(scene: str) -> None:
+    engine = _engine(scene)
+    serializer = Serializer(MessageBuilder(engine, STORE.types), STORE.serialize_cdr)
+    frames = [engine.frame(0.013 * k) for k in range(6)]
+    stamps = [T0 + 13_000_000 * k + 7 for k in range(6)]
+    assert serializer.verify(frames[0], stamps[0]) == []
+    expected = [_ordinary(MessageBuilder(engine, STORE.types), f, s) for f, s in zip(frames, stamps)]
+    for frame, stamp, want in zip(frames, stamps, expected):
+        assert serializer.render(frame, stamp, diagnostics=False) == want
+    rows = np.array([serializer.numbers(f, s) for f, s in zip(frames, stamps)], dtype=np.float64)
+    for topic in serializer.template_topics:
+        assert serializer.render_block(topic, rows) == [dict(w)[topic] for w in expected], topic
+
+
+@pytest.mark.parametrize("scene", SCENES)
+def test_the_fast_path_sends_the_frame_paths_bytes_and_runs_on_ordinary_ticks(scene: str) -> None:
+    values: dict[str, Any] = {"scene": scene, "rate_hz": 1000.0, "omega": 2.0, "epsilon": 0.3}
+    fast, frames = Runtime(values, STORE.types), Runtime(values, STORE.types)
+    frames._fast = lambda *args: None  # type: ignore[method-assign]  # the Frame path only
+    taken = 0
+    for k in range(1500):  # 1.5 s: path markers and diagnostics twice, by the Frame path
+        stamp = T0 + k * NS // 1000
+        got = fast.tick(stamp)
+        assert got == frames.tick(stamp), k
+        taken += fast._last_frame is fast._fast_path
+    path = fast._fast_path
+    assert path is not None and path.enabled
+    assert taken >= 1490  # all but the first ticks and those that carry paths or diagnostics
+    last = fast.last_frame  # solved again on demand: the frame the bytes came from
+    assert last is not None and frames.last_frame is not None
+    assert last.phi == frames.last_frame.phi and last.points == frames.last_frame.points
+
+
+def test_topic_mode_answers_take_the_fast_path_with_the_relays_bytes() -> None:
+    values = {"scene": "four_bar", "input_source": "topic"}
+    fast, frames = Runtime(values, STORE.types), Runtime(values, STORE.types)
+    frames._fast = lambda *args: None  # type: ignore[method-assign]
+    taken = 0
+    for k in range(200):
+        args = (["crank"], [0.3 + 0.01 * k], [1.5], T0 + k * 2_000_000)
+        assert fast.answer(*args) == frames.answer(*args), k
+        taken += fast._last_frame is fast._fast_path
+    assert taken >= 195
+    # unassemblable and dropped input still take the relay's own answers
+    assert fast.answer(["crank"], [float("nan")], [], T0 + NS) == []
+    assert fast.take_input_warnings() and not fast.answer(["other"], [0.1], [], T0 + 2 * NS)
+
+
+def test_a_fast_path_whose_bytes_differ_switches_itself_off() -> None:
+    runtime = Runtime({"scene": "four_bar", "rate_hz": 1000.0}, STORE.types)
+    runtime.tick(T0)
+    path = runtime._fast_path or _path(runtime)
+    solve = path.solve
+    path.solve = lambda *a: tuple(x + 1e-9 for x in solve(*a) or ())  # type: ignore[method-assign]
+    expected = Runtime({"scene": "four_bar", "rate_hz": 1000.0}, STORE.types)
+    expected._fast = lambda *args: None  # type: ignore[method-assign]
+    expected.tick(T0)
+    for k in range(1, 5):
+        assert runtime.tick(T0 + k * NS // 1000) == expected.tick(T0 + k * NS // 1000)
+    assert not path.enabled
+
+
+def _path(runtime: Runtime) -> Any:
+    from linkage_ros.instant import FastPath
+
+    runtime._fast_path = FastPath(runtime.engine, runtime.builder, runtime.wire)
+    return runtime._fast_path
