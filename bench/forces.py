@@ -68,7 +68,7 @@ class Config:
 
     @staticmethod
     def make(quick: bool) -> Config:
-        return Config(True, 2_000, 3, (1.0, 0.1)) if quick else Config(False, 100_000, 7, STEPS_DEG)
+        return Config(True, 2_000, 3, (1.0, 0.1)) if quick else Config(False, 100_000, 15, STEPS_DEG)
 
 
 @dataclass
@@ -275,9 +275,10 @@ def peer(cfg: Config, log: Callable[[str], None]) -> tuple[list[dict[str, Any]],
         n = round(360.0 / step)
         phi = turn(n)
         t = median_time(lambda phi=phi: scene.solve(phi, omega=OMEGA, epsilon=0.0).effort(effort), repeat=cfg.repeat)
-        got = scene.solve(turn(360), omega=OMEGA, epsilon=0.0).effort(effort)
+        got = scene.solve(phi, omega=OMEGA, epsilon=0.0).effort(effort)
+        whole = got[:: round(1.0 / step)]
         rows.append({"method": "ours, vectorised", "step_deg": step, "us": t / n * 1e6,
-                     "errors": _errors(got[inner], want[inner]), "nan": int(np.sum(~np.isfinite(got)))})  # fmt: skip
+                     "errors": _errors(whole[inner], want[inner]), "nan": int(np.sum(~np.isfinite(got)))})  # fmt: skip
     scalar = [float(p) for p in turn(360)]
     t = median_time(
         lambda: [scene.solve(p, omega=OMEGA, epsilon=0.0).effort(effort) for p in scalar], repeat=cfg.repeat
@@ -313,13 +314,14 @@ def peer(cfg: Config, log: Callable[[str], None]) -> tuple[list[dict[str, Any]],
 
 
 def measure(cfg: Config, log: Callable[[str], None] = print) -> ForcesReport:
-    report = ForcesReport(cfg, machine())
+    report = ForcesReport(cfg, {})
     for name in SCENES:
         row = cost_of_forces(name, cfg)
         if row is not None:
             report.cost.append(row)
             log(f"  {name}: cost of forces measured")
     report.peer, report.peer_note, report.scene_file = peer(cfg, log)
+    report.machine = machine()  # its load average: at the end
     return report
 
 
@@ -331,8 +333,8 @@ def section(report: ForcesReport) -> str:
         "",
         "Regenerate this section alone with `.venv/bin/python -m bench.forces` (`./dev bench` runs it "
         "after the rest). Measured "
-        f"{datetime.date.today().isoformat()}{quick} on **{m['cpu']}, {m['cores']} cores**, numpy {m['numpy']}, "
-        f"mpmath {m['mpmath']}; medians of {cfg.repeat} runs.",
+        f"{datetime.date.today().isoformat()}{quick} on **{m['cpu']}, {m['cores']} cores** (load average "
+        f"{m['load']} at the end), numpy {m['numpy']}, mpmath {m['mpmath']}; medians of {cfg.repeat} runs.",
         "",
         f"**Cost over kinematics alone** (vectorised, {cfg.n_time:,} samples; kinematics = every output's "
         "position, velocity and acceleration; forces = that plus every input effort, every pin reaction on each "

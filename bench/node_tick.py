@@ -9,7 +9,7 @@ Best of 7 repeats, µs per tick, with the long-lived objects frozen out of the c
   (motion law, solve, frame, URDF tree joints, CDR bytes from the templates; the path markers and
   diagnostics once a second); ``frame`` = ``Engine.frame`` (its solve included); ``solve`` = the
   scalar solve of every point and joint; ``tree`` = the URDF tree joints of one frame;
-  ``bytes`` = ``TickSerializer.render`` of one frame (the tree joints included).
+  ``bytes`` = ``Serializer.render`` of one frame (the tree joints included; the Frame path).
 * ``builder``: the message-object path (``linkage-run``, the recorders): ``tick`` =
   ``Engine.frame`` + ``MessageBuilder.build`` with rosbags' Jazzy classes; ``messages`` = the
   build alone.

@@ -44,6 +44,7 @@ from bench._common import (
     turn,
 )
 from bench.forces import carry_section
+from bench.instant import carry_section as carry_instant
 
 __all__ = ["Config", "Result", "main", "measure"]
 
@@ -261,7 +262,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     (CACHE / ("results_quick.json" if cfg.quick else "results.json")).write_text(
         json.dumps(asdict(report), indent=1, default=float)
     )
-    with carry_section(out / "speed-vs-error.md"):  # bench/forces.py's section survives the rewrite
+    # bench/forces.py's and bench/instant.py's sections survive the rewrite
+    with carry_section(out / "speed-vs-error.md"), carry_instant(out / "speed-vs-error.md"):
         md, png = write(report, out)
     print(f"wrote {md} and {png} in {report.wall_s:.0f} s")
     return 0 if all(math.isfinite(r.seconds) for r in report.results) else 1

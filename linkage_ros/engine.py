@@ -29,7 +29,7 @@ import solver
 from solver.errors import AssemblyError, SceneError, format_intervals
 from solver.tolerances import NEAR_SINGULAR
 
-from .forces import LoadPair, effort_units, frame_forces, has_forces, load_pairs, run_forces, sampled_loads
+from .forces import LoadPair, force_layout, forces_row, frame_forces, run_forces, sampled_loads
 from .motion import SEGMENT_HOLD, Motion, Motions
 
 __all__ = [
@@ -159,9 +159,10 @@ class Engine:
             t0, phi0, omega0, eps0 = start.t0, start.phi0, start.omega0, start.epsilon
         #: Whether frames carry efforts and loads (the scene has bodies, gravity or loads), the
         #: loads they carry, and each input's effort unit (N·m or N).
-        self.forces: bool = has_forces(scene)
-        self.load_pairs: tuple[LoadPair, ...] = load_pairs(scene)
-        self.effort_units: dict[str, str] = effort_units(scene, self.inputs) if self.forces else {}
+        self.forces: bool
+        self.load_pairs: tuple[LoadPair, ...]
+        self.effort_units: dict[str, str]
+        self.forces, self.load_pairs, self.effort_units = force_layout(scene, self.inputs)
         self._event_message = ""
         first = self._tick(t0, phi0, omega0, eps0)
         if not isinstance(first, Frame):
@@ -328,15 +329,8 @@ class Engine:
                 joints[name] = JointState(
                     float(js.position[i]), float(js.velocity[i]), float(js.acceleration[i])
                 )
-        efforts: Mapping[str, float] = _NONE
-        loads: Mapping[str, tuple[float, float, float]] = _NONE
-        if self.forces:
-            if i is None:
-                efforts, loads = frame_forces(k, self.inputs, self.load_pairs)
-            else:
-                assert forces is not None
-                efforts = {q: float(v[i]) for q, v in forces[0].items()}
-                loads = {key: tuple(v[i].tolist()) for key, v in forces[1].items()}
+        efforts, loads = (_NONE, _NONE) if not self.forces else (
+            frame_forces(k, self.inputs, self.load_pairs) if forces is None else forces_row(forces, i))
         conditioning = 1.0
         worst = ""
         for group, values in k.conditioning.items():

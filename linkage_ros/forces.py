@@ -22,7 +22,7 @@ every message is as before.
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -34,6 +34,8 @@ __all__ = [
     "TOPIC_PREFIX",
     "LoadPair",
     "effort_units",
+    "force_layout",
+    "forces_row",
     "frame_forces",
     "has_forces",
     "load_pairs",
@@ -58,6 +60,12 @@ class LoadPair(NamedTuple):
     body: str
     other: str
     topic: str
+
+
+def force_layout(scene: Any, inputs: Sequence[str]) -> tuple[bool, tuple[LoadPair, ...], dict[str, str]]:
+    """``(has_forces, load_pairs, effort_units)`` of ``scene`` with input joints ``inputs``."""
+    forces = has_forces(scene)
+    return forces, load_pairs(scene), effort_units(scene, inputs) if forces else {}
 
 
 def has_forces(scene: Any) -> bool:
@@ -116,6 +124,14 @@ def run_forces(k: Any, inputs: Sequence[str], pairs: Sequence[LoadPair]
         columns = np.broadcast_arrays(*(np.asarray(c, dtype=np.float64) for c in _pair_load(k, pair)))
         loads[pair.key] = np.stack([c.reshape(-1) for c in columns], axis=1)
     return efforts, loads
+
+
+def forces_row(forces: tuple[Mapping[str, Any], Mapping[str, Any]], i: Any
+               ) -> tuple[dict[str, float], dict[str, tuple[float, float, float]]]:
+    """Sample ``i`` of :func:`run_forces`' efforts and loads, as Python floats."""
+    efforts, loads = forces
+    return ({q: float(v[i]) for q, v in efforts.items()},
+            {key: (float(v[i, 0]), float(v[i, 1]), float(v[i, 2])) for key, v in loads.items()})
 
 
 def sampled_loads(k: Any, inputs: Sequence[str], pairs: Sequence[LoadPair]) -> dict[str, NDArray[np.float64]]:

@@ -5,21 +5,26 @@ instant — assemblable, not near singular, not a hold of the motion, every numb
 markers or diagnostics due — is::
 
     phi, omega, epsilon = motion.state(t)                  # the exact time law (clock mode)
-    flat = solve(phi, omega, epsilon)                      # one call: every point and joint
-    values = (sec, nanosec) + flat + tree joints           # one tuple, in the order `order`
+    flat = solve(phi, omega, epsilon)                      # one compiled call: every point, joint
+    values = (sec, nanosec) + flat + derived               # one tuple, in the slot order `order`
     packer(values)                                         # one struct.pack per topic
 
-with no Frame, no result objects and no dicts. Everything else — the first tick, a status
-change, the instant the guards hand back (``solve`` returns None), the ticks that carry the path
-markers or diagnostics (about once a second) — takes the Frame path
-(:meth:`~linkage_ros.engine.Engine.frame` and :meth:`~linkage_ros.serialize.Serializer.render`),
-which is unchanged.
+with no Frame, no result objects and no dicts of the tick's values. ``derived`` are the numbers
+the builder computes from the frame's rather than copying them: the URDF tree joints on
+``joint_states`` (:func:`compiled_tree`: their evaluation traced once into straight-line code)
+and the tips of the load arrows (read off the flat tuple through a frame-like view).
 
-``solve`` is :func:`flat_solver`'s function of the scene with every point and joint as outputs:
-the flat floats in the slot order of :mod:`linkage_ros.serialize` (``("p", P, c)``,
-``("v", P, c)``, ``("a", P, c)`` per point, ``("j", J, i)`` per joint), or None where the frame
-is not an ordinary one. Plugging in another evaluator of the same instant (a compiled one) is
-one line in :func:`flat_solver`.
+Everything else — the first tick, a status change, an instant the guards hand back (``solve``
+returns None: not assemblable, a guard of the compiled code, conditioning below
+``near_singular_below``), a hold of the motion, the ticks that carry the path markers or
+diagnostics (about once a second) — takes the Frame path (:meth:`~linkage_ros.engine.Engine.frame`
+and :meth:`~linkage_ros.serialize.Serializer.render`), unchanged.
+
+``solve`` comes from :func:`flat_solver`: the scene's compiled instant
+(:meth:`solver.Scene.compiled`, ``.core``: None on a miss), its layout names translated once into
+the slots of :mod:`linkage_ros.serialize` (``"B.vx"`` → ``("v", "B", 0)``, ``"rocker.ddq"`` →
+``("j", "rocker", 2)``); scenes with forces take today's scalar path with
+:func:`linkage_ros.forces.frame_forces` until the compiled tuple's force part is mapped to loads.
 
 Safety: the first fast tick is also rendered the Frame way, and the fast path switches itself
 off for good when the bytes differ (:attr:`FastPath.enabled`).
@@ -54,16 +59,20 @@ def flat_solver(engine: Engine) -> tuple[tuple[Slot, ...], FlatSolve]:
     reports them)."""
     scene = engine.scene.everything()
     near = engine.near_singular_below
-    if not getattr(engine, "forces", False) and hasattr(scene, "compiled"):
-        return _compiled(scene, near)
+    if hasattr(scene, "compiled"):
+        return _compiled(engine, scene, near)
     return _scalar(engine, scene, near)
 
 
-def _compiled(scene: Any, near: float) -> tuple[tuple[Slot, ...], FlatSolve]:
+def _compiled(engine: Engine, scene: Any, near: float) -> tuple[tuple[Slot, ...], FlatSolve]:
     """The scene's compiled instant (:meth:`solver.Scene.compiled`): its flat tuple as it is, up
-    to the conditioning figures that follow the outputs (checked, then cut off)."""
+    to the conditioning figures that follow the outputs (checked, then cut off); in scenes with
+    forces, the efforts and loads read off the force part after them (:func:`_force_reader`)."""
     unit = scene.compiled()
     n = unit.size
+    forces = _force_reader(engine, scene) if getattr(engine, "forces", False) else None
+    if getattr(engine, "forces", False) and forces is None:
+        return _scalar(engine, scene, near)
     kinds = {"": "p", "v": "v", "a": "a"}
     layout: list[Slot] = []
     for name in unit.layout:  # "P.x", "P.vx", "P.ax", "J.q", "J.dq", "J.ddq"
@@ -73,6 +82,21 @@ def _compiled(scene: Any, near: float) -> tuple[tuple[Slot, ...], FlatSolve]:
         else:
             layout.append((kinds[part[:-1]], owner, "xyz".index(part[-1])))
     several = len(scene.inputs) > 1
+    if forces is not None:
+        reader, force_slots = forces
+        layout += force_slots
+        size = n + len(scene.forces.layout)
+
+        def solve_forces(phi: Any, omega: Any, epsilon: Any) -> tuple[float, ...] | None:
+            flat = unit.core(*phi, *omega, *epsilon) if several else unit.core(phi, omega, epsilon)
+            if flat is None:
+                return None
+            cut = len(flat) - size + n  # the conditioning figures sit between n and cut
+            if cut > n and min(flat[n:cut]) < near:
+                return None
+            return flat[:n] + reader(flat[cut:])  # type: ignore[no-any-return]
+
+        return tuple(layout), solve_forces
 
     def solve(phi: Any, omega: Any, epsilon: Any) -> tuple[float, ...] | None:
         flat = unit.core(*phi, *omega, *epsilon) if several else unit.core(phi, omega, epsilon)
@@ -81,6 +105,37 @@ def _compiled(scene: Any, near: float) -> tuple[tuple[Slot, ...], FlatSolve]:
         return flat[:n]  # type: ignore[no-any-return]
 
     return tuple(layout), solve
+
+
+def _force_reader(engine: Engine, scene: Any) -> tuple[Callable[[Any], tuple[float, ...]], list[Slot]] | None:
+    """How the efforts and loads of :func:`linkage_ros.forces.frame_forces` sit in the compiled
+    tuple's force part (``scene.forces.layout``): found once by running ``frame_forces`` on a
+    probe whose every value is distinct, then read per tick by one generated expression (the
+    same operations as ``frame_forces`` on the solver's result). None where a value cannot be
+    placed (then the scalar path serves the scene)."""
+    from solver.forces import ForceResult
+
+    from .forces import frame_forces
+
+    model = scene.forces
+    probe = [complex(4 * i + 1, 4 * i + 3) if cplx else float(4 * i + 1) for i, (_, _, cplx) in enumerate(model.layout)]
+    inputs, pairs = tuple(engine.inputs), tuple(engine.load_pairs)
+    efforts, loads = frame_forces(ForceResult(model, probe, None), inputs, pairs)
+    slots: list[Slot] = [("e", q) for q in inputs] + [("l", pair.key, i) for pair in pairs for i in range(3)]
+    found: dict[float, str] = {0.0: "0.0"}
+    for i, value in enumerate(probe):
+        for sign, text in ((1.0, f"f[{i}]"), (-1.0, f"-f[{i}]")):
+            z = sign * value
+            if isinstance(value, complex):
+                found[complex(z).real] = f"float(complex({text}).real)"
+                found[complex(z).imag] = f"float(complex({text}).imag)"
+            else:
+                found[sign * float(value)] = f"float({text})"
+    numbers = [*efforts.values(), *(x for load in loads.values() for x in load)]
+    if any(x not in found for x in numbers):
+        return None
+    source = "lambda f: (" + "".join(found[x] + ", " for x in numbers) + ")"
+    return eval(source, {"complex": complex, "float": float}), slots
 
 
 def _scalar(engine: Engine, scene: Any, near: float) -> tuple[tuple[Slot, ...], FlatSolve]:
@@ -123,6 +178,56 @@ def _scalar(engine: Engine, scene: Any, near: float) -> tuple[tuple[Slot, ...], 
         return tuple(out)
 
     return tuple(layout), solve
+
+
+def compiled_tree(scene: Any, order: Sequence[Slot], values: tuple[Any, ...]) -> Callable[..., tuple[Any, ...]] | None:
+    """The URDF tree joints' positions then velocities from a vector in slot ``order``, as one
+    straight-line function: :mod:`linkage_ros.urdf.states`' own evaluation run once on tracing
+    values (``solver._trace``, the compiled instant's tracer) at ``values``, so that every
+    operation, and so every bit, is the evaluation's. None when the scene has no tree, or the
+    evaluation compares a traced value (it does not today) or cannot be traced: then the builder's
+    ``tree_states`` runs per tick."""
+    from solver._trace import TRACE, Guard, Recorder, TraceError
+
+    from .urdf import exportable_model
+    from .urdf import states as tree_states
+
+    model = exportable_model(scene)
+    if model is None:
+        return None
+    plan = tree_states._plan(model)
+    where = {slot: i for i, slot in enumerate(order)}
+    rec = Recorder({})
+    head: list[str] = []
+    points: dict[str, tuple[Any, Any]] = {}
+    joints: dict[str, tuple[Any, Any]] = {}
+    try:
+        for k, name in enumerate(plan.points):
+            parts = []
+            for kind in ("p", "v"):
+                i, j = where[(kind, name, 0)], where[(kind, name, 1)]
+                head.append(f"    point_{kind}{k} = complex(x[{i}], x[{j}])")
+                parts.append(rec.input(f"point_{kind}{k}", complex(values[i], values[j])))
+            points[name] = (parts[0], parts[1])
+        for k, name in enumerate(plan.joint_inputs):
+            i, j = where[("j", name, 0)], where[("j", name, 1)]
+            head += [f"    joint_q{k} = x[{i}]", f"    joint_dq{k} = x[{j}]"]
+            joints[name] = (rec.input(f"joint_q{k}", values[i]), rec.input(f"joint_dq{k}", values[j]))
+        functions = tree_states._Functions(TRACE.atan2, TRACE.sin, TRACE.cos,
+                                           lambda x: TRACE.call(math.floor, x))
+        q, dq = tree_states._evaluate(plan, points, joints, functions)
+    except (TraceError, KeyError, TypeError):
+        return None
+    if any(isinstance(item, Guard) for item in rec.items):
+        return None
+    body = [f"    {item.name} = {item.expr}" for item in rec.items]  # type: ignore[union-attr]
+    outputs = ", ".join(rec.atom(x)[0] for x in (*q, *dq))
+    source = "\n".join(["def tree(x):", *head, *body, f"    return ({outputs}{',' if outputs else ''})"])
+    namespace: dict[str, Any] = {"complex": complex, "max": max}
+    namespace.update({n: getattr(math, n) for n in ("sqrt", "cos", "sin", "atan2", "tan")})
+    namespace.update({name: value for name, value in rec.constants.values()})
+    exec(compile(source, f"<tree joints of {scene.name}>", "exec"), namespace)
+    return namespace["tree"]  # type: ignore[no-any-return]
 
 
 class _View:
@@ -208,6 +313,8 @@ class FastPath:
         self.enabled = True
         self._checked = False
         self._state: tuple[float, Any, Any, Any] | None = None
+        self._tree_function: Callable[..., tuple[Any, ...]] | None = None
+        self._tree_traced = False
 
     def tick(self, t: float, stamp_ns: int) -> list[tuple[str, bytes]] | None:
         motion = self.engine.motion
@@ -240,9 +347,15 @@ class FastPath:
             self._view.values = values
             tree, tips = self._derived
             if tree:
-                states = self.builder.tree_states(self._view)  # type: ignore[arg-type]
-                assert states is not None
-                values += tuple(states.position) + tuple(states.velocity)
+                if self._tree_function is None and not self._tree_traced:
+                    self._tree_traced = True
+                    self._tree_function = compiled_tree(self.engine.scene, self.order, values)
+                if self._tree_function is not None:
+                    values += self._tree_function(values)
+                else:
+                    states = self.builder.tree_states(self._view)  # type: ignore[arg-type]
+                    assert states is not None
+                    values += tuple(states.position) + tuple(states.velocity)
             if tips:
                 values += self.builder.load_tips(self._view)  # type: ignore[arg-type]
         return values

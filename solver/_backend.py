@@ -105,7 +105,11 @@ def minus(a: Num, b: Num) -> Num:
 
 
 def _is_zero(x: Num) -> bool:
-    return isinstance(x, (int, float, complex)) and x == 0
+    """A real scalar zero: a fixed quantity's derivative (structural zeros are the float 0.0), or,
+    per tick, a real value that is exactly 0. A complex value is never skipped: a planar vector
+    that happens to be 0j gives the same product up to the sign of a zero, and testing every
+    complex operand would cost each compiled instant a comparison per product (solver._trace)."""
+    return x.__class__ is float and x == 0.0 or x.__class__ is int and x == 0
 
 
 def dot(a: Num, b: Num) -> Num:

@@ -20,6 +20,7 @@ the function rebuilt. See docs/compiled.md.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -28,7 +29,7 @@ from ._trace import TRACE, Guard, Let, Recorder, TraceError, Tracer
 from .errors import SolverError
 from .groups.base import Context
 from .jet import Jet
-from .multi import solve_instant
+from .multi import directions, instant_jets, solve_instant
 
 __all__ = ["Compiled", "FlatFloats", "MAX_PATHS", "MAX_TRACES", "EAGER_SAMPLES", "layout_of"]
 
@@ -50,6 +51,8 @@ class _Node:
     ret_uses: tuple[str, ...] = ()
     branch: tuple[Guard, dict[bool, _Node]] | None = None
     live: list[Let | Guard] = field(default_factory=list)
+    #: after the branch: the tail its two sides share (written once, after the if/else)
+    after: _Node | None = None
 
 
 def _merge(node: _Node, items: list[Let | Guard], ret: tuple[str, ...], uses: tuple[str, ...]) -> bool:
@@ -102,38 +105,105 @@ def _prune(node: _Node) -> set[str]:
     return live
 
 
-def _emit(node: _Node, pad: str, miss: str, out: list[str]) -> None:
-    for it in node.live:
+def _share(node: _Node) -> None:
+    """Two sides of a branch that end alike keep only their heads; the common tail follows the if."""
+    if node.branch is None:
+        return
+    kids = node.branch[1]
+    for kid in kids.values():
+        _share(kid)
+    yes, no = kids[True], kids[False]
+    if yes.branch is not None or no.branch is not None or yes.ret != no.ret or yes.ret is None:
+        return
+    shared = 0
+    while (shared < min(len(yes.live), len(no.live))
+           and yes.live[len(yes.live) - 1 - shared] == no.live[len(no.live) - 1 - shared]):
+        shared += 1
+    if shared:
+        node.after = _Node([], yes.ret, yes.ret_uses, None, yes.live[len(yes.live) - shared:])
+        for kid in (yes, no):
+            kid.live, kid.ret, kid.ret_uses = kid.live[: len(kid.live) - shared], None, ()
+
+
+def _counts(node: _Node, counts: dict[str, int]) -> dict[str, int]:
+    """How often each name is read in the whole (pruned) tree."""
+    texts = [it.expr for it in node.live]
+    texts += list(node.ret or ()) if node.branch is None else [node.branch[0].expr]
+    for u in (u for text in texts for u in _NAME.findall(text)):
+        counts[u] = counts.get(u, 0) + 1
+    if node.branch is not None:
+        for kid in node.branch[1].values():
+            _counts(kid, counts)
+    if node.after is not None:
+        _counts(node.after, counts)
+    return counts
+
+
+_NAME = re.compile(r"\bv\d+\b")
+#: how deep single-use temporaries are folded into the expression that reads them
+INLINE_DEPTH = 6
+
+
+def _segment(items: list[Let | Guard], end: list[str], counts: dict[str, int]) -> tuple[list[str], list[str]]:
+    """Lines of one straight-line segment, and its ``end`` expressions (the return's atoms or the
+    branch's condition), with each temporary read once, and only here, folded into its reader:
+    ``v9 = (v7.real * v7.real)`` instead of a name stored and loaded again. The same operations
+    on the same operands in the same order (Python evaluates operands left to right)."""
+    local: dict[str, int] = {}
+    for text in [*(it.expr for it in items), *end]:
+        for u in _NAME.findall(text):
+            local[u] = local.get(u, 0) + 1
+    pending: dict[str, tuple[str, int]] = {}
+
+    def fold(expr: str) -> tuple[str, int]:
+        depth = 0
+
+        def one(m: re.Match[str]) -> str:
+            nonlocal depth
+            held = pending.pop(m.group(0), None)
+            if held is None:
+                return m.group(0)
+            depth = max(depth, held[1] + 1)
+            return f"({held[0]})"
+
+        return _NAME.sub(one, expr), depth
+
+    lines: list[str] = []
+    for it in items:
+        text, depth = fold(it.expr)
         if isinstance(it, Let):
-            out.append(f"{pad}{it.name} = {it.expr}")
+            if counts.get(it.name, 0) == 1 and local.get(it.name, 0) == 1 and depth < INLINE_DEPTH:
+                pending[it.name] = (text, depth)
+            else:
+                lines.append(f"{it.name} = {text}")
         elif it.outcome:
-            out.append(f"{pad}if not ({it.expr}): return {miss}")
+            lines.append(f"if not ({text}): return {{miss}}")
         else:
-            out.append(f"{pad}if {it.expr}: return {miss}")
+            lines.append(f"if {text}: return {{miss}}")
+    tail = [fold(text)[0] for text in end]
+    for name, (text, _) in pending.items():  # (none are left: each was read in this segment)
+        lines.append(f"{name} = {text}")
+    return lines, tail
+
+
+def _emit(node: _Node, pad: str, miss: str, out: list[str], counts: dict[str, int]) -> None:
+    end = list(node.ret or ()) if node.branch is None else [node.branch[0].expr]
+    lines, tail = _segment(node.live, end, counts)
+    out.extend(pad + line.replace("{miss}", miss) for line in lines)
     if node.branch is None:
         if node.ret is None:  # the head of a branch whose tail follows the if/else
-            if not node.live:
+            if not lines:
                 out.append(f"{pad}pass")
             return
-        out.append(f"{pad}return ({', '.join(node.ret)}{',' if len(node.ret) == 1 else ''})")
+        out.append(f"{pad}return ({', '.join(tail)}{',' if len(tail) == 1 else ''})")
         return
-    guard, kids = node.branch
-    yes, no = kids[True], kids[False]
-    shared = 0  # two leaves that end alike: their common tail is written once, after the if
-    if yes.branch is None and no.branch is None and yes.ret == no.ret:
-        while (shared < min(len(yes.live), len(no.live))
-               and yes.live[len(yes.live) - 1 - shared] == no.live[len(no.live) - 1 - shared]):
-            shared += 1
-    if shared:
-        tail = _Node([], yes.ret, yes.ret_uses, None, yes.live[len(yes.live) - shared:])
-        yes = _Node([], None, (), None, yes.live[: len(yes.live) - shared])
-        no = _Node([], None, (), None, no.live[: len(no.live) - shared])
-    out.append(f"{pad}if {guard.expr}:")
-    _emit(yes, pad + "    ", miss, out)
+    kids = node.branch[1]
+    out.append(f"{pad}if {tail[0]}:")
+    _emit(kids[True], pad + "    ", miss, out, counts)
     out.append(f"{pad}else:")
-    _emit(no, pad + "    ", miss, out)
-    if shared:
-        _emit(tail, pad, miss, out)
+    _emit(kids[False], pad + "    ", miss, out, counts)
+    if node.after is not None:
+        _emit(node.after, pad, miss, out, counts)
 
 
 def layout_of(scene: Any, order: int = 2) -> tuple[str, ...]:
@@ -198,27 +268,37 @@ class Compiled:
     ``source`` is the generated Python (``Scene.compiled_source()``).
     """
 
-    def __init__(self, scene: Any, order: int = 2) -> None:
+    def __init__(self, scene: Any, order: int = 2, *, derivatives: bool = False) -> None:
         if order not in (0, 1, 2):
             raise SolverError(f"{scene.name}: order must be 0, 1 or 2, got {order!r}")
         self.scene = scene
         self.order = order
-        self.k = len(scene.inputs)
+        self.k = k = len(scene.inputs)
+        #: with several inputs: a function of q alone giving every output's J and H (docs/inputs.md)
+        self.derivatives = derivatives and k > 1
         self.layout = layout_of(scene, order)
         self.size = len(self.layout)
-        #: output name → (start in the flat tuple, point width or 0 for a joint); order 2 only
+        #: output name → (start in the flat tuple, point width or 0 for a joint); for
+        #: ``derivatives``: (start of J's k entries, followed by H's k×k row by row, k)
         self.index: dict[str, tuple[int, int]] = {}
         i = 0
         for p in scene.output_points:
-            self.index[p] = (i, scene.dim)
-            i += scene.dim * (order + 1)
+            self.index[p] = (i, scene.dim) if not self.derivatives else (i, k)
+            i += scene.dim * (order + 1) if not self.derivatives else k + k * k
         for j in scene.output_joints:
-            self.index[j] = (i, 0)
-            i += order + 1
+            self.index[j] = (i, 0) if not self.derivatives else (i, k)
+            i += order + 1 if not self.derivatives else k + k * k
+        if self.derivatives:
+            self.layout = tuple(
+                f"{name}.{part}" for name in (*scene.output_points, *scene.output_joints)
+                for part in (*(f"J{a}" for a in range(k)), *(f"H{a}{b}" for a in range(k) for b in range(k)))
+            )
+            self.size = len(self.layout)
         self.conditioning: tuple[str, ...] | None = None
-        k = self.k
-        if k == 1:
-            self.args: tuple[str, ...] = ("phi", "w", "e")
+        if self.derivatives:
+            self.args: tuple[str, ...] = tuple(f"q{i}" for i in range(k))
+        elif k == 1:
+            self.args = ("phi", "w", "e")
         else:
             self.args = (*(f"q{i}" for i in range(k)), *(f"w{i}" for i in range(k)), *(f"e{i}" for i in range(k)))
         self._constants: dict[Any, tuple[str, Any]] = {}
@@ -228,7 +308,7 @@ class Compiled:
         self.source = ""
         self.core: Callable[..., Any] = self._no_code
         self.function: Callable[..., Any] = self._on_miss
-        if k == 1:
+        if k == 1 and not self.derivatives:
             for i in range(EAGER_SAMPLES):
                 self._trace((2.0 * math.pi * (i + 0.3819660112501051) / EAGER_SAMPLES, 1.3, 0.7))
         self._build()
@@ -247,6 +327,14 @@ class Compiled:
         """The flat tuple from today's scalar path (what a miss of the compiled code returns)."""
         k = self.k
         scene = self.scene
+        if self.derivatives:
+            flat: list[Any] = []
+            for name in (*scene.output_points, *scene.output_joints):
+                jac, hess = instant_jets(scene, tuple(args), name)
+                flat.extend(jac)
+                for row in hess:
+                    flat.extend(row)
+            return tuple(flat)
         if k == 1:
             result = scene._solve_scalar(args[0], args[1], args[2], False, compiled=False)
         else:
@@ -275,11 +363,11 @@ class Compiled:
         self.traces += 1
         rec = Recorder(self._constants)
         inputs = [rec.input(name, v) for name, v in zip(self.args, sample)]
-        for t in inputs:  # a non-finite argument goes to the scalar path (which names it)
-            rec.guard("{0} - {0} == 0.0", (t,), True)
+        # a non-finite argument goes to the scalar path (which names it): x − x is 0 for finite x
+        rec.guard(" + ".join(f"({{{i}}} - {{{i}}})" for i in range(len(inputs))) + " == 0.0", tuple(inputs), True)
         try:
             values, conditioning, forces = self._run(rec, inputs)
-        except (TraceError, SolverError, ArithmeticError, ValueError, TypeError, AttributeError):
+        except Exception:  # whatever stops a trace leaves that path to the scalar path
             return False
         names = tuple(conditioning)
         if self.conditioning is None:
@@ -302,6 +390,8 @@ class Compiled:
         """The plan on traced inputs: the outputs, the conditioning figures, the force layer's values."""
         scene, k, n = self.scene, self.k, self.order + 1
         model = scene.forces
+        if self.derivatives:
+            return self._derivatives(inputs), {}, ()
         if k == 1:
             phi, w, e = inputs
             ctx = Context(phi=phi, xp=TRACE, scene=scene._label, find_intervals=scene._intervals, owner=scene)
@@ -321,6 +411,36 @@ class Compiled:
         for j in scene.output_joints:
             out.extend(_as_float(rec, x) for x in ctx.values[j][:n])
         return out, ctx.conditioning, tuple(forces)
+
+    def _derivatives(self, q: list[Tracer]) -> list[Any]:
+        """Every output's J and H, as ``solver.multi.instant_jets`` computes them, in one function."""
+        scene, k = self.scene, self.k
+        zero = [0.0] * k
+        names = (*scene.output_points, *scene.output_joints)
+        jac: dict[str, list[Any]] = {name: [0.0] * k for name in names}
+        hess: dict[str, list[list[Any]]] = {name: [[0.0] * k for _ in range(k)] for name in names}
+        for moved, u in directions(k):
+            seeds = {inp: Jet(q[i], u[i], zero[i]) for i, inp in enumerate(scene.inputs)}
+            ctx = Context(phi=tuple(q), xp=TRACE, mask=True, scene=scene._label, owner=scene, seeds=seeds)
+            values = scene.plan.run(ctx).values
+            if ctx.invalid is not False:
+                raise TraceError("unassemblable")
+            for name in names:
+                jet = values[name]
+                if len(moved) == 1:
+                    (i,) = moved
+                    jac[name][i] = jet.d1
+                    hess[name][i][i] = jet.d2
+                else:
+                    i, j = moved
+                    h = hess[name]
+                    h[i][j] = h[j][i] = 0.5 * ((jet.d2 - h[i][i]) - h[j][j])
+        out: list[Any] = []
+        for name in names:
+            out.extend(jac[name])
+            for row in hess[name]:
+                out.extend(row)
+        return out
 
     def _single(self, rec: Recorder, vals: Any, w: Any, e: Any, n: int) -> list[Any]:
         """The real motion of the outputs, as ``scene._scalar_floats`` computes it."""
@@ -350,6 +470,7 @@ class Compiled:
             self.source = "# no path could be traced: every instant takes the scalar path\n"
             return
         _prune(self._root)
+        _share(self._root)
         args = ", ".join(self.args)
         miss = f"_miss({args})"
         consts = [name for name, _ in self._constants.values()]
@@ -358,7 +479,7 @@ class Compiled:
             f"    def compiled_instant({args}):",
             "        try:",
         ]
-        _emit(self._root, " " * 12, miss, lines)
+        _emit(self._root, " " * 12, miss, lines, _counts(self._root, {}))
         lines += [
             "        except (ArithmeticError, ValueError) as exc:",
             "            if isinstance(exc, _SolverError):",

@@ -112,10 +112,25 @@ class Recorder:
         if (expr, bool(outcome)) in self._checked:  # the same test again: the same outcome
             return
         self._checked.add((expr, bool(outcome)))
+        if (len(args) == 2 and type(args[0]) is Tracer and type(args[1]) in (float, int) and args[1] == 0
+                and template in _NONZERO.get(outcome, ())):
+            # x > 0 (or x < 0) holds: so does x != 0, and x == 0 does not — no need to test them again
+            name = args[0].name
+            self._checked.update({(f"{name} != 0.0", True), (f"{name} == 0.0", False),
+                                  (f"{name} != 0", True), (f"{name} == 0", False)})
         self.items.append(Guard(expr, bool(outcome), uses))
 
     def input(self, name: str, value: Any) -> Tracer:
         return Tracer(self, name, value)
+
+
+#: comparisons with 0 whose outcome implies the value is not zero
+_NONZERO = {True: ("{0} > {1}", "{0} < {1}", "{0} != {1}"), False: ("{0} == {1}",)}
+
+
+def _is_one(x: Any) -> bool:
+    """A constant one (float, int or True): multiplying a float by it changes no bit."""
+    return type(x) in (float, int, bool) and x == 1
 
 
 def _value(x: Any) -> Any:
@@ -132,11 +147,15 @@ def _binary(symbol: str, fn: Callable[[Any, Any], Any]) -> tuple[Callable[..., A
     def forward(self: Tracer, other: Any) -> Any:
         if not _number(other):
             return NotImplemented
+        if symbol == "*" and type(self.value) is float and _is_one(other):
+            return self  # x·1.0 (x·1, x·True) is x to the bit for a float x
         return self.rec.let(template, (self, other), fn(self.value, _value(other)))
 
     def reflected(self: Tracer, other: Any) -> Any:
         if not _number(other):
             return NotImplemented
+        if symbol == "*" and type(self.value) is float and _is_one(other):
+            return self
         return self.rec.let(template, (other, self), fn(_value(other), self.value))
 
     return forward, reflected

@@ -16,6 +16,7 @@ from ._extremes import Evaluate
 from .cli_inputs import help_epilog, is_multi_input
 from .cli_inputs import main as main_inputs
 from .errors import SolverError, format_intervals
+from .forces.report import force_section
 from .kinematics import Kinematics
 from .scene import Scene, load_scene
 from .summary import Output, Section, Sweep, motion_line, provenance_lines, summary_lines
@@ -96,13 +97,21 @@ def write_csv(scene: Scene, k: Kinematics, out: TextIO) -> None:
 
 
 def summary(
-    scene: Scene, k: Kinematics, *, deg: bool = True, periodic: bool = False, sections: Sequence[Section] = ()
+    scene: Scene,
+    k: Kinematics,
+    *,
+    deg: bool = True,
+    periodic: bool = False,
+    given: bool = False,
+    sections: Sequence[Section] = (),
 ) -> str:
     """The summary of a sweep (solver.summary: one vocabulary with linkage-run, angles in
     degrees, extremes refined to the closed form), then the singular positions, dead centres,
     transmission angles and gaps, then ``sections``. ``periodic``: the samples are one whole turn
     (a joint's net rotation includes the step back to the start; extremes refined across it);
-    ``deg`` is kept for callers of the old signature (angles are always in degrees)."""
+    ``given``: the angles are the user's own (``--phi``): extremes are those of these angles,
+    not refined between them; ``deg`` is kept for callers of the old signature (angles are
+    always in degrees)."""
     valid = np.asarray(k.valid, bool)
     phi = k.phi[valid]
     w = float(k.omega.flat[0]) if k.omega.size else 0.0
@@ -112,7 +121,7 @@ def summary(
     lines += provenance_lines(scene.provenance)
     desc = getattr(scene, "descriptions", {})
     # the samples of a sweep in increasing φ can be refined between neighbours; given angles cannot
-    ordered = len(phi) > 1 and bool(np.all(np.diff(k.phi) > 0))
+    ordered = not given and len(phi) > 1 and bool(np.all(np.diff(k.phi) > 0))
 
     def output(name: str, m: Any, unit: str = "m", point: bool = True) -> Output:
         evaluate = _evaluator(scene, name, point=point, omega=w, epsilon=e) if ordered else None
@@ -127,6 +136,7 @@ def summary(
         gaps[-1] = True  # the step from the last sample round to the first crosses a gap
     sweep = Sweep(phi=phi, points=points, joints=joints, periodic=periodic and bool(valid.all()),
                   inputs=tuple(scene.inputs) if len(phi) else (), wraps=periodic, gaps=gaps,
+                  edges=_gap_edges(scene, phi) if gaps.any() and ordered else None,
                   sampling=(f"the samples (every {360.0 / len(valid):.4g}°)" if periodic
                             else None if ordered else "the given angles"))
     lines += summary_lines(sweep)
@@ -134,6 +144,22 @@ def summary(
     for section in sections:
         lines += section(sweep)
     return "\n".join(lines)
+
+
+def _gap_edges(scene: Scene, phi: np.ndarray) -> np.ndarray:
+    """(N, 2): for each sample the exact φ where the nearest unassemblable interval before it
+    ends and the nearest one after it begins (solver.assembly), unwrapped next to the sample."""
+    intervals = [iv for ivs in assembly.gaps(scene).values() for iv in ivs]
+    out = np.full((len(phi), 2), np.nan)
+    if not intervals:
+        return out
+    starts = np.array([lo for lo, _ in intervals])
+    stops = np.array([hi for _, hi in intervals])
+    two_pi = 2.0 * math.pi
+    ahead = np.mod(starts[None, :] - phi[:, None], two_pi).min(axis=1)
+    behind = np.mod(phi[:, None] - stops[None, :], two_pi).min(axis=1)
+    out[:, 0], out[:, 1] = phi - behind, phi + ahead
+    return out
 
 
 def _evaluator(scene: Scene, name: str, *, point: bool, omega: float, epsilon: float) -> Evaluate:
@@ -246,7 +272,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                 with open(args.csv, "w", encoding="utf-8", newline="") as fh:
                     write_csv(scene, k, fh)
         else:
-            print(summary(scene, k, periodic=args.phi is None))
+            sections = [force_section(scene, k)]
+            print(summary(scene, k, periodic=args.phi is None, given=args.phi is not None, sections=sections))
     except (SolverError, ValueError) as exc:
         print(f"linkage-solve: error: {one_line(str(exc))}", file=sys.stderr)
         return 2

@@ -26,6 +26,7 @@ import numpy as np
 
 from ._cmdline import EPSILON_MAX, OMEGA_MAX, PHI_MAX, Parser, bounded, check_output, count, one_line, quiet_pipe
 from .errors import SolverError
+from .forces.report import force_section
 from .kinematics import Kinematics
 from .multi import assemblable
 from .scene import Scene, load_scene
@@ -294,7 +295,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                 with open(args.csv, "w", encoding="utf-8", newline="") as fh:
                     write_csv(scene, k, fh, derivatives=args.derivatives)
         else:
-            print(summary(scene, k, sampling=_sampling(axes)))
+            forces = force_section(scene, k, sampling=f"read off {_sampling(axes)}")
+            print(summary(scene, k, sampling=_sampling(axes), sections=[forces]))
     except (SolverError, ValueError) as exc:
         print(f"linkage-solve: error: {one_line(str(exc))}", file=sys.stderr)
         return 2

@@ -155,9 +155,9 @@ class Kinematics:
     def __init__(
         self,
         *,
-        phi: np.ndarray,
-        omega: np.ndarray,
-        epsilon: np.ndarray,
+        phi: Any,
+        omega: Any,
+        epsilon: Any,
         motions: Mapping[str, Motion],
         points: tuple[str, ...],
         joints: tuple[str, ...],
@@ -172,10 +172,13 @@ class Kinematics:
         #: one instant — and so are ``omega`` and ``epsilon``.
         self.inputs = inputs
         self._derivatives = derivatives
-        self._samples = phi.shape if inputs is None or len(inputs) == 1 else phi.shape[:-1]
-        self.phi = phi
-        self.omega = omega
-        self.epsilon = epsilon
+        # one instant may give φ, ω, ε as Python numbers (k-tuples with several inputs): made
+        # arrays on first read only (the compiled per-tick path builds no array it is not asked for)
+        if isinstance(phi, np.ndarray):
+            self._samples = phi.shape if inputs is None or len(inputs) == 1 else phi.shape[:-1]
+        else:
+            self._samples = ()
+        self._phi, self._omega, self._epsilon = phi, omega, epsilon
         self.points = points
         self.joints = joints
         self._motions = dict(motions)
@@ -209,6 +212,27 @@ class Kinematics:
     #: the same as :meth:`slide_reaction`
     slide = slide_reaction
 
+    @property
+    def phi(self) -> np.ndarray:
+        """The input angle(s) solved at: (N,) — (N, k) with k inputs; 0-d — (k,) — for one instant."""
+        if not isinstance(self._phi, np.ndarray):
+            self._phi = np.array(self._phi, float)
+        return self._phi
+
+    @property
+    def omega(self) -> np.ndarray:
+        """ω as given, broadcast to ``phi``'s samples (rad/s, or m/s for a slide input)."""
+        if not isinstance(self._omega, np.ndarray):
+            self._omega = np.array(self._omega, float)
+        return self._omega
+
+    @property
+    def epsilon(self) -> np.ndarray:
+        """ε as given, broadcast to ``phi``'s samples."""
+        if not isinstance(self._epsilon, np.ndarray):
+            self._epsilon = np.array(self._epsilon, float)
+        return self._epsilon
+
     def point(self, name: str) -> OutputMotion:
         """Position, velocity and acceleration of point ``name``: (N, 2) or (N, 3) arrays."""
         if name not in self.points:
@@ -232,9 +256,10 @@ class Kinematics:
         joint (floats) as plain Python numbers — the per-tick path, which avoids numpy entirely."""
         if self._floats is None:
             raise SolverError("floats() is for a solve at a single φ; use point() or joint() for sweeps")
-        if name not in self._floats:
-            raise SolverError(f"'{name}' was not requested; requested: {[*self.points, *self.joints]}")
-        return self._floats[name]
+        try:
+            return self._floats[name]
+        except KeyError:
+            raise SolverError(f"'{name}' was not requested; requested: {[*self.points, *self.joints]}") from None
 
     def _from_floats(self, name: str) -> Motion:
         assert self._floats is not None

@@ -47,7 +47,16 @@ from .kinematics import Derivatives, Kinematics, empty_motion, fill_motion, moti
 if TYPE_CHECKING:
     from .scene import Scene
 
-__all__ = ["SampleAssemblyError", "assemblable", "require_samples", "solve_instant", "solve_multi"]
+__all__ = [
+    "SampleAssemblyError",
+    "assemblable",
+    "derivative_arrays",
+    "directions",
+    "instant_jets",
+    "require_samples",
+    "solve_instant",
+    "solve_multi",
+]
 
 #: Samples per block of the vectorised path (as solver.scene.CHUNK).
 CHUNK = 1 << 13
@@ -174,7 +183,7 @@ def _solve_sweep(scene: Scene, phi: np.ndarray, omega: list[Any], epsilon: list[
         valid=valid,
         derivatives=Derivatives(lambda: _sweep_derivatives(scene, phi)),
         inputs=scene.inputs,
-        forces=None if forces is None else forces.result(),
+        forces=None if forces is None else forces.result(valid),
     )
 
 
@@ -221,7 +230,7 @@ def solve_instant(scene: Scene, q: tuple[float, ...], omega: Sequence[Any], epsi
 
 
 # -- Jacobians and Hessians ----------------------------------------------------------------------
-def _directions(k: int) -> list[tuple[tuple[int, ...], list[float]]]:
+def directions(k: int) -> list[tuple[tuple[int, ...], list[float]]]:
     """(inputs moved, unit seed) per pass: e_i for each i, then e_i + e_j for each i < j."""
     out: list[tuple[tuple[int, ...], list[float]]] = [
         ((i,), [1.0 if m == i else 0.0 for m in range(k)]) for i in range(k)
@@ -250,7 +259,7 @@ def _sweep_derivatives(scene: Scene, phi: np.ndarray) -> dict[str, tuple[np.ndar
             rows = slice(lo, min(lo + CHUNK, n))
             m = rows.stop - rows.start
             diagonal: dict[tuple[str, int], Any] = {}  # H_ii per output, as its jet's d2 (complex for points)
-            for moved, u in _directions(k):
+            for moved, u in directions(k):
                 ctx = _context(scene, phi[rows], _seeds(scene, [c[rows] for c in cols], u, zero), True, True)
                 values = scene.plan.run(ctx).values
                 for name, planar in names:
@@ -279,15 +288,43 @@ def _put(target: np.ndarray, index: tuple[Any, ...], x: Any, planar: bool, m: in
 
 
 def _instant_derivatives(scene: Scene, q: tuple[float, ...], name: str) -> tuple[np.ndarray, np.ndarray]:
-    """J and H of the output ``name`` at one instant, in Python floats (arrays at the end), from
-    the part of the plan that computes it."""
+    """J and H of the output ``name`` at one instant: from the scene's compiled derivatives
+    (every output's, in one straight-line function of q, solver._codegen) or, where one of its
+    guards trips, from :func:`instant_jets`."""
+    unit = scene.compiled(derivatives=True)
+    flat = unit.core(*q)
+    if flat is None:
+        jac, hess = instant_jets(scene, q, name)
+    else:
+        k = len(q)
+        start = unit.index[name][0]
+        jac = list(flat[start:start + k])
+        hess = [list(flat[start + k * (1 + i):start + k * (2 + i)]) for i in range(k)]
+    return derivative_arrays(jac, hess, name in scene.output_points)
+
+
+def derivative_arrays(jac: list[Any], hess: list[list[Any]], planar: bool) -> tuple[np.ndarray, np.ndarray]:
+    """(J, H) arrays from the derivatives' Python numbers (complex for a planar point)."""
+    if planar:
+        z1 = [complex(x) for x in jac]
+        z2 = [[complex(x) for x in row] for row in hess]
+        return (
+            np.array([[z.real for z in z1], [z.imag for z in z1]]),
+            np.array([[[z.real for z in row] for row in z2], [[z.imag for z in row] for row in z2]]),
+        )
+    return np.array(jac, float), np.array(hess, float)
+
+
+def instant_jets(scene: Scene, q: tuple[float, ...], name: str) -> tuple[list[Any], list[list[Any]]]:
+    """J and H of the output ``name`` at one instant on the scalar path, as Python numbers (rows of
+    k), from the part of the plan that computes it: k + k(k−1)/2 directional passes."""
     k = len(q)
     zero = [0.0] * k
     names = [(name, name in scene.output_points)]
     plan = scene.plan_for((name,))
     jac: dict[str, list[Any]] = {name: [0.0] * k for name, _ in names}
     hess: dict[str, list[list[Any]]] = {name: [[0.0] * k for _ in range(k)] for name, _ in names}
-    for moved, u in _directions(k):
+    for moved, u in directions(k):
         values = plan.run(_context(scene, q, _seeds(scene, q, u, zero), True, False)).values
         for name, _ in names:
             jet = values[name]
@@ -299,18 +336,7 @@ def _instant_derivatives(scene: Scene, q: tuple[float, ...], name: str) -> tuple
                 i, j = moved
                 h = hess[name]
                 h[i][j] = h[j][i] = 0.5 * ((jet.d2 - h[i][i]) - h[j][j])
-    out = {}
-    for name, planar in names:
-        if planar:
-            z1 = [complex(x) for x in jac[name]]
-            z2 = [[complex(x) for x in row] for row in hess[name]]
-            out[name] = (
-                np.array([[z.real for z in z1], [z.imag for z in z1]]),
-                np.array([[[z.real for z in row] for row in z2], [[z.imag for z in row] for row in z2]]),
-            )
-        else:
-            out[name] = (np.array(jac[name], float), np.array(hess[name], float))
-    return out[names[0][0]]
+    return jac[name], hess[name]
 
 
 # -- the assemblable region ------------------------------------------------------------------------

@@ -211,9 +211,10 @@ class Scene:
         the defaults (1, 0) the velocities and accelerations are the analogs. A position where a
         group cannot be assembled raises :class:`~solver.errors.AssemblyError`; with
         ``mask=True`` such samples are flagged in ``Kinematics.valid`` instead.
-        A scalar ``phi`` takes the per-tick path (Python scalars, no numpy per operation) and
-        returns (dim,) points and 0-d joints; an array takes the vectorised path, in blocks of
-        ``CHUNK`` samples so that the temporaries stay in cache.
+        A scalar ``phi`` takes the per-tick path — the plan compiled into one straight-line
+        function (:meth:`compiled`, docs/compiled.md), today's scalar evaluation wherever one of
+        its guards trips — and returns (dim,) points and 0-d joints, read lazily; an array takes
+        the vectorised path, in blocks of ``CHUNK`` samples so that the temporaries stay in cache.
 
         With several inputs (``len(scene.inputs) = k > 1``) ``phi`` is (N, k), or (k,) for one
         instant, and ``omega``, ``epsilon`` scalars (the same for every input), (k,) or (N, k);
@@ -298,7 +299,7 @@ class Scene:
             valid=valid,
             derivatives=Derivatives(lambda: self._analogs(phi, mask)),
             inputs=self.inputs,
-            forces=None if forces is None else forces.result(),
+            forces=None if forces is None else forces.result(valid),
         )
 
     def _analogs(self, phi: Any, mask: bool) -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -364,22 +365,28 @@ class Scene:
         return change_points(self, group)
 
     # -- one instant, compiled (solver._codegen, docs/compiled.md) -------------------------------
-    def compiled(self, *, order: int = 2) -> Compiled:
+    def compiled(self, *, order: int = 2, derivatives: bool = False) -> Compiled:
         """The plan traced into one straight-line Python function for one instant (built on first
         use, then kept): ``.function(phi, omega, epsilon)`` — with k inputs
         ``.function(q1, …, qk, ω1, …, ωk, ε1, …, εk)`` — returns a flat tuple of floats,
         :meth:`instant_layout` first, then ``.conditioning`` (one figure per group), then the force
         layer's values (``self.forces.layout``) when the scene has bodies or loads. ``order``
-        (0, 1, 2): positions only, with velocities, with accelerations."""
-        units = self.__dict__.setdefault("_compiled", {})
-        unit = units.get(order)
-        if unit is None:
-            unit = units[order] = Compiled(self, order)
-        return unit  # type: ignore[no-any-return]
+        (0, 1, 2): positions only, with velocities, with accelerations. With several inputs,
+        ``derivatives=True`` gives every output's Jacobian and Hessian as a function of q alone
+        (``.layout``: ``P.J0 …``, ``P.H00 …``), what ``.jacobian`` and ``.hessian`` read."""
+        key = (order, derivatives)
+        try:
+            return self._compiled_units[key]
+        except AttributeError:
+            self._compiled_units: dict[tuple[int, bool], Compiled] = {}
+        except KeyError:
+            pass
+        unit = self._compiled_units[key] = Compiled(self, order, derivatives=derivatives)
+        return unit
 
-    def compiled_source(self, *, order: int = 2) -> str:
+    def compiled_source(self, *, order: int = 2, derivatives: bool = False) -> str:
         """The generated Python of :meth:`compiled`, to read (docs/compiled.md)."""
-        return self.compiled(order=order).source
+        return self.compiled(order=order, derivatives=derivatives).source
 
     def instant_layout(self, *, order: int = 2) -> tuple[str, ...]:
         """Names of the outputs in :meth:`instant`'s tuple, in order: per output point ``P.x, P.y``
@@ -390,12 +397,16 @@ class Scene:
         """One instant as a flat tuple (:meth:`instant_layout`, then conditioning and forces, see
         :meth:`compiled`): the compiled path, with today's scalar path wherever a guard trips.
         With k inputs ``phi``, ``omega``, ``epsilon`` are k-tuples (a float rate: every input)."""
-        f = self.compiled(order=order).function
+        units = self.__dict__.get("_compiled_units")
+        unit = units.get((order, False)) if units is not None else None
+        f = (unit if unit is not None else self.compiled(order=order)).function
         if not self._multi:
+            if phi.__class__ is float and omega.__class__ is float and epsilon.__class__ is float:
+                return f(phi, omega, epsilon)  # type: ignore[no-any-return]
             return f(float(phi), float(omega), float(epsilon))  # type: ignore[no-any-return]
         k = len(self.inputs)
-        w = (omega,) * k if np.ndim(omega) == 0 else omega
-        e = (epsilon,) * k if np.ndim(epsilon) == 0 else epsilon
+        w = (omega,) * k if isinstance(omega, (int, float)) else omega
+        e = (epsilon,) * k if isinstance(epsilon, (int, float)) else epsilon
         return f(*map(float, phi), *map(float, w), *map(float, e))  # type: ignore[no-any-return]
 
     def _from_flat(self, unit: Compiled, flat: tuple[Any, ...], phi: Any, omega: Any, epsilon: Any,
@@ -403,9 +414,9 @@ class Scene:
         """The result of a compiled instant, read lazily from its flat tuple."""
         n, names = unit.size, unit.conditioning or ()
         return Kinematics(
-            phi=np.array(phi),
-            omega=np.array(omega, float),
-            epsilon=np.array(epsilon, float),
+            phi=phi,
+            omega=omega,
+            epsilon=epsilon,
             motions={},
             floats=FlatFloats(flat, unit.index),
             points=self.output_points,

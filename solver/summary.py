@@ -77,7 +77,8 @@ class Sweep:
     wrapping to the first (linkage-solve's default grid), so a joint's net rotation over the turn
     includes the closing step; ``wraps``: the samples are taken from one turn that wraps (even if
     some are missing), ``gaps``: (N,) True after a sample whose successor is missing (not
-    assemblable) — both for refining extremes; ``sampling``: how the samples were taken, for
+    assemblable), ``edges``: (N, 2) the exact φ where the gap before / after a sample begins (NaN
+    where none) — for refining extremes; ``sampling``: how the samples were taken, for
     the note on extremes that are read off them (default: from ``t`` or the step of ``phi``).
     """
 
@@ -90,6 +91,7 @@ class Sweep:
     inputs: Sequence[str] = ()
     wraps: bool = False
     gaps: np.ndarray | None = None
+    edges: np.ndarray | None = None
     sampling: str | None = None
 
 
@@ -146,7 +148,7 @@ class _Context:
             s = self.sweep
             self.cache[slot] = extreme(
                 values, largest=largest, phi=None if s.t is not None else s.phi, evaluate=out.evaluate,
-                quantity=quantity, periodic=s.wraps, gaps=s.gaps)
+                quantity=quantity, periodic=s.wraps, gaps=s.gaps, edges=s.edges)
         return self.cache[slot]
 
     def approx(self, e: Extreme) -> str:
@@ -155,7 +157,8 @@ class _Context:
     def where(self, e: Extreme) -> str:
         s = self.sweep
         if s.t is not None:
-            return f"at t = {float(s.t[e.sample]):.4g} s ({_phi_text(s, s.phi[e.sample])})"
+            where = _phi_text(s, s.phi[e.sample])
+            return f"at t = {float(s.t[e.sample]):.4g} s {where if where.startswith('(') else f'({where})'}"
         return f"at {_phi_text(s, s.phi[e.sample] if e.phi is None else e.phi)}"
 
 
@@ -221,6 +224,8 @@ def _magnitude_line(ctx: _Context, out: Output, kind: str, label: str, symbol: s
     if _constant(finite):
         return f"    {label}: {symbol} constant {top:.6g} {unit}"
     e = ctx.find(out, kind, values, _norm(kind), largest=True)
+    if math.isinf(e.value):  # a toggle at the edge of an unassemblable range
+        return f"    {label}: {symbol} grows without bound toward the gap's edge at {_phi_text(ctx.sweep, e.phi)}"
     return f"    {label}: max {symbol} {ctx.approx(e) or '='} {e.value:.6g} {unit} {ctx.where(e)}"
 
 

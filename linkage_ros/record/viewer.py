@@ -8,7 +8,8 @@ client that retries for seconds:
 * no display: on Linux and the BSDs none of ``DISPLAY``, ``WAYLAND_DISPLAY``,
   ``WAYLAND_SOCKET`` is set (:func:`display_problem`); the viewer is not started;
 * the viewer fails fast (a display that cannot be opened, a broken GPU driver): it exits within
-  :data:`FAIL_FAST_S`; its last ``Error:`` line is the reason.
+  :data:`FAIL_FAST_S` with a non-zero status; its last ``Error:`` line is the reason. (Exit
+  status 0 at once means a viewer was already running and the file was streamed to it.)
 
 Either way the caller prints one line that says how to view the file instead
 (:func:`how_to_view`).
@@ -55,8 +56,8 @@ def how_to_view(rrd: str | os.PathLike[str]) -> str:
 def open_viewer(rrd: str | os.PathLike[str], *, executable: str | None = None,
                 fail_fast_s: float = FAIL_FAST_S) -> int:
     """Start the rerun viewer on ``rrd`` in its own session; its process id. Raises
-    :class:`ViewerError` with one line when there is no display, no viewer, or the viewer exits
-    within ``fail_fast_s``."""
+    :class:`ViewerError` with one line when there is no display, no viewer, or the viewer fails
+    (exits with a non-zero status) within ``fail_fast_s``."""
     problem = display_problem()
     if problem is not None:
         raise ViewerError(problem)
@@ -72,6 +73,9 @@ def open_viewer(rrd: str | os.PathLike[str], *, executable: str | None = None,
     deadline = time.monotonic() + fail_fast_s
     while time.monotonic() < deadline:
         code = process.poll()
+        if code == 0:  # a viewer was already running: the file was streamed to it
+            log.close()
+            return process.pid
         if code is not None:
             log.seek(0)
             reason = _last_error(log.read().decode("utf-8", "replace"))

@@ -191,9 +191,8 @@ def _flag(out: tuple, conditioning: Mapping[str, Any], groups: tuple[str, ...], 
             if not c >= SINGULAR:
                 return tuple(complex(math.nan, math.nan) if isinstance(x, complex) else math.nan for x in out)
             continue
-        below = np.asarray(c) < SINGULAR
-        if below.any():
-            bad = bad | below
+        if np.size(c) and not np.min(c) >= SINGULAR:  # one pass (NaN included); the mask only when needed
+            bad = bad | ~(np.asarray(c) >= SINGULAR)
     if bad is False:
         return out
-    return tuple(np.where(bad, np.nan, x) for x in out)
+    return tuple(np.where(bad, complex(math.nan, math.nan) if np.iscomplexobj(x) else math.nan, x) for x in out)

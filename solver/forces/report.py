@@ -47,7 +47,7 @@ def _g(x: float) -> str:
 
 def force_lines(scene: Any, k: Any, *, sampling: str | None = None) -> list[str]:
     """The force summary of the sweep ``k`` of ``scene`` (none for a scene without forces)."""
-    if not getattr(scene, "has_forces", False) or np.ndim(k.phi) == 0:
+    if not getattr(scene, "has_forces", False) or np.ndim(k.phi) == 0 or np.shape(k.phi)[0] == 0:
         return []
     inputs = tuple(scene.inputs)
     units = scene.joint_units
@@ -58,7 +58,12 @@ def force_lines(scene: Any, k: Any, *, sampling: str | None = None) -> list[str]
         ok &= np.isfinite(v)
     lines = [f"forces (SI; each sample exact, peaks and RMS {how})"]
     if not ok.all():
-        lines.append(f"  {int((~ok).sum())} singular sample(s) left out (unbounded loads: k.singular)")
+        valid = np.broadcast_to(np.asarray(k.valid, bool), ok.shape)
+        singular, gone = int((~ok & valid).sum()), int((~valid).sum())
+        if singular:
+            lines.append(f"  {singular} singular sample(s) left out (unbounded loads: k.singular)")
+        if gone:
+            lines.append(f"  {gone} sample(s) not assemblable left out")
     if not ok.any():
         return lines
     idx = np.flatnonzero(ok)

@@ -97,5 +97,9 @@ class ForceBuffers:
         for arr, v in zip(self.arrays, values):
             arr[rows] = v
 
-    def result(self) -> ForceResult:
+    def result(self, valid: np.ndarray | None = None) -> ForceResult:
+        """The values; NaN at the samples ``valid`` marks unassemblable (mask mode)."""
+        if valid is not None and not valid.all():
+            for arr in self.arrays:
+                arr[~valid] = np.nan
         return ForceResult(self.model, self.arrays, self.n)

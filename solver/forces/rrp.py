@@ -44,7 +44,9 @@ class RRPForces:
         p = b - a
         f_r, m_ra = s.about(self.rod, a)
         f_k, m_kb = s.about(self.block, b)
-        x = divide(dot(e, f_k) * -p + (1j * e) * m_ra, dot(e, p))
+        inv = divide(1.0, dot(e, p))  # real coefficients first: no complex-by-real division
+        x = p * (dot(e, f_k) * -inv)
+        x += (1j * e) * (m_ra * inv)
         n = 1j * e
         normal = n * -dot(n, f_k + x)
         r_a = x - f_r

@@ -18,8 +18,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .._backend import cross
-from .frames import divide
+from .frames import divide, moment_of
 from .state import ForcePass
 
 __all__ = ["RRRForces"]
@@ -39,8 +38,10 @@ class RRRForces:
         f1, m1 = s.about(self.links[0], b)
         f2, m2 = s.about(self.links[1], b)
         total = f1 + f2
-        s2 = -m2 - cross(q, total)
-        r_a = divide(m1 * q - s2 * p, cross(p, q))
+        s2 = -m2 - moment_of(q, total)
+        inv = divide(1.0, moment_of(p, q))  # real coefficients first: no complex-by-real division
+        r_a = q * (m1 * inv)
+        r_a -= p * (s2 * inv)
         r_c = -total - r_a
         pa, pc, pb = self.pins
         s.pins[pa], s.pins[pc], s.pins[pb] = r_a, r_c, -f1 - r_a

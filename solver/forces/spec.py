@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 
 from .structure import GROUND, Link, Pin, Slide, Structure
 
@@ -96,13 +97,13 @@ class ForceSpec:
     loads: tuple[Load, ...]
     names: Mapping[str, str] = field(default_factory=dict)  # a link's default name → its body name
 
-    @property
+    @cached_property  # read on every k.reaction (the node: every pin, every tick)
     def pins(self) -> tuple[Pin, ...]:
         """Every revolute pair as (point, body, other), with the scene's body names."""
         n = self.names
         return tuple(Pin(p.point, n.get(p.body, p.body), n.get(p.other, p.other)) for p in self.structure.pins)
 
-    @property
+    @cached_property
     def slides(self) -> tuple[Slide, ...]:
         n = self.names
         return tuple(Slide(n.get(s.body, s.body), n.get(s.guide, s.guide), s.point)

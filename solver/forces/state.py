@@ -5,7 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from .._backend import Backend, cross
+from .._backend import Backend
+from .frames import moment_of
 from .structure import GROUND
 
 __all__ = ["ForcePass"]
@@ -39,7 +40,7 @@ class ForcePass:
             return
         w = self.wrench[link]
         w[0] = force if w[0] is None else w[0] + force
-        moment = cross(at, force)
+        moment = moment_of(at, force)
         w[1] = moment if w[1] is None else w[1] + moment
 
     def couple(self, link: str, torque: Any) -> None:
@@ -52,4 +53,4 @@ class ForcePass:
         f, m = self.wrench[link]
         if f is None:
             return 0j, (0.0 if m is None else m)
-        return f, cross(at, f) * -1.0 if m is None else m - cross(at, f)
+        return f, moment_of(at, f) * -1.0 if m is None else m - moment_of(at, f)

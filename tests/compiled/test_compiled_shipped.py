@@ -8,7 +8,7 @@ import random
 
 import numpy as np
 import pytest
-from compiled_compare import agree, compiled_hit
+from compiled_compare import agree, bits, compiled_hit, outcome
 
 import solver
 from solver.assembly import gaps
@@ -108,3 +108,52 @@ def test_a_non_finite_input_is_todays_error() -> None:
             scene.instant(bad)
         with pytest.raises(solver.SolverError, match="omega must be finite"):
             scene.instant(0.3, bad, 0.0)
+
+
+def test_jacobians_and_hessians_of_several_inputs_come_from_compiled_code_to_the_bit() -> None:
+    scene = solver.load_scene("five_bar").everything()
+    unit = scene.compiled(derivatives=True)
+    rng = random.Random(5)
+    served = 0
+    for _ in range(60):
+        q = (rng.uniform(0.5, 2.6), rng.uniform(0.5, 2.6))
+        assert agree_derivatives(scene, q)
+        served += unit.core(*q) is not None
+        k = scene.solve(q, omega=(1.5, -0.5), epsilon=(0.0, 2.0), mask=True)
+        if bool(k.valid):
+            for name in (*scene.output_points, *scene.output_joints):
+                jac, hess = solver.multi.instant_jets(scene, q, name)
+                want = solver.multi.derivative_arrays(jac, hess, name in scene.output_points)
+                got = k.point(name) if name in scene.output_points else k.joint(name)
+                np.testing.assert_array_equal(got.jacobian, want[0])
+                np.testing.assert_array_equal(got.hessian, want[1])
+    assert served >= 30
+
+
+def agree_derivatives(scene: solver.Scene, q: tuple[float, float]) -> bool:
+    unit = scene.compiled(derivatives=True)
+    return outcome(unit.function, *q) == outcome(unit.fallback, *q)
+
+
+@pytest.mark.parametrize("name", [n for n in SCENES if solver.load_scene(n).forces is not None])
+def test_efforts_and_reactions_are_outputs_of_the_same_compiled_function(name: str) -> None:
+    scene = solver.load_scene(name)
+    unit = scene.compiled()
+    served = 0
+    for args in _samples(scene, 40, seed=11):
+        flat = unit.core(*args)
+        if flat is None:
+            continue
+        served += 1
+        start = unit.size + len(unit.conditioning or ())
+        assert len(flat) - start == len(scene.forces.layout)
+        slow = unit.fallback(*args)
+        assert [bits(x) for x in flat[start:]] == [bits(x) for x in slow[start:]]
+        k_in = len(scene.inputs)
+        if k_in == 1:
+            fast = scene.solve(args[0], omega=args[1], epsilon=args[2])
+        else:
+            fast = scene.solve(args[:k_in], omega=args[k_in:2 * k_in], epsilon=args[2 * k_in:])
+        for joint in scene.inputs:
+            assert bits(fast.effort(joint)) == bits(slow[start + scene.forces.index[("effort", joint)]])
+    assert served >= 20

@@ -7,8 +7,9 @@ tests/data/forces_<scene>.json. Here the solver's force layer, on its vectorised
 instants of a file in one call) and on its one-instant path (plain floats), must agree with it:
 
 * every input effort ``k.effort(joint)``, every pin reaction ``k.reaction(P, on=X)`` on every body
-  meeting at P, and every sliding pair's ``k.slide_reaction(block)`` (force on the block from its
-  guide, and its couple about the block's point);
+  meeting at P (where three or more meet, a body's total there: the sum of ``k.reaction(P, on=X,
+  by=Y)`` over the solver's pins of X at P), and every sliding pair's ``k.slide_reaction(block)``
+  (force on the block from its guide, and its couple about the block's point);
 * to REL_TOL relative to max(|expected|, scale): the scale of a force is the largest pin or
   slide force of that instant, of a torque or couple that times the scene's largest body
   (``scale_length`` in the file), so a value passing through zero is held to REL_TOL of the
@@ -39,25 +40,6 @@ FILES = sorted(DATA.glob("forces_*.json"))
 
 REL_TOL = 1e-9
 """Issue 17: relative error ≤ 1e-9 against the independent reference (scaled as above)."""
-
-KNOWN_DISAGREEMENTS = {
-    "forces_ref_four_bar_angle_table": (
-        "a table of an angle joint given over (-180°, 180°]: the solver wraps the angle into [0, 2π) "
-        "(solver/forces/frames.py: q % period), so a crank at 200° reads the table past its end instead "
-        "of at -160°; the reference wraps into [at₀, at₀ + 2π). Reported to the coordinator (issue 17)."
-    ),
-}
-"""Files where the solver and the reference disagree on a convention, each with the reason; strict
-xfail, so the day they agree the marker has to go."""
-
-
-def _cases() -> list[Any]:
-    return [
-        pytest.param(p, id=p.stem, marks=[pytest.mark.xfail(reason=KNOWN_DISAGREEMENTS[p.stem], strict=True)])
-        if p.stem in KNOWN_DISAGREEMENTS
-        else pytest.param(p, id=p.stem)
-        for p in FILES
-    ]
 
 
 def _reference_module(name: str = "forces_mp") -> Any:
@@ -151,7 +133,7 @@ def _has_forces(scene: solver.Scene) -> None:
         pytest.skip("the force layer (issue 17) has not landed: Kinematics has no effort()")
 
 
-@pytest.mark.parametrize("path", _cases())
+@pytest.mark.parametrize("path", FILES, ids=[p.stem for p in FILES])
 def test_vectorised_efforts_and_reactions_match_the_newton_euler_reference(path: Path) -> None:
     scene, ref = _load(path)
     _has_forces(scene)
@@ -161,7 +143,7 @@ def test_vectorised_efforts_and_reactions_match_the_newton_euler_reference(path:
     _check(scene, k, expected, _scales(ref, expected), slice(None), f"{ref['scene']} (vectorised)")
 
 
-@pytest.mark.parametrize("path", _cases())
+@pytest.mark.parametrize("path", FILES, ids=[p.stem for p in FILES])
 def test_one_instant_efforts_and_reactions_match_the_newton_euler_reference(path: Path) -> None:
     scene, ref = _load(path)
     _has_forces(scene)

@@ -123,6 +123,10 @@ def test_a_viewer_that_fails_at_once_gives_its_reason_in_one_line(tmp_path: Path
                                           r"Failed to open connection to X server$"):
         open_viewer(tmp_path / "x.rrd", executable=str(fake))
     assert time.monotonic() - start < 5.0
+    handed_over = tmp_path / "handed_over"  # a viewer already running takes the file: status 0
+    handed_over.write_text("#!/bin/sh\necho 'Another viewer is already running, streaming data to it.' >&2\n")
+    handed_over.chmod(handed_over.stat().st_mode | stat.S_IXUSR)
+    assert open_viewer(tmp_path / "x.rrd", executable=str(handed_over)) > 0
     monkeypatch.delenv("DISPLAY")
     for name in ("WAYLAND_DISPLAY", "WAYLAND_SOCKET"):
         monkeypatch.delenv(name, raising=False)

@@ -104,3 +104,28 @@ def _path(runtime: Runtime) -> Any:
 
     runtime._fast_path = FastPath(runtime.engine, runtime.builder, runtime.wire)
     return runtime._fast_path
+
+
+@pytest.mark.parametrize("scene", ["four_bar", "harvester_finger", "slider_crank", "five_bar", "spherical_converter"])
+def test_the_traced_tree_joints_are_the_tree_evaluations_bits(scene: str) -> None:
+    from linkage_ros.instant import compiled_tree
+
+    runtime = Runtime({"scene": scene, "rate_hz": 1000.0, "omega": 2.0, "epsilon": 0.3}, STORE.types)
+    runtime.tick(T0)
+    path = runtime._fast_path or _path(runtime)
+    engine = runtime.engine
+    function = None
+    compared = 0
+    for k in range(40):  # over most of a turn at ω = 2
+        values = path.values(*engine.motion.state(0.07 * k), T0)
+        if values is None:  # an instant the compiled code hands back (the Frame path's)
+            continue
+        compared += 1
+        prefix = values[: len(values) - len(runtime.builder.tree_joint_names) * 2]
+        function = function or compiled_tree(engine.scene, path.order, prefix)
+        assert function is not None
+        frame = engine.frame(0.07 * k)
+        tree = runtime.builder.tree_states(frame)
+        assert tree is not None
+        assert function(prefix) == (*tree.position, *tree.velocity), k
+    assert compared >= 30

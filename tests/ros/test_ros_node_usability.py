@@ -50,13 +50,19 @@ def test_a_remapped_topic_is_recorded_under_its_wire_name_and_the_recording_is_l
     process = start_node("-r", "__ns:=/remap", "-r", "joint_states:=/robot/joint_states",
                          "-p", "scene:=four_bar", "-p", f"record_mcap:={target}")
     wait_for(client, listener, "/robot/joint_states", 10, process)
-    on_wire = {name for name, _ in client.node.get_publisher_names_and_types_by_node("mechanism_node", "/remap")}
+
+    def wire() -> set[str]:
+        found = client.node.get_publisher_names_and_types_by_node("mechanism_node", "/remap")
+        return {name for name, _ in found} - {"/rosout", "/parameter_events"}
+
+    assert client.spin_until(lambda: len(wire()) >= len(TYPES), WAIT_S), wire()
+    on_wire = wire()
     assert process.stop(signal.SIGINT) == 0
     output = process.output()
     assert f"recording to {target}" in output and f"recording finished: {target} (" in output, output
     recorded = set(read_mcap(target).topics())
     assert "/robot/joint_states" in recorded and "/remap/joint_states" not in recorded
-    assert recorded == on_wire - {"/rosout", "/parameter_events"}
+    assert recorded == on_wire
     data, _ = run_data_from_mcap(target)
     assert data.n >= 10 and "rocker" in data.joints and data.t[0] == 0.0
 

@@ -61,14 +61,23 @@ def test_extremes_that_cannot_be_refined_are_said_to_be_read_off_the_samples() -
     assert summary_lines(given)[0] == "  extremes read off the samples"
 
 
-def test_beside_a_gap_only_those_extremes_are_marked_as_sampled(capsys: pytest.CaptureFixture[str]) -> None:
+def test_beside_a_gap_extremes_reach_its_exact_edges_and_rates_are_unbounded(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
     assert main(["hard/double_rocker", "--mask"]) == 0
     out = capsys.readouterr().out
-    assert "  ≈: an extreme read off the samples (every 1°) (beside a gap" in out
+    assert "≈" not in out and "read off" not in out
+    # the crank pin's leftmost x is at the gap's edge, cos φ = −0.40625: 0.1 · (−0.40625)
+    assert "position: x -0.040625 … 0.1 m, y -0.1 … 0.1 m" in _block(out, "point A")
     b = _block(out, "point B")
-    assert "max speed |v| ≈ " in b  # grows without bound into the gap at 246.0305°
-    assert "y -0.174972 … ≈" in b
-    assert "x 0.2 … 0.303125 m" in b  # exact ends: x = 0.2 at the rocker's dead centre, 0.303125 at φ = 0
+    assert "velocity: speed |v| grows without bound toward the gap's edge at φ = 246.03°" in b
+    # B's extremes against a dense sweep of the assemblable arc, edges included
+    scene = solver.load_scene("hard/double_rocker")
+    ((lo, hi),) = solver.assembly.gaps(scene)["dyad"]
+    phi = np.concatenate([np.linspace(hi - 2 * np.pi, lo, 400_001)])
+    pos = scene.solve(phi, mask=True).point("B").position
+    x, y = pos[:, 0], pos[:, 1]
+    assert f"x {x.min():.6g} … {x.max():.6g} m, y {y.min():.6g} … {y.max():.6g} m" in b
 
 
 def test_rounding_noise_about_zero_is_zero_and_a_still_angle_is_constant() -> None:
@@ -101,3 +110,31 @@ def test_more_sections_are_appended_in_order() -> None:
     k = scene.solve(np.linspace(0, 2 * np.pi, 36, endpoint=False))
     text = summary(scene, k, periodic=True, sections=[lambda s: [f"  forces: {len(s.phi)} samples"]])
     assert text.splitlines()[-1] == "  forces: 36 samples"
+
+
+SINGLE = [n for n in sorted(solver.shipped_scenes()) if len(solver.load_scene(n).inputs) == 1
+          and n != "hard/double_rocker"]
+
+
+@pytest.mark.parametrize("name", SINGLE)
+def test_refined_extremes_bound_the_samples_and_match_a_dense_sweep(name: str) -> None:
+    from solver._extremes import extreme
+    from solver.cli import _evaluator
+
+    scene = solver.load_scene(name)
+    coarse = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+    dense = np.linspace(0, 2 * np.pi, 200_001)
+    for p in scene.output_points:
+        evaluate = _evaluator(scene, p, point=True, omega=1.0, epsilon=0.0)
+        pos = evaluate(coarse)[0]
+        truth = evaluate(dense)[0]
+        for axis in range(pos.shape[1]):
+            for largest in (True, False):
+                e = extreme(pos[:, axis], largest=largest, phi=coarse, evaluate=evaluate,
+                            quantity=lambda q, v, a, i=axis: q[:, i], periodic=True)
+                sign = 1.0 if largest else -1.0
+                assert e.exact
+                assert sign * e.value >= sign * pos[e.sample, axis]  # never worse than the samples
+                best = sign * np.max(sign * truth[:, axis])
+                # the dense grid is within (π/1e5)²·|x''|/2 ≈ 1e-10·size of the true extreme
+                assert abs(e.value - best) <= 1e-9 * max(1.0, abs(best)), (p, axis, largest)
