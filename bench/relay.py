@@ -284,7 +284,8 @@ class JointStateBytes:
         # (offset, struct code, index into (sec, nsec, *q, *dq))
         slots = [(raw.index(struct.pack("<i", _SEC)), "i", 0), (raw.index(struct.pack("<I", _NSEC)), "I", 1)]
         slots += [(raw.index(struct.pack("<d", _sentinel(i))), "d", 2 + i) for i in range(2 * n)]
-        fmt, self._args, pos = ["<"], [], 0  # _args: an int picks a number, bytes are a constant run
+        self._args: list[int | bytes] = []  # an int picks a number, bytes are a constant run
+        fmt, pos = ["<"], 0
         for off, code, k in sorted(slots):
             if off > pos:
                 fmt.append(f"{off - pos}s")
@@ -383,11 +384,13 @@ def _runtime(mech: FourBar | Finger, phis: Sequence[float]) -> Any:
     store = _typestore()
     runtime = Runtime({"scene": mech.scene, "input_source": "topic", "phi0": phis[0]}, store.types,
                       serialize=store.serialize_cdr)
+    assert runtime.relay is not None
     for k in range(WARMUP, 0, -1):
         runtime.answer([runtime.relay.input_joint], [phis[0]], [1.0], NS - k * STAMP_STEP_NS)
     path = runtime._fast_path
-    for phi in phis if path is not None else ():  # the compiled code traces each branch once
-        path.solve(phi, 1.0, 0.0)
+    if path is not None:
+        for phi in phis:  # the compiled code traces each branch once
+            path.solve(phi, 1.0, 0.0)
     return runtime
 
 
@@ -419,6 +422,7 @@ def _joint_states_only(mech: FourBar | Finger, phis: Sequence[float]) -> _Pass:
     """The same read and solve, then the node's joint_states bytes alone (its own template)."""
     runtime = _runtime(mech, phis)
     relay, path = runtime.relay, runtime._fast_path
+    assert relay is not None and path is not None
     name = relay.input_joint
     pack = runtime.wire.packer(path.order, ["joint_states"])
     out: list[bytes | None] = []

@@ -230,6 +230,34 @@ def compiled_tree(scene: Any, order: Sequence[Slot], values: tuple[Any, ...]) ->
     return namespace["tree"]  # type: ignore[no-any-return]
 
 
+def compiled_view(produce: Callable[[Any], Sequence[Any]], view: _View, values: tuple[Any, ...],
+                  label: str) -> Callable[..., tuple[Any, ...]] | None:
+    """``produce(view)`` (e.g. the builder's ``load_tips``) as one straight-line function of the
+    vector: run once with the view reading tracing values (``solver._trace``) at ``values``, so
+    that the generated code performs the same operations, bit for bit. None when ``produce``
+    compares a traced value or needs a plain number (then it runs per tick)."""
+    from solver._trace import Guard, Recorder, TraceError
+
+    rec = Recorder({})
+    view.values = tuple(rec.input(f"x[{i}]", v) for i, v in enumerate(values))
+    try:
+        out = tuple(produce(view))
+    except (TraceError, TypeError, ValueError):
+        return None
+    finally:
+        view.values = values
+    if any(isinstance(item, Guard) for item in rec.items):
+        return None
+    body = [f"    {item.name} = {item.expr}" for item in rec.items]  # type: ignore[union-attr]
+    outputs = "".join(rec.atom(x)[0] + ", " for x in out)
+    source = "\n".join(["def derived(x):", *body, f"    return ({outputs})"])
+    namespace: dict[str, Any] = {"complex": complex, "max": max}
+    namespace.update({n: getattr(math, n) for n in ("sqrt", "cos", "sin", "atan2", "tan")})
+    namespace.update({name: value for name, value in rec.constants.values()})
+    exec(compile(source, f"<{label}>", "exec"), namespace)
+    return namespace["derived"]  # type: ignore[no-any-return]
+
+
 class _View:
     """A frame-like view of a flat vector for the URDF tree joints (``.points``, ``.joints``:
     ``get`` / ``[]`` give the named tuples, read from the vector set last)."""
@@ -315,6 +343,8 @@ class FastPath:
         self._state: tuple[float, Any, Any, Any] | None = None
         self._tree_function: Callable[..., tuple[Any, ...]] | None = None
         self._tree_traced = False
+        self._tips_function: Callable[..., tuple[Any, ...]] | None = None
+        self._tips_traced = False
 
     def tick(self, t: float, stamp_ns: int) -> list[tuple[str, bytes]] | None:
         motion = self.engine.motion
@@ -357,7 +387,14 @@ class FastPath:
                     assert states is not None
                     values += tuple(states.position) + tuple(states.velocity)
             if tips:
-                values += self.builder.load_tips(self._view)  # type: ignore[arg-type]
+                if self._tips_function is None and not self._tips_traced:
+                    self._tips_traced = True
+                    self._tips_function = compiled_view(self.builder.load_tips, self._view, values,
+                                                        f"load arrow tips of {self.engine.scene.name}")
+                if self._tips_function is not None:
+                    values += self._tips_function(values)
+                else:
+                    values += self.builder.load_tips(self._view)  # type: ignore[arg-type]
         return values
 
     def _messages(self, t: float, phi: Any, omega: Any, epsilon: Any,
@@ -385,7 +422,10 @@ class FastPath:
         bytes against the Frame path's; on any difference the fast path is off."""
         if not self.serializer.verified:
             return None
-        self._packer = packer = self.serializer.packer(self.order)
+        try:
+            self._packer = packer = self.serializer.packer(self.order)
+        except KeyError:  # a number the templates need is not in the flat instant
+            self._packer = packer = None
         frame = self.engine.frame_at(phi, omega, epsilon, t=t)
         if packer is None or not isinstance(frame, Frame):
             self.enabled = False

@@ -90,18 +90,19 @@ class Packer:
     """Every per-tick topic's bytes (all but ``diagnostics``, markers without the paths) from
     one vector of numbers in the order :meth:`Serializer.packer` was given.
 
-    ``packer(values)``: ``values`` is a tuple in that order; returns ``[(topic, bytes)]`` in the
-    builder's topic order."""
+    ``packer(values)``: ``values`` is a tuple of exactly one number per slot of that order;
+    returns ``[(topic, bytes)]`` in the builder's topic order. KeyError when the order lacks a
+    slot the templates need."""
 
-    __slots__ = ("_consts", "_topics")
+    __slots__ = ("_consts", "_getter", "_pack", "_spans")
 
     def __init__(self, templates: Sequence[_Template], order: Sequence[Slot], slots: Sequence[Slot]) -> None:
         where = {slot: i for i, slot in enumerate(order)}
         index = [where[slot] for slot in slots]  # canonical slot index -> position in the vector
         consts: list[bytes] = []
-        topics = []
-        for tpl in templates:
-            fmt, args, pos = ["<"], [], 0
+        fmt, args, spans, start = ["<"], [], [], 0
+        for tpl in templates:  # one struct for all the topics, cut into one message per topic
+            pos = 0
             for off, code, j in tpl.fields:
                 if off > pos:
                     fmt.append(f"{off - pos}s")
@@ -114,14 +115,16 @@ class Packer:
                 fmt.append(f"{len(tpl.raw) - pos}s")
                 args.append(len(order) + len(consts))
                 consts.append(tpl.raw[pos:])
-            getter = itemgetter(*args) if len(args) > 1 else _one(args[0])
-            topics.append((tpl.topic, struct.Struct("".join(fmt)).pack, getter))
+            spans.append((tpl.topic, start, start + len(tpl.raw)))
+            start += len(tpl.raw)
         self._consts = tuple(consts)
-        self._topics = tuple(topics)
+        self._getter = itemgetter(*args) if len(args) > 1 else _one(args[0])
+        self._pack = struct.Struct("".join(fmt)).pack
+        self._spans = tuple(spans)
 
     def __call__(self, values: tuple[Any, ...]) -> list[tuple[str, bytes]]:
-        values += self._consts
-        return [(topic, pack(*args(values))) for topic, pack, args in self._topics]
+        data = self._pack(*self._getter(values + self._consts))
+        return [(topic, data[a:b]) for topic, a, b in self._spans]
 
 
 def _one(index: int) -> Callable[[Sequence[Any]], tuple[Any, ...]]:

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections import Counter
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -105,6 +106,15 @@ def _prune(node: _Node) -> set[str]:
     return live
 
 
+def _copy(node: _Node) -> _Node:
+    """The tree's nodes copied (the recorded lines themselves are immutable and shared)."""
+    branch = None
+    if node.branch is not None:
+        guard, kids = node.branch
+        branch = (guard, {k: _copy(v) for k, v in kids.items()})
+    return _Node(list(node.items), node.ret, node.ret_uses, branch)
+
+
 def _share(node: _Node) -> None:
     """Two sides of a branch that end alike keep only their heads; the common tail follows the if."""
     if node.branch is None:
@@ -125,12 +135,11 @@ def _share(node: _Node) -> None:
             kid.live, kid.ret, kid.ret_uses = kid.live[: len(kid.live) - shared], None, ()
 
 
-def _counts(node: _Node, counts: dict[str, int]) -> dict[str, int]:
-    """How often each name is read in the whole (pruned) tree."""
+def _counts(node: _Node, counts: Counter[str]) -> Counter[str]:
+    """How often each name is read in the (pruned) subtree of ``node``."""
     texts = [it.expr for it in node.live]
     texts += list(node.ret or ()) if node.branch is None else [node.branch[0].expr]
-    for u in (u for text in texts for u in _NAME.findall(text)):
-        counts[u] = counts.get(u, 0) + 1
+    counts.update(u for text in texts for u in _NAME.findall(text))
     if node.branch is not None:
         for kid in node.branch[1].values():
             _counts(kid, counts)
@@ -144,9 +153,10 @@ _NAME = re.compile(r"\bv\d+\b")
 INLINE_DEPTH = 6
 
 
-def _segment(items: list[Let | Guard], end: list[str], counts: dict[str, int]) -> tuple[list[str], list[str]]:
+def _segment(items: list[Let | Guard], end: list[str], elsewhere: Counter[str]) -> tuple[list[str], list[str]]:
     """Lines of one straight-line segment, and its ``end`` expressions (the return's atoms or the
-    branch's condition), with each temporary read once, and only here, folded into its reader:
+    branch's condition), with each temporary read once, and only here (``elsewhere``: the reads
+    of the code that runs after the segment), folded into its reader:
     ``v9 = (v7.real * v7.real)`` instead of a name stored and loaded again. The same operations
     on the same operands in the same order (Python evaluates operands left to right)."""
     local: dict[str, int] = {}
@@ -172,7 +182,7 @@ def _segment(items: list[Let | Guard], end: list[str], counts: dict[str, int]) -
     for it in items:
         text, depth = fold(it.expr)
         if isinstance(it, Let):
-            if counts.get(it.name, 0) == 1 and local.get(it.name, 0) == 1 and depth < INLINE_DEPTH:
+            if local.get(it.name, 0) == 1 and not elsewhere[it.name] and depth < INLINE_DEPTH:
                 pending[it.name] = (text, depth)
             else:
                 lines.append(f"{it.name} = {text}")
@@ -186,9 +196,15 @@ def _segment(items: list[Let | Guard], end: list[str], counts: dict[str, int]) -
     return lines, tail
 
 
-def _emit(node: _Node, pad: str, miss: str, out: list[str], counts: dict[str, int]) -> None:
+def _emit(node: _Node, pad: str, miss: str, out: list[str], outer: Counter[str]) -> None:
+    """Write ``node``; ``outer``: the reads of the code that runs after it (its ancestors' tails)."""
     end = list(node.ret or ()) if node.branch is None else [node.branch[0].expr]
-    lines, tail = _segment(node.live, end, counts)
+    later = outer + (_counts(node.after, Counter()) if node.after is not None else Counter())
+    elsewhere = later.copy()
+    if node.branch is not None:
+        for kid in node.branch[1].values():
+            elsewhere += _counts(kid, Counter())
+    lines, tail = _segment(node.live, end, elsewhere)
     out.extend(pad + line.replace("{miss}", miss) for line in lines)
     if node.branch is None:
         if node.ret is None:  # the head of a branch whose tail follows the if/else
@@ -199,11 +215,11 @@ def _emit(node: _Node, pad: str, miss: str, out: list[str], counts: dict[str, in
         return
     kids = node.branch[1]
     out.append(f"{pad}if {tail[0]}:")
-    _emit(kids[True], pad + "    ", miss, out, counts)
+    _emit(kids[True], pad + "    ", miss, out, later)
     out.append(f"{pad}else:")
-    _emit(kids[False], pad + "    ", miss, out, counts)
+    _emit(kids[False], pad + "    ", miss, out, later)
     if node.after is not None:
-        _emit(node.after, pad, miss, out, counts)
+        _emit(node.after, pad, miss, out, outer)
 
 
 def layout_of(scene: Any, order: int = 2) -> tuple[str, ...]:
@@ -469,8 +485,9 @@ class Compiled:
         if self._root is None:
             self.source = "# no path could be traced: every instant takes the scalar path\n"
             return
-        _prune(self._root)
-        _share(self._root)
+        root = _copy(self._root)  # pruning and sharing tails rewrite the tree: later traces merge into the original
+        _prune(root)
+        _share(root)
         args = ", ".join(self.args)
         miss = f"_miss({args})"
         consts = [name for name, _ in self._constants.values()]
@@ -479,7 +496,7 @@ class Compiled:
             f"    def compiled_instant({args}):",
             "        try:",
         ]
-        _emit(self._root, " " * 12, miss, lines, _counts(self._root, {}))
+        _emit(root, " " * 12, miss, lines, Counter())
         lines += [
             "        except (ArithmeticError, ValueError) as exc:",
             "            if isinstance(exc, _SolverError):",

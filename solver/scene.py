@@ -382,6 +382,8 @@ class Scene:
         except KeyError:
             pass
         unit = self._compiled_units[key] = Compiled(self, order, derivatives=derivatives)
+        if key == (2, False) and not self._multi:
+            self._instant_unit = unit  # instant()'s own look-up
         return unit
 
     def compiled_source(self, *, order: int = 2, derivatives: bool = False) -> str:
@@ -397,16 +399,21 @@ class Scene:
         """One instant as a flat tuple (:meth:`instant_layout`, then conditioning and forces, see
         :meth:`compiled`): the compiled path, with today's scalar path wherever a guard trips.
         With k inputs ``phi``, ``omega``, ``epsilon`` are k-tuples (a float rate: every input)."""
-        units = self.__dict__.get("_compiled_units")
-        unit = units.get((order, False)) if units is not None else None
-        f = (unit if unit is not None else self.compiled(order=order)).function
+        if phi.__class__ is float and omega.__class__ is float and epsilon.__class__ is float and order == 2:
+            try:  # the per-tick call: one look-up, one call
+                return self._instant_unit.function(phi, omega, epsilon)  # type: ignore[no-any-return]
+            except AttributeError:  # not built yet (or several inputs: a float φ is their error)
+                pass
+        f = self.compiled(order=order).function
         if not self._multi:
-            if phi.__class__ is float and omega.__class__ is float and epsilon.__class__ is float:
-                return f(phi, omega, epsilon)  # type: ignore[no-any-return]
             return f(float(phi), float(omega), float(epsilon))  # type: ignore[no-any-return]
         k = len(self.inputs)
         w = (omega,) * k if isinstance(omega, (int, float)) else omega
         e = (epsilon,) * k if isinstance(epsilon, (int, float)) else epsilon
+        for label, v in (("phi", phi), ("omega", w), ("epsilon", e)):
+            if np.ndim(v) != 1 or len(v) != k:
+                raise SolverError(f"{self.name} has {k} inputs ({', '.join(self.inputs)}): {label} must be "
+                                  f"{k} numbers, got {v!r:.60}")
         return f(*map(float, phi), *map(float, w), *map(float, e))  # type: ignore[no-any-return]
 
     def _from_flat(self, unit: Compiled, flat: tuple[Any, ...], phi: Any, omega: Any, epsilon: Any,

@@ -8,6 +8,7 @@ import os
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 from rosbags.typesys import Stores, get_typestore
@@ -31,7 +32,7 @@ def test_a_stamped_joint_state_carries_the_stamp_and_nothing_else_changes() -> N
     _, every_tick = floor_messages("four_bar", 1000.0)
     data = dict(every_tick)["joint_states"]
     again = stamped(data, 1_800_000_000 * NS + 123)
-    js = STORE.deserialize_cdr(again, "sensor_msgs/msg/JointState")
+    js: Any = STORE.deserialize_cdr(again, "sensor_msgs/msg/JointState")
     assert (js.header.stamp.sec, js.header.stamp.nanosec) == (1_800_000_000, 123)
     assert len(again) == len(data) and again[12:] == data[12:]
     counter = Counter()

@@ -157,3 +157,29 @@ def test_efforts_and_reactions_are_outputs_of_the_same_compiled_function(name: s
         for joint in scene.inputs:
             assert bits(fast.effort(joint)) == bits(slow[start + scene.forces.index[("effort", joint)]])
     assert served >= 20
+
+
+@pytest.mark.parametrize("name", ["hard/parallelogram", "hard/antiparallelogram", "five_bar", "gripper_finger"])
+def test_functions_rebuilt_after_misses_stay_exact(name: str) -> None:
+    """Misses on untraced branches are traced and the function rebuilt, again and again: every
+    rebuilt function still gives the scalar path's values (and serves more instants itself)."""
+    scene = solver.load_scene(name).everything()
+    unit = scene.compiled()
+    samples = _samples(scene, 120, seed=3)
+    if len(scene.inputs) > 1:  # rates exactly zero, one input at a time: other fast paths
+        samples += [(*s[:2], 0.0, s[3], s[4], 0.0) for s in samples[:40]]
+        samples += [(*s[:2], s[2], 0.0, 0.0, s[5]) for s in samples[:40]]
+    for s in samples:
+        scene.instant(s[0], s[1], s[2]) if len(scene.inputs) == 1 else scene.instant(s[:2], s[2:4], s[4:])
+    assert unit.traces > 1
+    assert all(agree(scene, *s) for s in samples)
+    assert sum(compiled_hit(scene, *s) for s in samples) >= 0.8 * len(samples)
+
+
+def test_one_instant_of_several_inputs_wants_one_value_per_input() -> None:
+    scene = solver.load_scene("five_bar")
+    assert scene.instant((1.0, 2.0), 1.0, 0.0) == scene.instant((1.0, 2.0), (1.0, 1.0), (0.0, 0.0))
+    with pytest.raises(solver.SolverError, match=r"five_bar has 2 inputs \(q1, q2\): phi must be 2 numbers"):
+        scene.instant(1.0)
+    with pytest.raises(solver.SolverError, match="omega must be 2 numbers"):
+        scene.instant((1.0, 2.0), (1.0, 2.0, 3.0))

@@ -26,7 +26,8 @@ SCENES = ["four_bar", "five_bar", "harvester_finger", "four_bar_loaded", "slider
 
 def _engine(scene: str) -> Engine:
     if scene == "five_bar":
-        return Engine(scene, Motions.of(2, phi0=(1.7, 1.3), omega=(1.0, -2.0), epsilon=(0.5, 0.0)))
+        return Engine(scene, Motions.of(2, phi0=(1.7, 1.3), omega=(1.0, -2.0),  # type: ignore[arg-type]
+                                        epsilon=(0.5, 0.0)))
     return Engine(scene, Motion(phi0=0.2, omega=2.0, epsilon=0.3))
 
 
@@ -128,4 +129,22 @@ def test_the_traced_tree_joints_are_the_tree_evaluations_bits(scene: str) -> Non
         tree = runtime.builder.tree_states(frame)
         assert tree is not None
         assert function(prefix) == (*tree.position, *tree.velocity), k
+    assert compared >= 30
+
+
+@pytest.mark.parametrize("scene", ["harvester_finger", "four_bar_loaded", "engine"])
+def test_the_traced_load_arrow_tips_are_the_builders_bits(scene: str) -> None:
+    runtime = Runtime({"scene": scene, "rate_hz": 1000.0, "omega": 2.0, "epsilon": 0.3}, STORE.types)
+    runtime.tick(T0)
+    path = runtime._fast_path or _path(runtime)
+    engine = runtime.engine
+    compared = 0
+    for k in range(40):
+        values = path.values(*engine.motion.state(0.07 * k), T0)
+        if values is None:
+            continue
+        assert path._tips_function is not None  # traced on the first instant
+        tips = runtime.builder.load_tips(engine.frame(0.07 * k))
+        assert values[len(values) - len(tips):] == tips, k
+        compared += 1
     assert compared >= 30
