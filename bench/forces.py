@@ -7,7 +7,8 @@ Run from the repository root::
     .venv/bin/python -m bench.forces --quick    # seconds; into bench/.cache/quick/speed-vs-error.md
 
 (a) For each scene with forces: the vectorised solve with every output's position, velocity and
-    acceleration fetched ("kinematics alone"), against the same plus every input effort, every pin
+    acceleration fetched ("kinematics alone": ``scene.with_outputs(forces=False)``, the same
+    scene without its force layer), against the same plus every input effort, every pin
     reaction and every slide reaction, at 10⁵ samples (issue 17's target: at most 2×).
 (b) The four-bar of issue 17 (``four_bar_loaded``: masses, centres, inertias, gravity, a force
     and a torque) at ω = 3 rad/s, ε = 0, modelled in kinepy (PyPI) from the same scene data:
@@ -147,8 +148,10 @@ def cost_of_forces(name: str, cfg: Config) -> dict[str, Any] | None:
     q = _samples(scene, cfg.n_time)
     omega, epsilon = (OMEGA, 0.5) if q.ndim == 1 else ((2.0, -1.5), (0.7, 3.0))
 
+    bare = scene.with_outputs(forces=False)  # the same outputs, without the force layer
+
     def kinematics() -> None:
-        _fetch_kinematics(scene, scene.solve(q, omega=omega, epsilon=epsilon))
+        _fetch_kinematics(bare, bare.solve(q, omega=omega, epsilon=epsilon))
 
     def with_forces() -> None:
         k = scene.solve(q, omega=omega, epsilon=epsilon)

@@ -3,6 +3,7 @@
     ros2 launch linkage_ros relay.launch.py scene:=four_bar
     ros2 launch linkage_ros relay.launch.py scene:=gripper_finger input_joint:=finger_joint \
         urdf:=gripper_finger.urdf frame_id:=palm
+    ros2 launch linkage_ros relay.launch.py topic_epsilon:=difference topic_max_gap:=0.05
 
 Graph (docs/relay.md)::
 
@@ -16,7 +17,9 @@ input joint on ``input_topic``; mechanism_node runs with ``input_source: topic``
 mode, and puts the passive joints only on ``joint_states`` (its own messages coming back on a
 shared topic are ignored). robot_state_publisher hears both streams and poses every link.
 ``urdf``: the user's URDF (a path, or a file name under share/linkage_ros/config/urdf/); empty:
-the URDF that ``linkage-urdf`` generates for the scene.
+the URDF that ``linkage-urdf`` generates for the scene. ``topic_epsilon`` and ``topic_max_gap``
+set the node parameters of the same names (how ε is read, and the largest gap between two
+messages that are differenced; docs/relay.md), with the defaults of config/params.yaml.
 """
 
 from __future__ import annotations
@@ -39,6 +42,8 @@ ARGUMENTS = {
     "input_joint": ("", "the joint the driver publishes; empty: the scene's input joint"),
     "urdf": ("", "the user's URDF (path, or a file under share/linkage_ros/config/urdf); empty: generated"),
     "frame_id": ("world", "root frame: the node's frame_id and the generated URDF's root link"),
+    "topic_epsilon": ("zero", "the input's angular acceleration: zero, or difference (of successive velocities)"),
+    "topic_max_gap": ("0.25", "s, in [0.001, 60]: two messages further apart are not differenced"),
     "rviz": ("false", "start RViz with config/linkage.rviz"),
 }
 
@@ -54,6 +59,15 @@ def robot_description(scene: str, urdf: str, frame_id: str, share: str) -> str:
         return f.read()
 
 
+def seconds(name: str, text: str) -> float:
+    """A launch argument given in seconds, as the node's double parameter; one line if it is not
+    a number (the node checks the range)."""
+    try:
+        return float(text)
+    except ValueError:
+        raise ValueError(f"{name} must be a number of seconds, got {text!r}") from None
+
+
 def _nodes(context: LaunchContext) -> list[Node]:
     """Read the URDF, then start the node in topic mode, robot_state_publisher and RViz."""
     scene = LaunchConfiguration("scene").perform(context)
@@ -62,7 +76,13 @@ def _nodes(context: LaunchContext) -> list[Node]:
     input_topic = LaunchConfiguration("input_topic").perform(context)
     share = get_package_share_directory("linkage_ros")
     description = robot_description(scene, LaunchConfiguration("urdf").perform(context), frame_id, share)
-    overrides = {"scene": scene, "frame_id": frame_id, "input_source": "topic"}
+    overrides: dict[str, str | float] = {
+        "scene": scene,
+        "frame_id": frame_id,
+        "input_source": "topic",
+        "topic_epsilon": LaunchConfiguration("topic_epsilon").perform(context),
+        "topic_max_gap": seconds("topic_max_gap", LaunchConfiguration("topic_max_gap").perform(context)),
+    }
     if input_joint:
         overrides["input_joint"] = input_joint
     mechanism = Node(

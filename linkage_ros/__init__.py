@@ -6,7 +6,8 @@ Python; only :mod:`linkage_ros.node` imports rclpy.
 
 from __future__ import annotations
 
-from .engine import Engine, Frame, JointState, PointState
+from .engine import Engine
+from .frame import Frame, JointState, PointState
 from .motion import Motion, Segment
 
 __all__ = ["Engine", "Frame", "JointState", "Motion", "PointState", "Segment"]

@@ -17,6 +17,8 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import math
+import os
+import shutil
 import sys
 import time
 from collections.abc import Sequence
@@ -35,7 +37,7 @@ from solver._cmdline import (
     quiet_pipe,
 )
 
-__all__ = ["mcap_main", "run_main", "view_main"]
+__all__ = ["mcap_main", "rerun_command", "run_main", "view_main"]
 
 RUNS_DIR = Path("runs")
 EXIT_OK, EXIT_ERROR, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
@@ -278,7 +280,7 @@ def run_main(argv: Sequence[str] | None = None) -> int:
     if mcap is not None:
         print(f"mcap: {mcap} ({result.messages} messages)")
     if rrd is not None:
-        print(f"rerun: {rrd}  (view: rerun {rrd})")
+        print(f"rerun: {rrd}  (view: {rerun_command()} {rrd})")
     if result.arrow_scales:
         sv, sa = result.arrow_scales["velocity"], result.arrow_scales["acceleration"]
         print(f"arrows in the rerun view: velocity drawn as v × {sv:g} s (1 m/s is an arrow {sv:g} m long), "
@@ -293,6 +295,20 @@ def run_main(argv: Sequence[str] | None = None) -> int:
     if args.spawn and shown is not None:
         _show(shown, "linkage-run")
     return EXIT_OK
+
+
+def rerun_command(*, executable: str | None = None, cwd: Path | None = None) -> str:
+    """How to start the rerun viewer from the user's shell: ``rerun`` when PATH finds the one
+    next to this Python (an activated venv) or there is none there, else that one's path,
+    relative to ``cwd`` when below it (``.venv/bin/rerun`` from a clone, as README.md writes)."""
+    here = Path(executable or sys.executable).parent / "rerun"  # not resolved: a venv's python is a link
+    if not os.access(here, os.X_OK):
+        return "rerun"
+    found = shutil.which("rerun")
+    if found is not None and Path(found).resolve() == here.resolve():
+        return "rerun"
+    base = Path.cwd() if cwd is None else cwd
+    return str(here.relative_to(base)) if here.is_relative_to(base) else str(here)
 
 
 def _spawn_file(rrd: Path | None, stem: str) -> Path:
@@ -355,8 +371,7 @@ def view_main(argv: Sequence[str] | None = None) -> int:
         _err(_os_error(exc), "linkage-view")
         return EXIT_USAGE
     except (ValueError, KeyError, IndexError, TypeError) as exc:
-        why = one_line(str(exc), 200).removeprefix(f"{args.mcap}: ")
-        _err(f"{args.mcap}: not a readable linkage_ros recording ({why})", "linkage-view")
+        _err(_unreadable(args.mcap, exc), "linkage-view")
         return EXIT_USAGE
     if out is None:
         out = _spawn_file(None, args.mcap.stem)
@@ -378,6 +393,22 @@ def view_main(argv: Sequence[str] | None = None) -> int:
     if args.spawn and not _show(out, "linkage-view") and not kept:
         return EXIT_ERROR
     return EXIT_OK
+
+
+def _unreadable(path: Path, error: Exception) -> str:
+    """Why linkage-view cannot show ``path``: a recording cut short before any of its chunks was
+    closed holds no message (said so), anything else is not a linkage_ros recording."""
+    from linkage_ros.record.mcap import read_mcap
+
+    try:
+        contents = read_mcap(path, messages=False)
+    except (OSError, ValueError, KeyError, IndexError, TypeError):
+        contents = None
+    if contents is not None and not contents.complete and contents.message_count == 0:
+        return (f"{path}: cut short before its first chunk was closed: no messages to show (a recording "
+                f"keeps what it wrote up to its last closed chunk; linkage-mcap info {path})")
+    why = one_line(str(error), 200).removeprefix(f"{path}: ")
+    return f"{path}: not a readable linkage_ros recording ({why})"
 
 
 def _about(path: Path, error: Exception) -> str:

@@ -1,9 +1,9 @@
 """From a time to a solved frame: the motion law, the solver and the unassemblable policy.
 
-``Engine(scene, motion).frame(t)`` solves one crank angle; ``frames(times)`` solves whole runs
-vectorised. Every point and joint of the scene is solved (drawing the links needs all of them);
-``published_points`` names the points whose kinematics are published as topics and whose paths
-over one cycle are drawn.
+``Engine(scene, motion).frame(t)`` solves one crank angle into a
+:class:`~linkage_ros.frame.Frame`; ``frames(times)`` solves whole runs vectorised. Every point and
+joint of the scene is solved (drawing the links needs all of them); ``published_points`` names
+the points whose kinematics are published as topics and whose paths over one cycle are drawn.
 
 Where the mechanism cannot be assembled, the engine never returns NaN. With
 ``on_unassemblable="stop"`` the input stops at the last valid tick (a hold segment of the motion:
@@ -15,12 +15,10 @@ reports ``"unassemblable"``, the frames after it are ordinary.
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -30,23 +28,24 @@ from solver.errors import AssemblyError, SceneError, format_intervals
 from solver.tolerances import NEAR_SINGULAR
 
 from .forces import LoadPair, force_layout, forces_row, frame_forces, run_forces, sampled_loads
+from .frame import (
+    NO_VALUES,
+    STATUS_NEAR_SINGULAR,
+    STATUS_OK,
+    STATUS_UNASSEMBLABLE,
+    Frame,
+    JointState,
+    PointState,
+    finite_sum,
+    with_status,
+)
 from .motion import SEGMENT_HOLD, Motion, Motions
 
 __all__ = [
     "ON_UNASSEMBLABLE",
-    "STATUS_NEAR_SINGULAR",
-    "STATUS_OK",
-    "STATUS_UNASSEMBLABLE",
     "Engine",
     "interval_containing",
-    "Frame",
-    "JointState",
-    "PointState",
 ]
-
-STATUS_OK = "ok"
-STATUS_NEAR_SINGULAR = "near_singular"
-STATUS_UNASSEMBLABLE = "unassemblable"
 
 #: Accepted values of ``on_unassemblable``.
 ON_UNASSEMBLABLE = ("stop", "reverse")
@@ -56,46 +55,6 @@ TWO_PI = 2.0 * math.pi
 PATH_SAMPLES = 361
 #: Ticks solved together by :meth:`Engine.frames`.
 CHUNK = 4096
-_NONE: Mapping[str, Any] = MappingProxyType({})
-
-
-class PointState(NamedTuple):
-    """Position, velocity and acceleration of one point, each ``dim`` floats (m, m/s, m/s²).
-
-    A tuple of Python floats on the per-tick path (:meth:`Engine.frame`, no numpy per tick), a
-    ``(dim,)`` array row in whole runs (:meth:`Engine.frames`); index them, or ``tuple()`` them.
-    """
-
-    position: Sequence[float] | NDArray[np.float64]
-    velocity: Sequence[float] | NDArray[np.float64]
-    acceleration: Sequence[float] | NDArray[np.float64]
-
-
-class JointState(NamedTuple):
-    """Position (rad or m), velocity and acceleration of one joint."""
-
-    position: float
-    velocity: float
-    acceleration: float
-
-
-@dataclass(frozen=True, slots=True)
-class Frame:
-    """The mechanism at one instant ``t`` (s of run time)."""
-
-    t: float
-    phi: float
-    omega: float
-    epsilon: float
-    points: Mapping[str, PointState]
-    joints: Mapping[str, JointState]
-    status: str
-    conditioning: float
-    message: str
-    #: Scenes with forces (:mod:`linkage_ros.forces`): input joint → effort (N·m or N), and
-    #: load key → (Fx, Fy, M) (N, N, N·m); empty otherwise.
-    efforts: Mapping[str, float] = field(default_factory=lambda: _NONE)
-    loads: Mapping[str, tuple[float, float, float]] = field(default_factory=lambda: _NONE)
 
 
 class Engine:
@@ -213,7 +172,7 @@ class Engine:
         if holding is None:
             holding = self.motion.segment_at(t).tag == SEGMENT_HOLD
         frame = self._make_frame(t, phi, omega, eps, k, None, holding=holding)
-        total = _finite_sum(frame)
+        total = finite_sum(frame)
         if not math.isfinite(total):
             return _non_finite(phi, k.conditioning, self.inputs)
         return frame
@@ -242,7 +201,7 @@ class Engine:
                 if isinstance(result, Frame):
                     self._event_message = f"{reason}; reversed at t = {t_rev:.6f} s"
                     self._last_valid_t = t
-                    return _with_status(result, STATUS_UNASSEMBLABLE, self._event_message)
+                    return with_status(result, STATUS_UNASSEMBLABLE, self._event_message)
             self.motion.restore(before)
         # stop (or a reversal that found no valid state): hold at the last valid tick.
         self.motion.hold(t_last)
@@ -329,7 +288,7 @@ class Engine:
                 joints[name] = JointState(
                     float(js.position[i]), float(js.velocity[i]), float(js.acceleration[i])
                 )
-        efforts, loads = (_NONE, _NONE) if not self.forces else (
+        efforts, loads = (NO_VALUES, NO_VALUES) if not self.forces else (
             frame_forces(k, self.inputs, self.load_pairs) if forces is None else forces_row(forces, i))
         conditioning = 1.0
         worst = ""
@@ -460,29 +419,3 @@ def _angles(phi: Any, spec: str) -> str:
     if isinstance(phi, tuple):
         return "(" + ", ".join(format(p, spec) for p in phi) + ")"
     return format(phi, spec)
-
-
-def _finite_sum(frame: Frame) -> float:
-    """A sum of every number of the frame: finite exactly when all of them are (barring overflow,
-    which is as unusable). One ``sum`` over the chained numbers: it runs every tick."""
-    chain = itertools.chain.from_iterable
-    total = sum(chain(chain(frame.points.values()))) + sum(chain(frame.joints.values()))
-    if frame.efforts:
-        total += sum(frame.efforts.values()) + sum(chain(frame.loads.values()))
-    return total
-
-
-def _with_status(frame: Frame, status: str, message: str) -> Frame:
-    return Frame(
-        t=frame.t,
-        phi=frame.phi,
-        omega=frame.omega,
-        epsilon=frame.epsilon,
-        points=frame.points,
-        joints=frame.joints,
-        status=status,
-        conditioning=frame.conditioning,
-        message=message,
-        efforts=frame.efforts,
-        loads=frame.loads,
-    )

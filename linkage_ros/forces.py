@@ -3,7 +3,7 @@
 A scene with ``bodies``, ``gravity`` or ``loads`` (docs/forces.md) has, at every instant, an
 effort per input joint (``k.effort(joint)``: N·m about +z for a crank, N along the guide for a
 slider input) and a load at every pair of bodies: the solver's pins (revolute pairs) and slides
-(prismatic pairs). The engine puts them into each :class:`~linkage_ros.engine.Frame`:
+(prismatic pairs). The engine puts them into each :class:`~linkage_ros.frame.Frame`:
 
 * ``frame.efforts``: input joint → effort (float);
 * ``frame.loads``: load key → ``(Fx, Fy, M)``: the force (N, world frame) on the pair's first

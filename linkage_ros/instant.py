@@ -39,7 +39,8 @@ from typing import Any
 
 from solver.errors import AssemblyError
 
-from .engine import Engine, Frame, JointState, PointState
+from .engine import Engine
+from .frame import Frame, JointState, PointState
 from .messages import NS_PER_S, MessageBuilder
 from .motion import SEGMENT_HOLD
 from .serialize import STAMP_SLOTS, Packer, Serializer, Slot

@@ -30,7 +30,8 @@ from typing import Any
 
 import numpy as np
 
-from .engine import STATUS_NEAR_SINGULAR, STATUS_OK, Engine, Frame
+from .engine import Engine
+from .frame import STATUS_NEAR_SINGULAR, STATUS_OK, Frame
 from .load_messages import LoadMessages, load_topic_types, tree_effort_joints
 from .msgtypes import TYPE_NAMES, MessageTypes
 from .urdf import TreeJointStates, exportable_model, frame_tree_joint_states

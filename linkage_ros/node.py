@@ -3,7 +3,7 @@
     mechanism_node --ros-args -p scene:=four_bar -p omega:=2.0          # from the venv
     ros2 run linkage_ros mechanism_node --ros-args -p scene:=four_bar    # from a colcon install
 
-Declares the parameters of :data:`linkage_ros.runtime.PARAMETERS` with descriptors, ticks a
+Declares the parameters of :data:`linkage_ros.parameters.PARAMETERS` with descriptors, ticks a
 timer at ``rate_hz`` with t from the node clock (``use_sim_time`` works), publishes the CDR bytes
 the runtime renders (``Publisher.publish(bytes)``; QoS depth 10, reliable) and validates
 parameter changes in a callback. Integer values for double parameters (``-p omega:=2``, or
@@ -55,7 +55,8 @@ from rclpy.signals import SignalHandlerOptions
 from solver.errors import SolverError
 
 from .messages import TYPE_NAMES
-from .runtime import PARAMETERS, ParameterSpec, Recorder, Runtime, validate_parameter
+from .parameters import PARAMETERS, SPECS, ParameterSpec, validate_parameter
+from .runtime import Recorder, Runtime
 
 __all__ = [
     "MechanismNode",
@@ -83,7 +84,6 @@ _PARAMETER_TYPES = {
     "double_array": ParameterType.PARAMETER_DOUBLE_ARRAY,
     "string_array": ParameterType.PARAMETER_STRING_ARRAY,
 }
-_SPECS = {spec.name: spec for spec in PARAMETERS}
 
 
 def qos_profile() -> QoSProfile:
@@ -134,7 +134,7 @@ def coerce_parameter(name: str, value: Any) -> Any:
     """An integer given for one of our double parameters, as a float; for a double array
     (``input_omegas``, ...) integers or an empty list of any type (rclpy reads ``[]`` as a byte
     array; ``[]`` in a params file arrives as None), as a list of floats; other values unchanged."""
-    spec = _SPECS.get(name)
+    spec = SPECS.get(name)
     if spec is not None and spec.kind == "double" and isinstance(value, int) and not isinstance(value, bool):
         return float(value)
     if spec is not None and spec.kind == "double_array" and not isinstance(value, str):
@@ -201,10 +201,13 @@ class MechanismNode(Node):
         # A non-empty default makes the type a string array ([""] when the scene has no outputs:
         # rclpy would read an empty list as a byte array).
         points = list(self.runtime.settings["points"]) or [""]
-        self.declare_parameter("points", points, descriptor(_SPECS["points"]), ignore_override=True)
+        self.declare_parameter("points", points, descriptor(SPECS["points"]), ignore_override=True)
         self._qos_profile = qos_profile()
         self._topic_publishers: dict[str, Any] = {}
         self._sync_publishers()
+        #: the node clock's handle (ROS time: the system's, or /clock under use_sim_time), read
+        #: per tick without a Time object (``_now_ns``: 1.2 µs against 2.5 for ``now().nanoseconds``)
+        self._clock_handle = self.get_clock().handle
         self._tick_timer = self.create_timer(self.runtime.period_s, self._on_timer)
         self._input_subscription: Any = None
         self._sync_input()
@@ -218,8 +221,13 @@ class MechanismNode(Node):
         )
 
     # ------------------------------------------------------------------ callbacks
+    def _now_ns(self) -> int:
+        """The node clock's time in ns: ``get_clock().now().nanoseconds``, without the Time object."""
+        with self._clock_handle:
+            return int(self._clock_handle.get_now().nanoseconds)
+
     def _on_timer(self) -> None:
-        messages = self.runtime.tick(self.get_clock().now().nanoseconds)
+        messages = self.runtime.tick(self._now_ns())
         publishers = self._topic_publishers
         for topic, data in messages:
             publishers[topic].publish(data)

@@ -79,7 +79,8 @@ from typing import Any, NamedTuple
 
 from solver.errors import AssemblyError, format_intervals
 
-from .engine import Engine, Frame, interval_containing
+from .engine import Engine, interval_containing
+from .frame import Frame
 from .urdf import exportable_model, frame_tree_joint_states
 
 __all__ = [

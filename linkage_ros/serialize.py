@@ -22,7 +22,7 @@ Three ways to fill the templates, one set of templates:
   flat output of a compiled instant, :mod:`linkage_ros.instant`): a tick is then one
   :class:`struct.Struct` ``pack`` per topic, no message objects and no dicts (the node's and
   the relay's hot path);
-* :meth:`Serializer.render` fills them from an engine :class:`~linkage_ros.engine.Frame`
+* :meth:`Serializer.render` fills them from an engine :class:`~linkage_ros.frame.Frame`
   (every tick that has a frame: the first, status changes, the path markers and diagnostics);
 * :meth:`Serializer.render_block` fills one topic for a block of ticks at once with numpy
   (``linkage-run``'s whole runs).
@@ -55,7 +55,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from ._sentinels import NSEC, SEC, find_all, sentinel
-from .engine import STATUS_OK, Frame, JointState, PointState
+from .frame import STATUS_OK, Frame, JointState, PointState
 from .messages import DIAGNOSTICS, MARKERS, NS_PER_S, MessageBuilder
 from .urdf import TreeJointStates
 

@@ -21,15 +21,16 @@ angles where the groups before it can be assembled.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import Any, TypeAlias
 
 import numpy as np
 
 from .singular import bisect_roots, probe, sign_changes, turn_grid, upstream_plan
 from .tolerances import ASSEMBLY_SLACK
 
-if TYPE_CHECKING:
-    from .scene import Scene
+#: a :class:`solver.scene.Scene`; not imported, since the scene sits above this module (it
+#: calls this one): dependencies point one way, annotations included.
+Scene: TypeAlias = Any
 
 __all__ = ["unassemblable_intervals", "gaps", "crank_and_pivot"]
 

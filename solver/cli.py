@@ -13,7 +13,7 @@ import numpy as np
 from . import assembly, classify
 from ._cmdline import EPSILON_MAX, OMEGA_MAX, PHI_MAX, Parser, bounded, check_output, count, one_line, quiet_pipe
 from ._extremes import Evaluate
-from .cli_inputs import help_epilog, is_multi_input
+from .cli_inputs import force_columns, force_table, help_epilog, is_multi_input, per_input_values
 from .cli_inputs import main as main_inputs
 from .errors import SolverError, format_intervals
 from .forces.report import force_section
@@ -39,22 +39,40 @@ def _parser() -> argparse.ArgumentParser:
     grid.add_argument("--phi", type=_floats, metavar="V1,V2,...", help="these input angles (rad, or deg with --deg)")
     p.add_argument("--deg", action="store_true", help="--phi values are in degrees (the summary always shows degrees)")
     p.add_argument(
-        "--omega", type=bounded(OMEGA_MAX), default=1.0, metavar="W", help="input angular velocity, rad/s (default 1)"
+        "--omega", type=_rate(OMEGA_MAX), default=1.0, metavar="W|Q=W",
+        help="input angular velocity, rad/s (default 1); Q=W names the input, as linkage-run reads it",
     )
     p.add_argument(
         "--epsilon",
-        type=bounded(EPSILON_MAX),
+        type=_rate(EPSILON_MAX),
         default=0.0,
-        metavar="E",
-        help="input angular acceleration, rad/s² (default 0)",
+        metavar="E|Q=E",
+        help="input angular acceleration, rad/s² (default 0); Q=E names the input",
     )
-    p.add_argument("--csv", metavar="FILE|-", help="write the table as CSV (SI units, phi in rad) to FILE or stdout")
+    p.add_argument("--csv", metavar="FILE|-", help="write the table as CSV (SI units, phi in rad) to FILE or stdout; "
+                   "a scene with forces adds each input's effort and every pin's load")
     p.add_argument(
         "--mask",
         action="store_true",
         help="where the mechanism cannot be assembled, leave those angles out instead of failing",
     )
     return p
+
+
+def _rate(limit: float) -> Any:
+    """A rate as a number, or ``Q=V`` kept as text until the scene names its input (linkage-run's form)."""
+    number = bounded(limit)
+
+    def parse(text: str) -> float | str:
+        return text if "=" in text else number(text)
+
+    return parse
+
+
+def _one_rate(scene: Scene, value: float | str, *, option: str, default: float, limit: float) -> float:
+    if not isinstance(value, str):
+        return value
+    return float(per_input_values(scene, [value], option=option, default=default, limit=limit)[0])
 
 
 def _floats(text: str) -> list[float]:
@@ -75,7 +93,7 @@ def csv_header(scene: Scene) -> list[str]:
             cols += [f"{p}.{prefix}{a}" for a in axes]
     for j in scene.output_joints:
         cols += [f"{j}.q", f"{j}.dq", f"{j}.ddq"]
-    return cols
+    return cols + force_columns(scene)
 
 
 def table(scene: Scene, k: Kinematics) -> np.ndarray:
@@ -87,7 +105,7 @@ def table(scene: Scene, k: Kinematics) -> np.ndarray:
     for j in scene.output_joints:
         m = k.joint(j)
         cols += [m.position[:, None], m.velocity[:, None], m.acceleration[:, None]]
-    return np.hstack(cols)
+    return np.hstack(cols + force_table(scene, k))
 
 
 def write_csv(scene: Scene, k: Kinematics, out: TextIO) -> None:
@@ -251,7 +269,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             phi = np.radians(args.phi) if args.deg else np.asarray(args.phi, float)
         else:
             phi = np.linspace(0.0, 2 * math.pi, args.phi_count, endpoint=False)
-        k = scene.solve(phi, omega=args.omega, epsilon=args.epsilon, mask=args.mask)
+        omega = _one_rate(scene, args.omega, option="--omega", default=1.0, limit=OMEGA_MAX)
+        epsilon = _one_rate(scene, args.epsilon, option="--epsilon", default=0.0, limit=EPSILON_MAX)
+        k = scene.solve(phi, omega=omega, epsilon=epsilon, mask=args.mask)
         if args.csv:
             if args.mask:
                 for name, intervals in assembly.gaps(scene).items():
@@ -261,9 +281,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             if flagged.size:
                 shown = ", ".join(f"{math.degrees(p):.4f}°" for p in flagged[:8])
                 more = f" and {flagged.size - 8} more" if flagged.size > 8 else ""
+                loads = "; efforts and loads there are nan (unbounded)" if scene.has_forces else ""
                 print(
                     f"linkage-solve: note: singular position at φ = {shown}{more}: analogs there are the "
-                    "limit along the branch, or nan where none exists (see docs/stability.md)",
+                    f"limit along the branch, or nan where none exists{loads} (see docs/stability.md)",
                     file=sys.stderr,
                 )
             if args.csv == "-":
@@ -272,7 +293,9 @@ def main(argv: Sequence[str] | None = None) -> int:
                 with open(args.csv, "w", encoding="utf-8", newline="") as fh:
                     write_csv(scene, k, fh)
         else:
-            sections = [force_section(scene, k)]
+            n = int(np.count_nonzero(k.valid))
+            given = None if args.phi is None else "at the given angle" if n == 1 else f"read off the {n} given angles"
+            sections = [force_section(scene, k, sampling=given)]
             print(summary(scene, k, periodic=args.phi is None, given=args.phi is not None, sections=sections))
     except (SolverError, ValueError) as exc:
         print(f"linkage-solve: error: {one_line(str(exc))}", file=sys.stderr)

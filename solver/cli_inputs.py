@@ -9,8 +9,9 @@ rows (``--samples``); motion laws are per input::
     linkage-solve five_bar --region --count 36            # the assemblable region as a text image
 
 The CSV has one column per input (named by it, rad), then per point ``P.x,P.y,P.vx,…,P.ay`` and
-per joint ``J.q,J.dq,J.ddq`` (v = J·ω, a = J·ε + ωᵀHω), and with ``--derivatives`` the jacobian
-``P.x.d_q1`` … and the hessian ``P.x.d2_q1_q2`` … (upper triangle) of every output.
+per joint ``J.q,J.dq,J.ddq`` (v = J·ω, a = J·ε + ωᵀHω), with ``--derivatives`` the jacobian
+``P.x.d_q1`` … and the hessian ``P.x.d2_q1_q2`` … (upper triangle) of every output, and last, for
+a scene with forces, each input's effort and every pin's and slide's load (:func:`force_columns`).
 """
 
 from __future__ import annotations
@@ -32,7 +33,17 @@ from .multi import assemblable
 from .scene import Scene, load_scene
 from .summary import Output, Section, Sweep, provenance_lines, summary_lines
 
-__all__ = ["csv_header", "help_epilog", "is_multi_input", "main", "per_input_values", "region_lines", "samples_of"]
+__all__ = [
+    "csv_header",
+    "force_columns",
+    "force_table",
+    "help_epilog",
+    "is_multi_input",
+    "main",
+    "per_input_values",
+    "region_lines",
+    "samples_of",
+]
 
 AXES = "xy"
 #: The most samples a grid may have (N^k grows fast; an (N, k) solve keeps every output's arrays).
@@ -169,6 +180,38 @@ def csv_header(scene: Scene, *, derivatives: bool = False) -> list[str]:
                 cols += [f"{p}.{a}.d_{q}" for q in scene.inputs] + [f"{p}.{a}.d2_{q}_{r}" for q, r in pairs]
         for j in scene.output_joints:
             cols += [f"{j}.d_{q}" for q in scene.inputs] + [f"{j}.d2_{q}_{r}" for q, r in pairs]
+    return cols + force_columns(scene)
+
+
+def force_columns(scene: Scene) -> list[str]:
+    """The CSV's force columns (none for a scene without bodies, gravity or loads), after the
+    kinematics' (docs/forces.md): per input ``Q.effort`` (N·m for a crank, N for a slider), per
+    pin ``pin.P.BODY.fx,pin.P.BODY.fy`` (the force in N on BODY at P from the other body of the
+    pin, world frame: ``k.reaction(P, on=BODY, by=other)``), per prismatic pair
+    ``slide.P.BLOCK.fx,…fy,…couple`` (the guide's normal force on the block, N, and its couple
+    about P, N·m: ``k.slide_reaction(BLOCK)``). NaN at a singular sample (unbounded loads)."""
+    if not getattr(scene, "has_forces", False):
+        return []
+    cols = [f"{q}.effort" for q in scene.inputs]
+    for pin in scene.pins:
+        cols += [f"pin.{pin.point}.{pin.body}.fx", f"pin.{pin.point}.{pin.body}.fy"]
+    for s in scene.slides:
+        cols += [f"slide.{s.point}.{s.body}.fx", f"slide.{s.point}.{s.body}.fy", f"slide.{s.point}.{s.body}.couple"]
+    return cols
+
+
+def force_table(scene: Scene, k: Kinematics) -> list[np.ndarray]:
+    """The values of :func:`force_columns` as (N, c) blocks, in that order."""
+    if not getattr(scene, "has_forces", False):
+        return []
+    n = np.shape(k.valid)[0]
+    cols: list[np.ndarray] = [np.broadcast_to(np.asarray(k.effort(q), float), (n,))[:, None] for q in scene.inputs]
+    for pin in scene.pins:
+        cols.append(np.broadcast_to(np.asarray(k.reaction(pin.point, on=pin.body, by=pin.other), float), (n, 2)))
+    for s in scene.slides:
+        pair = k.slide_reaction(s.body)
+        cols += [np.broadcast_to(np.asarray(pair.force, float), (n, 2)),
+                 np.broadcast_to(np.asarray(pair.couple, float), (n,))[:, None]]
     return cols
 
 
@@ -190,7 +233,7 @@ def _table(scene: Scene, k: Kinematics, derivatives: bool) -> np.ndarray:
         for j in scene.output_joints:
             m = k.joint(j)
             cols += [m.jacobian, m.hessian[:, upper[0], upper[1]]]
-    return np.hstack(cols)
+    return np.hstack(cols + force_table(scene, k))
 
 
 def write_csv(scene: Scene, k: Kinematics, out: TextIO, *, derivatives: bool = False) -> None:
@@ -224,11 +267,13 @@ def summary(scene: Scene, k: Kinematics, *, sampling: str | None = None, section
     sweep = Sweep(
         phi=k.phi[valid], points=[output(p, True) for p in scene.output_points],
         joints=[output(j, False) for j in scene.output_joints], inputs=tuple(scene.inputs), sampling=sampling)
-    lines += summary_lines(sweep, sections=sections)
+    lines += summary_lines(sweep)
     singular = np.flatnonzero(valid & np.asarray(k.singular, bool))
     shown = ", ".join(_sample(scene, k.phi[i]) for i in singular[:4])
     more = f" and {len(singular) - 4} more" if len(singular) > 4 else ""
     lines.append(f"  singular samples (derivatives NaN there): {len(singular)}{': ' + shown + more if shown else ''}")
+    for section in sections:  # after the kinematics' own lines, as for one input (solver.cli.summary)
+        lines += section(sweep)
     return "\n".join(lines)
 
 
@@ -286,8 +331,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.csv:
             singular = np.flatnonzero(np.asarray(k.singular & k.valid))
             if singular.size:
+                loads = ", efforts and loads" if scene.has_forces else ""
                 print(f"linkage-solve: note: {singular.size} singular sample(s), first "
-                      f"{_sample(scene, k.phi[singular[0]])}: derivatives there are nan (docs/inputs.md)",
+                      f"{_sample(scene, k.phi[singular[0]])}: derivatives{loads} there are nan (docs/inputs.md)",
                       file=sys.stderr)
             if args.csv == "-":
                 write_csv(scene, k, sys.stdout, derivatives=args.derivatives)

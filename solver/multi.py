@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import Any, TypeAlias
 
 import numpy as np
 
@@ -44,8 +44,9 @@ from .groups.base import require_samples
 from .jet import Jet
 from .kinematics import Derivatives, Kinematics, empty_motion, fill_motion, motion_rows
 
-if TYPE_CHECKING:
-    from .scene import Scene
+#: a :class:`solver.scene.Scene`; not imported, since the scene sits above this module (it
+#: calls this one): dependencies point one way, annotations included.
+Scene: TypeAlias = Any
 
 __all__ = [
     "SampleAssemblyError",

@@ -100,7 +100,12 @@ class Scene:
     """A validated mechanism with a set of outputs and the plan that computes them."""
 
     def __init__(
-        self, data: SceneData, *, points: Iterable[str] | None = None, joints: Iterable[str] | None = None
+        self,
+        data: SceneData,
+        *,
+        points: Iterable[str] | None = None,
+        joints: Iterable[str] | None = None,
+        forces: bool = True,
     ) -> None:
         self._data = data
         self.name: str = data.name
@@ -131,7 +136,10 @@ class Scene:
         if points is None and joints is None:  # the declared outputs: every input must move one
             check_outputs_move(self.ordered, data.fixed, (*self.output_points, *self.output_joints), file=data.file)
         #: bodies, gravity and loads (solver.forces, docs/forces.md); None when the scene names none
-        self.forces: ForceModel | None = None if data.forces is None else ForceModel(data.forces, self.inputs)
+        #: (``forces=False``: the kinematics alone, as if the scene named none — ``with_outputs``)
+        self.forces: ForceModel | None = (
+            None if data.forces is None or not forces else ForceModel(data.forces, self.inputs)
+        )
         more = () if self.forces is None else self.forces.targets  # what the force layer reads
         self.plan: Plan = build_plan(self.ordered, data.fixed, (*self.output_points, *self.output_joints, *more))
 
@@ -184,12 +192,22 @@ class Scene:
         """Every prismatic pair as a :class:`~solver.forces.Slide` (body, guide, point); () without forces."""
         return () if self.forces is None else self.forces.spec.slides
 
-    def with_outputs(self, *, points: Iterable[str] | None = None, joints: Iterable[str] | None = None) -> Scene:
-        """The same mechanism asked for other outputs (``None`` keeps the current ones)."""
+    def with_outputs(
+        self,
+        *,
+        points: Iterable[str] | None = None,
+        joints: Iterable[str] | None = None,
+        forces: bool | None = None,
+    ) -> Scene:
+        """The same mechanism asked for other outputs (``None`` keeps the current ones).
+
+        ``forces=False`` drops the force layer (efforts and reactions are then not evaluated: the
+        kinematics alone of a scene with bodies or loads); ``True`` restores the scene's own."""
         return Scene(
             self._data,
             points=self.output_points if points is None else points,
             joints=self.output_joints if joints is None else joints,
+            forces=self.forces is not None if forces is None else forces,
         )
 
     def everything(self) -> Scene:

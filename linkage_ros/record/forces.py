@@ -1,7 +1,7 @@
 """Forces in the recorded view: arrows at the pins and the input efforts over time.
 
 Scenes with ``bodies``, ``gravity`` or ``loads`` (docs/forces.md) carry, beside the kinematics of
-a :class:`~linkage_ros.record.rerun.RunData`, the effort of every input (``efforts``) and the
+a :class:`~linkage_ros.record.rundata.RunData`, the effort of every input (``efforts``) and the
 load of every pin (``loads``: the force on one named body from the other, world frame, and for
 a prismatic pair the couple; docs/ros.md "Forces"). :mod:`.rerun` draws them with the functions
 here; :func:`forces_from_mcap` reads the same arrays back from a recording.
@@ -27,7 +27,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..forces import KIND_PIN, TOPIC_PREFIX
-from .rerun import ARROW_WIDTH, DRAW_ORDER, RunData, _plot, _position, _series, arrow_scale
+from .rerun import ARROW_WIDTH, DRAW_ORDER, _plot, _position, _series, arrow_scale
+from .rundata import RunData
 
 __all__ = [
     "EFFORT_ORIGIN",

@@ -1,4 +1,4 @@
-"""From the messages of a recorded MCAP file back to a :class:`~linkage_ros.record.rerun.RunData`
+"""From the messages of a recorded MCAP file back to a :class:`~linkage_ros.record.rundata.RunData`
 (no solving): the replay behind ``linkage-view``.
 
 What each array comes from:
@@ -36,7 +36,7 @@ from ..forces import TOPIC_PREFIX
 from .cdr import extract
 from .forces import forces_from_mcap, forces_metadata
 from .mcap import McapContents, read_mcap
-from .rerun import RunData
+from .rundata import RunData
 
 __all__ = ["METADATA_NAME", "scene_metadata", "run_data_from_mcap", "stamp_text"]
 

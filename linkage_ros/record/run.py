@@ -19,7 +19,7 @@ from typing import Any, TextIO
 
 import numpy as np
 
-from .rerun import RunBuilder, RunData
+from .rundata import RunBuilder, RunData
 
 __all__ = ["RunOptions", "RunResult", "duration_for_cycles", "run_standalone", "summary_lines"]
 

@@ -25,12 +25,15 @@ class SlideReaction(NamedTuple):
     guide: str
 
 
-def _vec(z: Any, n: int | None) -> np.ndarray:
+def _vec(z: Any, n: int | None, *, negate: bool = False) -> np.ndarray:
+    """``z`` (or ``−z``) as a (2,) vector, or as (N, 2) floats: one fresh contiguous complex array
+    (never the result's own buffer) seen as float pairs — one pass, no stacking of parts."""
     if n is None:
-        z = complex(z)
+        z = -complex(z) if negate else complex(z)
         return np.array([z.real, z.imag])
     arr = np.broadcast_to(np.asarray(z, np.complex128), (n,))
-    return np.stack([arr.real, arr.imag], axis=-1)
+    arr = np.negative(arr) if negate else np.array(arr)
+    return arr.view(np.float64).reshape(n, 2)
 
 
 class ForceResult:
@@ -71,8 +74,7 @@ class ForceResult:
             others = ", ".join(o for _, _, o in found)
             raise SolverError(f"'{on}' has {len(found)} pins at '{point}' (with {others}): say which with by=")
         i, sign, _ = found[0]
-        z = self._data[self._index["pin", i]]
-        return _vec(z if sign > 0 else -z, self._n)
+        return _vec(self._data[self._index["pin", i]], self._n, negate=sign < 0)
 
     def slide_reaction(self, body: str) -> SlideReaction:
         """The prismatic pair of the slider block ``body``: its normal force and couple."""

@@ -15,7 +15,7 @@ with route 2 are only the bodies' kinematics (solver.forces.frames). Vectorised 
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any, TypeAlias
 
 import numpy as np
 
@@ -26,8 +26,9 @@ from ..jet import Jet
 from .frames import accel, body_motion, spring_force, table_force
 from .spec import PointForce, Spring, TableForce, Torque
 
-if TYPE_CHECKING:
-    from ..scene import Scene
+#: a :class:`solver.scene.Scene`; not imported, since the scene sits above this module (it
+#: calls this one): dependencies point one way, annotations included.
+Scene: TypeAlias = Any
 
 __all__ = ["virtual_efforts"]
 

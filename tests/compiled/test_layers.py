@@ -4,7 +4,7 @@ Layers, from the bottom (docs/architecture.md, "Dependencies point one way"): er
 tolerances and the backend ← jets and the tracer ← groups ← plan ← singular positions and the
 force layer ← assembly intervals and results ← several inputs and scene reading ← the compiled
 instant ← scene ← summaries, classification and the CLI. Imports inside ``if TYPE_CHECKING:``
-are annotations only (never executed) and are not counted.
+count too: a lower module names the scene's type as an alias of ``Any`` instead of importing it.
 """
 
 from __future__ import annotations
@@ -63,19 +63,10 @@ def _module(path: Path) -> str:
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
-def _type_checking_lines(tree: ast.Module) -> set[int]:
-    lines: set[int] = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
-            for sub in node.body:
-                lines.update(range(sub.lineno, (sub.end_lineno or sub.lineno) + 1))
-    return lines
-
-
 def _imports(path: Path) -> list[tuple[str, int]]:
     """Every solver module ``path`` imports (module level and inside functions), with its line."""
     tree = ast.parse(path.read_text(encoding="utf-8"))
-    skip = _type_checking_lines(tree)
+    skip: set[int] = set()  # (TYPE_CHECKING imports are upward imports as well)
     me = _module(path)
     package = me if path.name == "__init__.py" else me.rpartition(".")[0]
     out = []

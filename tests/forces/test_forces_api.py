@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -19,7 +18,7 @@ FORCE_SCENES = ["four_bar_loaded", "engine", "harvester_finger", "five_bar"]
 
 
 def _bare(scene: solver.Scene) -> solver.Scene:
-    return solver.Scene(replace(scene._data, forces=None))
+    return scene.with_outputs(forces=False)
 
 
 def _samples(scene: solver.Scene, n: int = 50) -> np.ndarray:
@@ -53,6 +52,19 @@ def test_a_scene_without_force_keys_has_none_and_says_so() -> None:
     k = scene.solve(np.linspace(0, 1, 3))
     with pytest.raises(solver.SolverError, match="this scene names no bodies, gravity or loads"):
         k.effort("crank")
+
+
+def test_with_outputs_can_drop_the_force_layer_and_bring_it_back() -> None:
+    scene = solver.load_scene("four_bar_loaded")
+    bare = scene.with_outputs(forces=False)
+    assert scene.has_forces and not bare.has_forces and bare.pins == ()
+    assert bare.everything().has_forces is False  # later output sets keep the choice
+    assert bare.with_outputs(forces=True).pins == scene.pins
+    assert scene.everything().has_forces
+    with pytest.raises(solver.SolverError, match="this scene names no bodies, gravity or loads"):
+        bare.solve(0.3).effort("crank")
+    k = bare.with_outputs(forces=True).solve(0.3, omega=3.0)
+    assert k.effort("crank") == scene.solve(0.3, omega=3.0).effort("crank")
 
 
 @pytest.mark.parametrize("name", FORCE_SCENES)

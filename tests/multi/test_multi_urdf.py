@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 import solver
-from linkage_ros.engine import STATUS_UNASSEMBLABLE, Engine
+from linkage_ros.engine import Engine
+from linkage_ros.frame import STATUS_UNASSEMBLABLE
 from linkage_ros.motion import Motion, Motions
 from linkage_ros.urdf import build_model, frame_tree_joint_states, generate_urdf, kinematics_tree_joint_states
 

@@ -23,7 +23,8 @@ from rosbags.typesys import Stores, get_typestore
 from linkage_ros.cli import mcap_main, view_main
 from linkage_ros.record.mcap import Recorder
 from linkage_ros.record.replay import METADATA_NAME, scene_metadata
-from linkage_ros.record.rerun import LEGEND_ROWS, RunData, plot_columns
+from linkage_ros.record.rerun import LEGEND_ROWS, plot_columns
+from linkage_ros.record.rundata import RunData
 from linkage_ros.record.viewer import ViewerError, display_problem, open_viewer
 from linkage_ros.runtime import Runtime
 

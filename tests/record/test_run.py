@@ -29,13 +29,13 @@ from linkage_ros.engine import Engine
 from linkage_ros.messages import topic_types
 from linkage_ros.motion import Motion
 from linkage_ros.record.mcap import read_mcap
-from linkage_ros.record.rerun import RunData
 from linkage_ros.record.run import (
     RunOptions,
     duration_for_cycles,
     run_standalone,
     summary_lines,
 )
+from linkage_ros.record.rundata import RunData
 
 TS = get_typestore(Stores.ROS2_JAZZY)
 EPS = np.finfo(float).eps

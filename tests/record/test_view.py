@@ -23,8 +23,9 @@ from linkage_ros.messages import MessageBuilder, topic_types  # noqa: E402
 from linkage_ros.motion import Motion  # noqa: E402
 from linkage_ros.record.mcap import Recorder, read_mcap  # noqa: E402
 from linkage_ros.record.replay import run_data_from_mcap  # noqa: E402
-from linkage_ros.record.rerun import RunData, arrow_scale, write_rrd  # noqa: E402
+from linkage_ros.record.rerun import arrow_scale, write_rrd  # noqa: E402
 from linkage_ros.record.run import RunOptions, run_standalone  # noqa: E402
+from linkage_ros.record.rundata import RunData  # noqa: E402
 
 RERUN = next((str(p) for p in (Path(sys.executable).parent / "rerun",) if p.exists()),
               shutil.which("rerun") or "rerun")

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from linkage_ros.runtime import PARAMETERS, validate_parameter
+from linkage_ros.parameters import PARAMETERS, validate_parameter
 
 ROOT = Path(__file__).resolve().parents[2]
 LAUNCH = ROOT / "launch" / "mechanism.launch.py"
@@ -34,6 +34,17 @@ def test_params_file_is_in_ros_parameters_form_with_valid_values() -> None:
     assert set(params) <= names and names - set(params) <= {"points"}  # points follows the scene
     for name, value in params.items():
         assert validate_parameter(name, value) is None, name
+
+
+def test_launch_arguments_default_to_the_values_of_params_yaml() -> None:
+    tree = ast.parse(LAUNCH.read_text(encoding="utf-8"), filename=str(LAUNCH))
+    arguments = next(
+        n.value for n in tree.body
+        if isinstance(n, ast.Assign) and any(getattr(t, "id", "") == "ARGUMENTS" for t in n.targets)
+    )
+    defaults = {name: default for name, (default, _) in ast.literal_eval(arguments).items()}
+    params = yaml.safe_load(PARAMS.read_text(encoding="utf-8"))["/**"]["ros__parameters"]
+    assert {name: yaml.safe_load(text) for name, text in defaults.items()} == {n: params[n] for n in defaults}
 
 
 def test_launch_description_builds_with_ros_launch() -> None:

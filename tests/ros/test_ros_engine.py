@@ -9,13 +9,8 @@ import numpy as np
 import pytest
 
 import solver
-from linkage_ros.engine import (
-    STATUS_NEAR_SINGULAR,
-    STATUS_OK,
-    STATUS_UNASSEMBLABLE,
-    Engine,
-    Frame,
-)
+from linkage_ros.engine import Engine
+from linkage_ros.frame import STATUS_NEAR_SINGULAR, STATUS_OK, STATUS_UNASSEMBLABLE, Frame
 from linkage_ros.motion import Motion
 
 EPS = np.finfo(float).eps

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 from rosbags.typesys import Stores, get_typestore
 
-from linkage_ros.engine import STATUS_UNASSEMBLABLE, Engine
+from linkage_ros.engine import Engine
+from linkage_ros.frame import STATUS_UNASSEMBLABLE
 from linkage_ros.messages import (
     FIXED_TOPIC_TYPES,
     MessageBuilder,

@@ -12,7 +12,8 @@ import pytest
 from rosbags.typesys import Stores, get_typestore
 
 from linkage_ros.messages import DIAGNOSTICS
-from linkage_ros.runtime import DIAGNOSTICS_PERIOD_S, PARAMETERS, Runtime, validate_parameter
+from linkage_ros.parameters import PARAMETERS, validate_parameter
+from linkage_ros.runtime import DIAGNOSTICS_PERIOD_S, Runtime
 
 STORE = get_typestore(Stores.ROS2_JAZZY)
 NS = 1_000_000_000

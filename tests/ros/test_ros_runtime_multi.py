@@ -14,7 +14,8 @@ from rosbags.typesys import Stores, get_typestore
 
 import solver
 from linkage_ros.messages import DIAGNOSTICS
-from linkage_ros.runtime import Runtime, per_input, per_input_reason, validate_parameter
+from linkage_ros.parameters import per_input, per_input_reason, validate_parameter
+from linkage_ros.runtime import Runtime
 
 STORE = get_typestore(Stores.ROS2_JAZZY)
 NS = 1_000_000_000

@@ -12,7 +12,8 @@ from rosbags.typesys import Stores, get_typestore
 
 import solver
 from linkage_ros.motion import SEGMENT_HOLD
-from linkage_ros.runtime import PARAMETERS, Runtime, validate_parameter
+from linkage_ros.parameters import PARAMETERS, validate_parameter
+from linkage_ros.runtime import Runtime
 
 STORE = get_typestore(Stores.ROS2_JAZZY)
 NS = 1_000_000_000

@@ -38,7 +38,9 @@ def test_vector_form_gives_the_group_forms_table(
 ) -> None:
     h1, t1 = _csv(groups, omega, epsilon, capsys)
     h2, t2 = _csv(vectors, omega, epsilon, capsys)
-    assert h1 == h2
+    # a vector scene has no bodies (docs/forces.md): the group form's force columns come after these
+    assert h1.split(",")[: h2.count(",") + 1] == h2.split(",")
+    h1, t1 = h2, t1[:, : h2.count(",") + 1]
     scale = np.max(np.abs(t1), axis=0)
     scale = np.where(scale > 0.0, scale, 1.0)  # an identically zero column: held to TOL_REL absolute (SI)
     worst = np.max(np.abs(t1 - t2), axis=0) / scale

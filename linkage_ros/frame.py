@@ -1,0 +1,103 @@
+"""One solved instant of a mechanism: :class:`Frame`, its points and joints, and its status.
+
+:class:`~linkage_ros.engine.Engine` makes frames (one tick, or whole runs); the message builder,
+the serialiser, the relay and the recorders read them. A frame's ``status`` is
+:data:`STATUS_OK`, :data:`STATUS_NEAR_SINGULAR` (a group's conditioning under the threshold, named
+in ``message``) or :data:`STATUS_UNASSEMBLABLE` (the input held or reversed where the mechanism
+cannot be assembled; ``message`` says where).
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any, NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "NO_VALUES",
+    "STATUS_NEAR_SINGULAR",
+    "STATUS_OK",
+    "STATUS_UNASSEMBLABLE",
+    "Frame",
+    "JointState",
+    "PointState",
+    "finite_sum",
+    "with_status",
+]
+
+STATUS_OK = "ok"
+STATUS_NEAR_SINGULAR = "near_singular"
+STATUS_UNASSEMBLABLE = "unassemblable"
+#: The efforts and loads of a frame without forces (read only).
+NO_VALUES: Mapping[str, Any] = MappingProxyType({})
+
+
+class PointState(NamedTuple):
+    """Position, velocity and acceleration of one point, each ``dim`` floats (m, m/s, m/s²).
+
+    A tuple of Python floats on the per-tick path (:meth:`Engine.frame`, no numpy per tick), a
+    ``(dim,)`` array row in whole runs (:meth:`Engine.frames`); index them, or ``tuple()`` them.
+    """
+
+    position: Sequence[float] | NDArray[np.float64]
+    velocity: Sequence[float] | NDArray[np.float64]
+    acceleration: Sequence[float] | NDArray[np.float64]
+
+
+class JointState(NamedTuple):
+    """Position (rad or m), velocity and acceleration of one joint."""
+
+    position: float
+    velocity: float
+    acceleration: float
+
+
+@dataclass(frozen=True, slots=True)
+class Frame:
+    """The mechanism at one instant ``t`` (s of run time)."""
+
+    t: float
+    phi: float
+    omega: float
+    epsilon: float
+    points: Mapping[str, PointState]
+    joints: Mapping[str, JointState]
+    status: str
+    conditioning: float
+    message: str
+    #: Scenes with forces (:mod:`linkage_ros.forces`): input joint → effort (N·m or N), and
+    #: load key → (Fx, Fy, M) (N, N, N·m); empty otherwise.
+    efforts: Mapping[str, float] = field(default_factory=lambda: NO_VALUES)
+    loads: Mapping[str, tuple[float, float, float]] = field(default_factory=lambda: NO_VALUES)
+
+
+def finite_sum(frame: Frame) -> float:
+    """A sum of every number of the frame: finite exactly when all of them are (barring overflow,
+    which is as unusable). One ``sum`` over the chained numbers: it runs every tick."""
+    chain = itertools.chain.from_iterable
+    total = sum(chain(chain(frame.points.values()))) + sum(chain(frame.joints.values()))
+    if frame.efforts:
+        total += sum(frame.efforts.values()) + sum(chain(frame.loads.values()))
+    return total
+
+
+def with_status(frame: Frame, status: str, message: str) -> Frame:
+    """``frame`` with another status and message."""
+    return Frame(
+        t=frame.t,
+        phi=frame.phi,
+        omega=frame.omega,
+        epsilon=frame.epsilon,
+        points=frame.points,
+        joints=frame.joints,
+        status=status,
+        conditioning=frame.conditioning,
+        message=message,
+        efforts=frame.efforts,
+        loads=frame.loads,
+    )
