@@ -18,7 +18,8 @@ import statistics
 import subprocess
 import sys
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass
 from importlib import metadata
 from pathlib import Path
@@ -31,12 +32,14 @@ __all__ = [
     "ROOT",
     "SCENES",
     "Reference",
+    "carry_section",
     "errors_against",
     "machine",
     "median_time",
     "median_times",
     "reference",
     "turn",
+    "write_section",
 ]
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -196,3 +199,29 @@ def machine() -> dict[str, str]:
     except OSError:
         info["load"] = "n/a"
     return info
+
+
+# --- sections of docs/speed-vs-error.md that one bench writes and the others keep ---
+
+
+def write_section(md: Path, heading: str, text: str) -> None:
+    """Replace the section ``heading`` of ``md`` (up to the next ``## `` heading) by ``text``, or append it."""
+    old = md.read_text() if md.exists() else ""
+    start = old.find(f"\n{heading}\n")
+    if start < 0:
+        md.write_text(old.rstrip("\n") + "\n\n" + text)
+        return
+    end = old.find("\n## ", start + 1)
+    md.write_text(old[: start + 1] + text + (old[end:] if end >= 0 else ""))
+
+
+@contextmanager
+def carry_section(md: Path, heading: str) -> Iterator[None]:
+    """Keep the section ``heading`` of ``md`` across a rewrite of the rest of the file."""
+    old = md.read_text() if md.exists() else ""
+    start = old.find(f"\n{heading}\n")
+    end = old.find("\n## ", start + 1) if start >= 0 else -1
+    kept = old[start + 1 : end + 1 if end >= 0 else None] if start >= 0 else ""
+    yield
+    if kept and md.exists():
+        write_section(md, heading, kept.rstrip("\n") + "\n")

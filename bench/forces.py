@@ -41,6 +41,7 @@ if __package__ in (None, ""):  # run as a file: make the repository root importa
 import numpy as np
 
 import solver
+from bench import _common
 from bench._common import CACHE, ROOT, _ensure_cache, machine, median_time, median_times, turn
 
 __all__ = ["Config", "ForcesReport", "carry_section", "kinepy_four_bar", "main", "measure", "write_section"]
@@ -386,26 +387,13 @@ def section(report: ForcesReport) -> str:
 
 
 def write_section(md: Path, text: str) -> None:
-    """Replace the ``## Forces`` section of ``md`` (up to the next ``## `` heading), or append it."""
-    old = md.read_text() if md.exists() else ""
-    start = old.find(f"\n{HEADING}\n")
-    if start < 0:
-        md.write_text(old.rstrip("\n") + "\n\n" + text)
-        return
-    end = old.find("\n## ", start + 1)
-    md.write_text(old[: start + 1] + text + (old[end:] if end >= 0 else ""))
+    """Replace the Forces section of ``md`` (bench._common.write_section)."""
+    _common.write_section(md, HEADING, text)
 
 
-@contextlib.contextmanager
 def carry_section(md: Path) -> Any:
     """Keep the Forces section of ``md`` across a rewrite of the rest of the file."""
-    old = md.read_text() if md.exists() else ""
-    start = old.find(f"\n{HEADING}\n")
-    end = old.find("\n## ", start + 1) if start >= 0 else -1
-    kept = old[start + 1 : end + 1 if end >= 0 else None] if start >= 0 else ""
-    yield
-    if kept and md.exists():
-        write_section(md, kept.rstrip("\n") + "\n")
+    return _common.carry_section(md, HEADING)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

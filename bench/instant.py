@@ -37,7 +37,7 @@ if __package__ in (None, ""):  # run as a file: make the repository root importa
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 import solver
-from bench import alternatives
+from bench import _common, alternatives
 from bench._common import CACHE, ROOT, machine, median_times, turn
 from bench.relay import FOUR_BAR, GaussNewton
 from solver._codegen import Compiled
@@ -247,31 +247,13 @@ def section(r: Report) -> str:
 
 
 def write_section(md: Path, text: str) -> None:
-    """Replace the "One instant" section of ``md`` (up to the next ``## `` heading), or append it."""
-    old = md.read_text() if md.exists() else ""
-    start = old.find(f"\n{HEADING}\n")
-    if start < 0:
-        md.write_text(old.rstrip("\n") + "\n\n" + text)
-        return
-    end = old.find("\n## ", start + 1)
-    md.write_text(old[: start + 1] + text + (old[end:] if end >= 0 else ""))
+    """Replace the "One instant" section of ``md`` (bench._common.write_section)."""
+    _common.write_section(md, HEADING, text)
 
 
-class carry_section:  # used as ``with carry_section(md):``, like bench.forces'
+def carry_section(md: Path) -> Any:
     """Keep the "One instant" section of ``md`` across a rewrite of the rest of the file."""
-
-    def __init__(self, md: Path) -> None:
-        self.md = md
-
-    def __enter__(self) -> None:
-        old = self.md.read_text() if self.md.exists() else ""
-        start = old.find(f"\n{HEADING}\n")
-        end = old.find("\n## ", start + 1) if start >= 0 else -1
-        self.kept = old[start + 1 : end + 1 if end >= 0 else None] if start >= 0 else ""
-
-    def __exit__(self, *exc: object) -> None:
-        if self.kept and self.md.exists():
-            write_section(self.md, self.kept.rstrip("\n") + "\n")
+    return _common.carry_section(md, HEADING)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

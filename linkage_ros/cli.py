@@ -201,6 +201,13 @@ def _start_line(scene: Any, duration: float, rate: float, ticks: int, laws: dict
 
 
 @quiet_pipe
+def _load_rule(scales: dict[str, float]) -> Any:
+    """The load arrows' rule from a run's arrow scales (``load``, and ``load_knee`` with a knee)."""
+    from .forces import LoadArrows
+
+    return LoadArrows(scales["load"], scales.get("load_knee", math.inf))
+
+
 def run_main(argv: Sequence[str] | None = None) -> int:
     """``linkage-run``."""
     args = _run_parser().parse_args(argv)
@@ -285,7 +292,8 @@ def run_main(argv: Sequence[str] | None = None) -> int:
         sv, sa = result.arrow_scales["velocity"], result.arrow_scales["acceleration"]
         print(f"arrows in the rerun view: velocity drawn as v × {sv:g} s (1 m/s is an arrow {sv:g} m long), "
               f"acceleration as a × {sa:g} s² (1 m/s² is {sa:g} m long)"
-              + (f", pin loads as R × {result.arrow_scales['load']:g} m/N" if "load" in result.arrow_scales else ""))
+              + (f", pin loads as R {_load_rule(result.arrow_scales).describe()}"
+                 if "load" in result.arrow_scales else ""))
     simulated = float(data.t[-1] - data.t[0]) if data.n else 0.0
     print(f"{result.ticks} ticks in {secs['total']:.2f} s of wall-clock time ({simulated:g} s simulated)")
     if result.interrupted:

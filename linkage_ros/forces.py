@@ -17,10 +17,18 @@ and ``<name>_slide`` for a slide, so that a block's pin and its slide at one poi
 :class:`LoadPair` lists them with their bodies.
 A scene without forces has none of this: the frames' ``efforts`` and ``loads`` are empty and
 every message is as before.
+
+How long a load's arrow is drawn (the node's ``markers`` and the rerun view alike) is one rule,
+:class:`LoadArrows` chosen by :func:`load_arrows` from the loads of one cycle: proportional,
+``scale`` m per N, up to a ``knee``; beyond it each further tenfold of the load adds one knee
+length (ℓ = s·F_k·(1 + log10(F/F_k))), so that a peak far above the typical loads (the engine's
+gas force at top dead centre: 25 × the median) stays inside the drawing while the typical loads
+stay visible. Runs whose peak fits proportionally have no knee (``knee`` = inf).
 """
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Mapping, Sequence
 from typing import Any, NamedTuple
@@ -32,12 +40,14 @@ __all__ = [
     "KIND_PIN",
     "KIND_SLIDE",
     "TOPIC_PREFIX",
+    "LoadArrows",
     "LoadPair",
     "effort_units",
     "force_layout",
     "forces_row",
     "frame_forces",
     "has_forces",
+    "load_arrows",
     "load_pairs",
     "run_forces",
     "sampled_loads",
@@ -48,6 +58,74 @@ KIND_SLIDE = "slide"
 #: The first part of the load topics, by kind of pair.
 TOPIC_PREFIX = {KIND_PIN: "pin_loads", KIND_SLIDE: "slide_loads"}
 _UNSAFE = re.compile(r"[^A-Za-z0-9_]")
+TYPICAL_RATIO = 1.5
+"""A long load (drawn at a quarter of the drawing) is the 95th percentile of the cycle's loads,
+but at most this many times their median: a few large loads do not shrink every other arrow."""
+MAX_FRACTION = 0.5
+"""The peak load is drawn proportionally when it fits in this fraction of the drawing; else the
+arrows have a knee (:class:`LoadArrows`)."""
+
+
+class LoadArrows(NamedTuple):
+    """How long a load's arrow is: ``scale`` m per N up to ``knee`` N (a length of
+    ``scale · knee``), then each further tenfold of the load adds that length again:
+    ℓ(F) = s·F for F ≤ F_k, s·F_k·(1 + log10(F/F_k)) above (continuous, increasing)."""
+
+    scale: float
+    knee: float = math.inf
+
+    def factor(self, force: Any) -> Any:
+        """Arrow length per N of load at magnitude ``force`` (a float or an array): the arrow is
+        the force vector times this factor. NaN stays NaN."""
+        if isinstance(force, np.ndarray):
+            f = np.asarray(force, dtype=np.float64)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                bent = self.scale * self.knee * (1.0 + np.log10(f / self.knee)) / f
+            return np.where(f > self.knee, bent, np.where(np.isnan(f), np.nan, self.scale))
+        f = float(force)
+        if f > self.knee:
+            return self.scale * self.knee * (1.0 + math.log10(f / self.knee)) / f
+        return self.scale if f == f else math.nan
+
+    def planar_factor(self, fx: float, fy: float) -> float:
+        """:meth:`factor` of the force (fx, fy) (Python floats: the node's per-tick path)."""
+        return float(self.factor(math.hypot(fx, fy)))
+
+    def length(self, force: Any) -> Any:
+        """Arrow length (m) of a load of magnitude ``force`` (N)."""
+        return self.factor(force) * force
+
+    def describe(self, *, per: str = "m/N") -> str:
+        """The rule in words: ``× 0.005 m/N``, or with a knee ``× 0.0001 m/N up to 650 N, then
+        +0.065 m per ×10``."""
+        text = f"× {self.scale:g} {per}"
+        if math.isfinite(self.knee):
+            text += f" up to {self.knee:.3g} N, then +{self.scale * self.knee:.3g} m per ×10"
+        return text
+
+
+def load_arrows(samples: Mapping[str, NDArray[np.float64]], extent: float) -> LoadArrows:
+    """The arrow rule for loads like ``samples`` (key → (N, 2+) forces, N) in a drawing of
+    ``extent`` m: a round scale (1, 2 or 5 × 10^k m/N) that draws a long load
+    (:data:`TYPICAL_RATIO`) at about a quarter of ``extent``; if the largest load would then be
+    longer than :data:`MAX_FRACTION` of ``extent``, a knee where the proportional part reaches a
+    quarter of ``extent``. Non-finite samples are left out; no load at all gives scale 1."""
+    from .record.rerun import ARROW_FRACTION, ARROW_PERCENTILE, nice_scale
+
+    parts = [np.linalg.norm(np.asarray(v, dtype=np.float64)[:, :2], axis=1) for v in samples.values() if v.size]
+    f = np.concatenate(parts) if parts else np.zeros(0)
+    f = f[np.isfinite(f)]
+    if not f.size or float(f.max()) <= 0.0:
+        return LoadArrows(1.0)
+    long = float(np.percentile(f, ARROW_PERCENTILE))
+    median = float(np.median(f))
+    reference = min(long, TYPICAL_RATIO * median) if median > 0.0 else long
+    if reference <= 0.0:
+        reference = float(f.max())
+    scale = nice_scale(ARROW_FRACTION * extent / reference)
+    if scale * float(f.max()) <= MAX_FRACTION * extent:
+        return LoadArrows(scale)
+    return LoadArrows(scale, ARROW_FRACTION * extent / scale)
 
 
 class LoadPair(NamedTuple):

@@ -14,11 +14,14 @@ it was, byte for byte). What it adds (docs/ros.md, "Forces")::
                       input link against the frame: the same number), 0.0 for every other joint
     joint_kinematics  points[0].effort: the same, for every joint of the scene
     markers           namespace ``loads``: one ARROW per load (id = its index), from the pair's
-                      point along the force, length = |F| × ``scale`` (m/N); its ``text`` says
-                      which load and the scale (:meth:`LoadMessages.label`)
+                      point along the force, length = |F| × ``scale`` (m/N), or above a knee
+                      by the log rule of :class:`~linkage_ros.forces.LoadArrows` (the same
+                      rule as the rerun view); its ``text`` says which load and the rule
+                      (:meth:`LoadMessages.label`)
 
 Every number comes from the frame (``frame.efforts``, ``frame.loads``), but the arrows' tips: the
-pair's point plus the force times a constant scale, derived like the URDF tree's joint states
+pair's point plus the force times the rule's factor (fixed when the scene is loaded), derived
+like the URDF tree's joint states
 (:meth:`MessageBuilder.load_tips <linkage_ros.messages.MessageBuilder.load_tips>`; a byte
 template passes sentinels for them through ``build_topics(..., load_tips=...)``). A frame without
 forces gives NaN in their place, so that a template taken from it can never match a real frame.
@@ -30,7 +33,9 @@ import math
 from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING, Any
 
-from .forces import KIND_PIN, LoadPair
+from solver._trace import TRACE
+
+from .forces import KIND_PIN, LoadArrows, LoadPair, load_arrows
 from .urdf import BASE_LINK
 
 if TYPE_CHECKING:
@@ -66,8 +71,6 @@ class LoadMessages:
     """The force messages of ``builder``'s engine (which must have forces)."""
 
     def __init__(self, builder: MessageBuilder, *, size: float, tree_joints: Sequence[tuple[str, str]]) -> None:
-        from .record.rerun import arrow_scale
-
         engine = builder.engine
         c = builder.types.classes
         self.types = builder.types
@@ -79,9 +82,11 @@ class LoadMessages:
         self._WrenchStamped = c[WRENCH_STAMPED]
         self._Marker = c["visualization_msgs/msg/Marker"]
         self._zero = self._Vector3(x=0.0, y=0.0, z=0.0)
-        #: m of arrow per N of load: a round number that draws a long load of one cycle at the
-        #: starting motion at about a quarter of the drawing's size.
-        self.scale: float = arrow_scale(engine.load_samples, size)
+        #: How long a load's arrow is (:func:`~linkage_ros.forces.load_arrows` over one cycle at
+        #: the starting motion): ``scale`` m per N, above ``knee`` N one knee length per tenfold.
+        self.rule: LoadArrows = load_arrows(engine.load_samples, size)
+        self.scale: float = self.rule.scale
+        self._bent = self.rule.planar_factor if math.isfinite(self.rule.knee) else None
         self._inputs = frozenset(engine.inputs)
         #: joint name → the input whose effort it carries (None: a passive joint, 0.0)
         self._carrier = {name: (name if name in self._inputs else None) for name in engine.joint_names}
@@ -98,7 +103,7 @@ class LoadMessages:
     def label(self, pair: LoadPair) -> str:
         """The arrow marker's ``text``: what it shows and its scale, e.g. ``pin_loads/B: force on
         coupler from rocker; arrow 0.005 m per N``."""
-        return f"{pair.topic}: force on {pair.body} from {pair.other}; arrow {self.scale:g} m per N"
+        return f"{pair.topic}: force on {pair.body} from {pair.other}; arrow {self.rule.describe(per='m per N')[2:]}"
 
     def efforts(self, frame: Any, names: Iterable[str]) -> Any:
         """The effort array of ``names`` (joint_states, joint_kinematics) at ``frame``."""
@@ -123,12 +128,15 @@ class LoadMessages:
         return out
 
     def tips(self, frame: Any) -> tuple[float, ...]:
-        """(x, y) of each arrow's tip, flat: the pair's point + the force × :attr:`scale`."""
+        """(x, y) of each arrow's tip, flat: the pair's point + the force × the rule's factor
+        (:attr:`scale` up to the knee)."""
         loads, points, s = frame.loads, frame.points, self.scale
         out: list[float] = []
         for pair, fixed in zip(self.pairs, self._fixed):
             x, y = fixed if fixed is not None else points[pair.point].position[:2]
             fx, fy, _ = loads.get(pair.key, (_NAN, _NAN, _NAN))
+            if self._bent is not None:  # an opaque call, so that the traced fast path keeps it
+                s = TRACE.call(self._bent, fx, fy)
             out += (x + s * fx, y + s * fy)
         return tuple(out)
 

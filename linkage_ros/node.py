@@ -261,12 +261,15 @@ class MechanismNode(Node):
         changes = {p.name: p.value for p in parameters}
         old_rate = self.runtime.settings["rate_hz"]
         old_points = list(self.runtime.settings["points"])
-        now_ns = self.get_clock().now().nanoseconds
-        reason = self.runtime.update(changes, now_ns)
+        reason = self.runtime.update(changes, self._now_ns())
         if reason is not None:
             return SetParametersResult(successful=False, reason=reason)
         self._log_recording()
         self._sync_publishers()
+        if "scene" in changes:
+            self.get_logger().info(
+                f"scene {self.runtime.engine.scene.name}: publishing {len(self._topic_publishers)} topics"
+            )
         if self.runtime.settings["rate_hz"] != old_rate:
             self.destroy_timer(self._tick_timer)
             self._tick_timer = self.create_timer(self.runtime.period_s, self._on_timer)

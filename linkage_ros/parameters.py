@@ -224,9 +224,10 @@ def validate_parameter(name: str, value: Any) -> str | None:
         try:
             solver.find_scene(value)
         except SolverError as error:
+            reason = getattr(error, "reason", error)  # (the message without the file, named here)
             if Path(value).is_dir():
-                return f"scene {value!r}: {getattr(error, 'reason', error)}"
-            return f"unknown scene {value!r}: {error}"
+                return f"scene {value!r}: {reason}"
+            return f"unknown scene {value!r}: {reason}"
     elif name == "frame_id":
         if not _FRAME_ID.match(value):
             return f"frame_id must be non-empty (letters, digits, _ . / -), got {value!r}"

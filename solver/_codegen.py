@@ -30,7 +30,7 @@ from ._trace import TRACE, Guard, Let, Recorder, TraceError, Tracer
 from .errors import SolverError
 from .groups.base import Context
 from .jet import Jet
-from .multi import directions, instant_jets, solve_instant
+from .multi import directions, instant_jets, solve_instant, take_direction
 
 __all__ = ["Compiled", "FlatFloats", "MAX_PATHS", "MAX_TRACES", "EAGER_SAMPLES", "layout_of"]
 
@@ -442,15 +442,7 @@ class Compiled:
             if ctx.invalid is not False:
                 raise TraceError("unassemblable")
             for name in names:
-                jet = values[name]
-                if len(moved) == 1:
-                    (i,) = moved
-                    jac[name][i] = jet.d1
-                    hess[name][i][i] = jet.d2
-                else:
-                    i, j = moved
-                    h = hess[name]
-                    h[i][j] = h[j][i] = 0.5 * ((jet.d2 - h[i][i]) - h[j][j])
+                take_direction(jac[name], hess[name], moved, values[name])
         out: list[Any] = []
         for name in names:
             out.extend(jac[name])

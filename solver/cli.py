@@ -24,6 +24,8 @@ from .summary import Output, Section, Sweep, motion_line, provenance_lines, summ
 __all__ = ["main", "csv_header", "write_csv", "summary", "stability_lines"]
 
 AXES = "xyz"
+#: Options of the several-input form only (solver/cli_inputs.py): named as such for a one-input scene.
+SEVERAL_INPUTS_ONLY = ("--range", "--samples", "--region", "--derivatives")
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -35,7 +37,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     p.add_argument("scene", help="scene file, or the name of a shipped scene (e.g. harvester_finger)")
     grid = p.add_mutually_exclusive_group()
-    grid.add_argument("--phi-count", type=count, default=360, metavar="N", help="N angles over one turn (default 360)")
+    grid.add_argument("--phi-count", type=count, default=360, metavar="N",
+                      help="N angles over one turn (default 360; --count N the same, as for several inputs)")
+    grid.add_argument("--count", type=count, dest="phi_count", default=argparse.SUPPRESS, help=argparse.SUPPRESS)
     grid.add_argument("--phi", type=_floats, metavar="V1,V2,...", help="these input angles (rad, or deg with --deg)")
     p.add_argument("--deg", action="store_true", help="--phi values are in degrees (the summary always shows degrees)")
     p.add_argument(
@@ -260,8 +264,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     if is_multi_input(argv):  # several inputs: the grid form (solver/cli_inputs.py, docs/inputs.md)
         return main_inputs(argv)
-    args = _parser().parse_args(argv)
+    parser = _parser()
+    args, extra = parser.parse_known_args(argv)
+    several = next((a.split("=", 1)[0] for a in extra if a.split("=", 1)[0] in SEVERAL_INPUTS_ONLY), None)
+    if several is None and extra:
+        parser.error(f"unrecognized arguments: {' '.join(extra)}")
     try:
+        if several is not None:
+            load_scene(args.scene)  # a scene that does not load says so first
+            raise SolverError(f"{several} is an option for scenes with several inputs (e.g. five_bar); {args.scene} "
+                              "has one: sweep its input with --phi-count N or --phi V1,V2,... (linkage-solve --help)")
         if args.csv and args.csv != "-":
             check_output(args.csv, "--csv")
         scene = load_scene(args.scene)

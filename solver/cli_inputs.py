@@ -68,7 +68,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="angular velocity, rad/s: W for every input, Q=W for input Q (repeatable; default 1)")
     p.add_argument("--epsilon", action="append", default=[], metavar="E|Q=E",
                    help="angular acceleration, rad/s²: E for every input, Q=E for input Q (repeatable; default 0)")
-    p.add_argument("--csv", metavar="FILE|-", help="write the table as CSV (SI units, inputs in rad)")
+    p.add_argument("--csv", metavar="FILE|-", help="write the table as CSV (SI units, inputs in rad); a scene "
+                   "with forces adds each input's effort and every pin's load")
     p.add_argument("--derivatives", action="store_true", help="add every output's jacobian and hessian to the CSV")
     p.add_argument("--mask", action="store_true", help="leave out the samples that cannot be assembled")
     p.add_argument("--region", action="store_true",

@@ -54,6 +54,7 @@ __all__ = [
     "derivative_arrays",
     "directions",
     "instant_jets",
+    "take_direction",
     "require_samples",
     "solve_instant",
     "solve_multi",
@@ -240,6 +241,18 @@ def directions(k: int) -> list[tuple[tuple[int, ...], list[float]]]:
     return out
 
 
+def take_direction(jac: list[Any], hess: list[list[Any]], moved: tuple[int, ...], jet: Jet) -> None:
+    """One pass of :func:`directions` into an output's J and H: along e_i, J_i = d1 and
+    H_ii = d2; along e_i + e_j (after every single input's pass), H_ij = H_ji = (d2 − H_ii − H_jj)/2."""
+    if len(moved) == 1:
+        (i,) = moved
+        jac[i] = jet.d1
+        hess[i][i] = jet.d2
+    else:
+        i, j = moved
+        hess[i][j] = hess[j][i] = 0.5 * ((jet.d2 - hess[i][i]) - hess[j][j])
+
+
 def _outputs(scene: Scene) -> list[tuple[str, bool]]:
     """Every output with whether it is a planar point (a complex jet)."""
     return [(p, True) for p in scene.output_points] + [(j, False) for j in scene.output_joints]
@@ -328,15 +341,7 @@ def instant_jets(scene: Scene, q: tuple[float, ...], name: str) -> tuple[list[An
     for moved, u in directions(k):
         values = plan.run(_context(scene, q, _seeds(scene, q, u, zero), True, False)).values
         for name, _ in names:
-            jet = values[name]
-            if len(moved) == 1:
-                (i,) = moved
-                jac[name][i] = jet.d1
-                hess[name][i][i] = jet.d2
-            else:
-                i, j = moved
-                h = hess[name]
-                h[i][j] = h[j][i] = 0.5 * ((jet.d2 - h[i][i]) - h[j][j])
+            take_direction(jac[name], hess[name], moved, values[name])
     return jac[name], hess[name]
 
 

@@ -80,8 +80,9 @@ def find_scene(name_or_path: str | os.PathLike[str]) -> Path:
     if key in shipped:
         return shipped[key]
     if path.is_dir():
-        inside = sorted(p.name for p in path.glob("*.yaml"))[:5]
-        hint = f"; scene files in it: {', '.join(inside)}" if inside else ""
+        inside = sorted(p.name for p in path.glob("*.yaml"))
+        more = f" and {len(inside) - 5} more" if len(inside) > 5 else ""
+        hint = f"; scene files in it: {', '.join(inside[:5])}{more}" if inside else ""
         raise SceneError(f"is a directory, not a scene file{hint}", file=str(name_or_path))
     raise SceneError(
         f"no such scene file, and no shipped scene of that name; shipped: {', '.join(sorted(shipped))}",

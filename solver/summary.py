@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 
 from ._extremes import Evaluate, Extreme, Quantity, extreme
+from .tolerances import ZERO_TO_ROUNDING
 
 __all__ = [
     "Output", "Sweep", "Section", "SECTIONS", "summary_lines", "motion_line", "format_phi", "provenance_lines",
@@ -47,7 +48,7 @@ AXES = "xyz"
 CONSTANT_RTOL = 1e-9
 #: A rate whose largest value is at most this fraction of the largest of its kind in the same
 #: summary (joint velocities against joint velocities, …) is rounding noise about zero ("zero").
-ZERO_RTOL = 1e-12
+ZERO_RTOL = ZERO_TO_ROUNDING  # (solver.tolerances)
 #: A net joint rotation within this of a whole number of turns (relative) is that many full turns.
 TURN_RTOL = 1e-6
 

@@ -21,6 +21,7 @@ __all__ = [
     "REFINE_BELOW",
     "LIMIT_NODE",
     "CLOSURE_ROUNDING",
+    "ZERO_TO_ROUNDING",
 ]
 
 #: Machine epsilon of float64.
@@ -84,3 +85,8 @@ LIMIT_NODE: float = 1e-2
 #: is held to its own scale: a miss of the circles' intersection beyond rounding is refused
 #: (solver/groups/rrr.py, tests/stability/test_stability_folded_boundary.py).
 CLOSURE_ROUNDING: float = 16 * EPS
+
+#: In a summary, a quantity whose largest magnitude over a sweep is at most this fraction of the
+#: scale it is made of (the largest of its kind, or the products it sums) is printed as "zero to
+#: rounding": e.g. a fixed point's speed, or the input power Σ Q·ω of a sweep at rest.
+ZERO_TO_ROUNDING: float = 1e-12

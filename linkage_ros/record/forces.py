@@ -8,13 +8,15 @@ here; :func:`forces_from_mcap` reads the same arrays back from a recording.
 
 Entity layout (beside :mod:`.rerun`'s)::
 
-    mechanism/loads/<K>      Arrows per tick at the point of pin load K: the force × scale (m/N),
-                             label ``R_K × s m/N``; the scale is in the legend
+    mechanism/loads/<K>      Arrows per tick at the point of pin load K: along the force, its
+                             length by the run's rule (label ``R_K × s m/N``, the rule in the legend)
     plots/effort/<Q>         Scalars: the effort of input Q (N·m for a crank, N for a slider)
 
-The scale is a round number (1, 2 or 5 × 10^k m/N) that draws a long load (the 95th percentile
-of all pin loads of the run) at about a quarter of the mechanism's extent, the same rule as the
-velocity and acceleration arrows (:func:`~linkage_ros.record.rerun.arrow_scale`).
+The rule is the node's (:func:`linkage_ros.forces.load_arrows`, docs/ros.md "Forces"): a round
+scale (1, 2 or 5 × 10^k m/N) that draws a long load (the 95th percentile of all pin loads of the
+run, at most 1.5 × their median) at about a quarter of the mechanism's extent; when the largest
+load would then be longer than half the extent, loads above a knee (drawn at a quarter of the
+extent) grow by one knee length per tenfold (the engine: 2e-4 m/N up to ~330 N).
 """
 
 from __future__ import annotations
@@ -26,8 +28,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..forces import KIND_PIN, TOPIC_PREFIX
-from .rerun import ARROW_WIDTH, DRAW_ORDER, _plot, _position, _series, arrow_scale
+from ..forces import KIND_PIN, TOPIC_PREFIX, LoadArrows, load_arrows
+from .rerun import ARROW_WIDTH, DRAW_ORDER, _plot, _position, _series
 from .rundata import RunData
 
 __all__ = [
@@ -39,6 +41,7 @@ __all__ = [
     "forces_legend",
     "forces_metadata",
     "force_sections",
+    "load_rule",
     "log_forces",
 ]
 
@@ -50,19 +53,28 @@ LOAD_COLOR = (200, 70, 210)
 Array = NDArray[np.float64]
 
 
-def load_scale(data: RunData) -> float:
-    """m per N of the load arrows (1 when the run has no loads or all are zero)."""
-    return arrow_scale({k: v[:, : data.dim] for k, v in data.loads.items()}, data.extent())
+def load_rule(data: RunData) -> LoadArrows:
+    """How long the load arrows of ``data`` are drawn (scale 1 when the run has no loads or all
+    are zero)."""
+    return load_arrows({k: v[:, :2] for k, v in data.loads.items()}, data.extent())
 
 
-def log_forces(rec: Any, data: RunData, times: Any, *, radius: float) -> float:
+def arrow_vectors(rule: LoadArrows, forces: Array, dim: int) -> Array:
+    """(N, dim) drawn arrows of (N, 2+) forces: along each force, of :meth:`LoadArrows.length`."""
+    f = np.asarray(forces, dtype=np.float64)[:, :2]
+    out = np.zeros((f.shape[0], dim))
+    out[:, :2] = f * rule.factor(np.hypot(f[:, 0], f[:, 1]))[:, None]
+    return out
+
+
+def log_forces(rec: Any, data: RunData, times: Any, *, radius: float) -> LoadArrows:
     """Log the load arrows and the effort series of ``data`` into ``rec`` (nothing when the run
-    has no forces); returns the arrow scale (m/N)."""
+    has no forces); returns the arrows' rule."""
     import rerun as rr
 
-    scale = load_scale(data)
+    rule = load_rule(data)
     if not data.n:
-        return scale
+        return rule
     arrows: Any = rr.Arrows3D if data.dim == 3 else rr.Arrows2D
     order: dict[str, Any] = {"draw_order": DRAW_ORDER["arrows"]} if data.dim == 2 else {}
     for key, values in data.loads.items():
@@ -70,10 +82,9 @@ def log_forces(rec: Any, data: RunData, times: Any, *, radius: float) -> float:
         point = data.load_pins.get(key, (key,))[0]
         if point not in data.positions and point not in data.fixed:
             continue
-        vectors = np.zeros((data.n, data.dim))
-        vectors[:, :2] = values[:, :2] * scale
+        vectors = arrow_vectors(rule, values, data.dim)
         rec.log(entity, arrows.from_fields(radii=ARROW_WIDTH * radius, colors=LOAD_COLOR,
-                                           labels=[f"R_{key} × {scale:g} m/N"], show_labels=False,
+                                           labels=[f"R_{key} {rule.describe()}"], show_labels=False,
                                            **order), static=True)
         rec.send_columns(entity, indexes=[times], columns=arrows.columns(
             origins=_position(data, point), vectors=vectors))
@@ -82,7 +93,7 @@ def log_forces(rec: Any, data: RunData, times: Any, *, radius: float) -> float:
         unit = data.effort_units.get(joint, "N·m")
         colour = joints.index(joint) if joint in joints else i  # the input joint's colour
         _series(rec, f"{EFFORT_ORIGIN}/{joint}", f"Q {joint} ({unit})", times, values, colour)
-    return scale
+    return rule
 
 
 def effort_views(data: RunData) -> list[Any]:
@@ -95,13 +106,13 @@ def effort_views(data: RunData) -> list[Any]:
                   contents=[f"/{EFFORT_ORIGIN}/{q}" for q in data.efforts])]
 
 
-def forces_legend(data: RunData, scale: float) -> str:
-    """The legend's sentence about the load arrows ("" without loads)."""
+def forces_legend(data: RunData, rule: LoadArrows) -> str:
+    """The legend's sentence about the load arrows and their rule ("" without loads)."""
     if not data.loads:
         return ""
     each = ", ".join(f"{key} on {on} from {by}" if on else key
                      for key, (_, on, by) in ((k, data.load_pins.get(k, (k, "", ""))) for k in data.loads))
-    return f"Magenta: pin loads **R × {scale:g} m/N**: {each}. "
+    return f"Magenta: pin loads **R {rule.describe()}**: {each}. "
 
 
 def force_sections(scene: Any, data: RunData) -> list[Any]:

@@ -44,6 +44,8 @@ __all__ = [
     "TIMELINE",
     "arrow_scale",
     "blueprint",
+    "nice_scale",
+    "plot_columns",
     "log_run",
     "write_rrd",
 ]
@@ -56,6 +58,27 @@ ARROW_PERCENTILE = 95.0
 NICE_STEPS = (1.0, 2.0, 5.0)
 PLOT_MARGIN = 0.05
 """Fraction of the data range added above and below in each plot."""
+LABELLED_STEPS = 7
+"""Most grid steps of one power of ten in a plot's y range: the viewer numbers only grid lines
+at powers of ten far enough apart (at the default window, a plot three or four to a column
+numbers lines ~25 px apart, not always 20 px, never 8 px); a range of more steps is widened to
+the next power of ten, so that two numbered lines always show (a range of −70 … 88 is shown as
+−100 … 100, not with a lone "0")."""
+FLAT_SPAN = 1e-9
+"""A series whose range is below this fraction of its magnitude (or of 1) is rounding noise
+around a constant (five_bar's distal angles at equal inputs: 1e-15 rad/s²) and plotted as flat."""
+LEGEND_CHARS_PER_PX = 0.155
+"""Characters of legend text per logical pixel of the mechanism column's width."""
+LEGEND_LINE_PX, LEGEND_HEAD_PX, WINDOW_PX = 16.0, 40.0, (1280.0, 740.0)
+"""The legend's line height, its title bar plus padding, and the default window's layout area
+(width, height below the top bar), logical px: the legend panel is sized to show its text."""
+KINDS = ("position", "velocity", "acceleration")
+UNIT_TITLES = {
+    "rad": ("joint angles (rad)", "joint ω (rad/s)", "joint ε (rad/s²)"),
+    "m": ("joint positions (m)", "joint v (m/s)", "joint a (m/s²)"),
+}
+"""Plot titles by the unit of a joint's position: angles and lengths are never on one axis (short:
+a plot's title bar shows about 18 characters at the default window)."""
 LEGEND_ROWS = 6
 """Most series in one plot: at the default window (1280 × 800) a plot, three to a column, shows a
 legend of this many names in full (rerun draws the legend inside the plot and cuts what does not
@@ -71,6 +94,8 @@ Y_UP = (1.0, -1.0, 1.0)
 """Scale of the mirror that shows a planar mechanism y up in rerun's y-down 2-D view."""
 DRAWN_2D = ("links", "points", "fixed", "paths", "velocity", "acceleration", "loads")
 """The children of ``mechanism`` that carry it."""
+VIEW_MARGIN = ARROW_FRACTION
+"""Margin around the drawing in the 2-D view, in units of its extent: room for a long arrow."""
 EYE_OFFSET = (0.5, -0.7, 0.45)
 """3-D camera position from the middle of the drawing, in units of its extent."""
 
@@ -85,6 +110,14 @@ SERIES_PALETTE = (
     (200, 200, 50), (166, 86, 40), (247, 129, 191), (120, 120, 120),
 )
 
+def nice_scale(raw: float) -> float:
+    """The round number (1, 2 or 5 × 10^k) at or below ``raw`` > 0."""
+    exp = math.floor(math.log10(raw))
+    mant = raw / 10.0**exp
+    step = max(s for s in NICE_STEPS if s <= mant * (1 + 1e-12))
+    return step * 10.0**exp
+
+
 def arrow_scale(vectors: Mapping[str, Array], extent: float) -> float:
     """A round scale (1, 2 or 5 × 10^k, in s or s²) that draws a long vector — the
     ``ARROW_PERCENTILE``-th percentile of the lengths, so that a few spikes near a singular
@@ -96,11 +129,7 @@ def arrow_scale(vectors: Mapping[str, Array], extent: float) -> float:
     longest = float(np.percentile(finite, ARROW_PERCENTILE)) if finite.size else 0.0
     if longest <= 0.0:
         return 1.0
-    raw = ARROW_FRACTION * extent / longest
-    exp = math.floor(math.log10(raw))
-    mant = raw / 10.0**exp
-    step = max(s for s in NICE_STEPS if s <= mant * (1 + 1e-12))
-    return step * 10.0**exp
+    return nice_scale(ARROW_FRACTION * extent / longest)
 
 
 def _fmt(x: float) -> str:
@@ -108,13 +137,22 @@ def _fmt(x: float) -> str:
 
 
 def _range(*series: Array) -> tuple[float, float]:
-    """Y range of a plot: every finite value, with a 5 % margin (explicit, so the plots do not
-    depend on how much data the viewer had loaded when it fitted them)."""
+    """Y range of a plot (explicit, so the plots do not depend on how much data the viewer had
+    loaded when it fitted them): every finite value, widened to multiples of a power of ten
+    (:data:`LABELLED_STEPS`) so that at least two grid lines carry a number, then a 5 % margin.
+    A series constant up to rounding (:data:`FLAT_SPAN`) is shown as constant."""
     parts = [np.asarray(s, dtype=float).reshape(-1) for s in series] or [np.zeros(1)]
     values = np.concatenate(parts)
     values = values[np.isfinite(values)]
     lo, hi = (float(values.min()), float(values.max())) if values.size else (0.0, 0.0)
-    pad = PLOT_MARGIN * (hi - lo) if hi > lo else max(1.0, abs(hi))
+    if hi - lo <= FLAT_SPAN * max(1.0, abs(lo), abs(hi)):
+        mid = 0.5 * (lo + hi)
+        lo, hi = mid - max(1.0, abs(mid)), mid + max(1.0, abs(mid))
+    step = 10.0 ** math.floor(math.log10(hi - lo))
+    if math.ceil(hi / step) - math.floor(lo / step) > LABELLED_STEPS:
+        step *= 10.0
+    lo, hi = math.floor(lo / step) * step, math.ceil(hi / step) * step
+    pad = PLOT_MARGIN * (hi - lo)
     return lo - pad, hi + pad
 
 
@@ -128,22 +166,38 @@ def _plot(origin: str, name: str, *series: Array, contents: Sequence[str] = ("$o
 
 def plot_columns(data: RunData) -> list[list[tuple[str, list[str]]]]:
     """The plots, column by column, as ``(title, [entity paths of its series])``: the inputs'
-    φ, ω, ε (one plot each), then the joints' positions, velocities, accelerations, with at most
+    φ, ω, ε (one plot each), then the joints' positions, velocities, accelerations, one column
+    per unit of the joints (angles in rad, slides in m: :data:`UNIT_TITLES`), with at most
     :data:`LEGEND_ROWS` joints a plot (more joints: more columns), so that each legend shows
-    every series name."""
+    every series name and each axis one unit."""
     plural = "inputs" if data.phi.ndim == 2 else "input"
     inputs = []
     for kind, symbol, unit in (("phi", "φ", "rad"), ("omega", "ω", "rad/s"), ("epsilon", "ε", "rad/s²")):
         paths = [f"plots/input/{kind}/{q}" if q else f"plots/input/{kind}"
                  for k, q, _ in data.input_series() if k == kind]
         inputs.append((f"{plural} {symbol} ({unit})", paths))
-    names = list(data.joints)
-    chunks = [names[i: i + LEGEND_ROWS] for i in range(0, len(names), LEGEND_ROWS)]
-    titles = {"position": "joint positions (rad | m)", "velocity": "joint velocities (rad/s | m/s)",
-              "acceleration": "joint accelerations (rad/s² | m/s²)"}
-    joints = [[(title, [f"plots/joints/{kind}/{j}" for j in chunk]) for kind, title in titles.items()]
-              for chunk in chunks]
-    return [inputs, *joints]
+    by_unit: dict[str, list[str]] = {}
+    for j in data.joints:
+        by_unit.setdefault(data.joint_units.get(j, "rad"), []).append(j)
+    columns = [inputs]
+    order = list(UNIT_TITLES)
+    for unit, names in sorted(by_unit.items(), key=lambda kv: order.index(kv[0]) if kv[0] in order else len(order)):
+        titles = UNIT_TITLES.get(unit) or tuple(f"joint {kind}s ({unit})" for kind in KINDS)
+        for i in range(0, len(names), LEGEND_ROWS):
+            chunk = names[i: i + LEGEND_ROWS]
+            columns.append([(title, [f"plots/joints/{kind}/{j}" for j in chunk])
+                            for kind, title in zip(KINDS, titles)])
+    return columns
+
+
+def legend_share(text: str, columns: int) -> tuple[float, float]:
+    """``row_shares`` of the mechanism view and its legend below it, so that the legend shows
+    all of ``text`` at the default window when the plots take ``columns`` columns."""
+    width = WINDOW_PX[0] * PLOTS_SHARE[0] / (PLOTS_SHARE[0] + PLOTS_SHARE[1] * columns)
+    per_line = max(20, int(LEGEND_CHARS_PER_PX * width))
+    lines = sum(max(1, math.ceil(len(par) / per_line)) for par in text.strip().split("\n"))
+    legend = min(0.45 * WINDOW_PX[1], LEGEND_HEAD_PX + LEGEND_LINE_PX * lines)
+    return WINDOW_PX[1] - legend, legend
 
 
 def blueprint(data: RunData) -> Any:
@@ -155,15 +209,16 @@ def blueprint(data: RunData) -> Any:
     if data.dim == 3:
         view = rrb.Spatial3DView(origin="mechanism", name=name, eye_controls=_eye(data))
     else:
-        view = rrb.Spatial2DView(origin="mechanism", name=name)
+        view = rrb.Spatial2DView(origin="mechanism", name=name, visual_bounds=_bounds(data))
+    layout = plot_columns(data)
     mechanism = rrb.Vertical(
         view, rrb.TextDocumentView(origin="mechanism/legend", name="legend"),
-        row_shares=[5, 1])
+        row_shares=list(legend_share(legend_text(data), len(layout))))
     values = {f"plots/input/{kind}" + (f"/{q}" if q else ""): v for kind, q, v in data.input_series()}
     for kind, i in (("position", 0), ("velocity", 1), ("acceleration", 2)):
         values.update({f"plots/joints/{kind}/{j}": series[i] for j, series in data.joints.items()})
     columns = []
-    for c, column in enumerate(plot_columns(data)):
+    for c, column in enumerate(layout):
         views = [_plot(paths[0] if len(paths) == 1 else paths[0].rsplit("/", 1)[0], title,
                        *(values[p] for p in paths), contents=[f"/{p}" for p in paths])
                  for title, paths in column if paths]
@@ -183,6 +238,23 @@ def _effort_views(data: RunData) -> list[Any]:
     from .forces import effort_views
 
     return effort_views(data)
+
+
+def _bounds(data: RunData) -> Any:
+    """The 2-D view's bounds: every point, pivot and path of the run with a margin of
+    :data:`VIEW_MARGIN` of the extent for the arrows, in the mirrored (y-down) view coordinates,
+    so that a short legend panel or a wide mechanism does not push a pivot off the view."""
+    import rerun.blueprint as rrb
+
+    pts = np.concatenate([np.zeros((0, 2))] + [p.reshape(-1, 2) for p in data.positions.values()]
+                         + [np.asarray(p, dtype=float).reshape(-1, 2) for p in data.fixed.values()]
+                         + [p.reshape(-1, 2) for p in data.paths.values()])
+    pts = pts[np.isfinite(pts).all(axis=1)]
+    if not pts.size:
+        return None
+    margin = VIEW_MARGIN * data.extent()
+    (x0, y0), (x1, y1) = pts.min(axis=0) - margin, pts.max(axis=0) + margin
+    return rrb.VisualBounds2D(x_range=(float(x0), float(x1)), y_range=(float(Y_UP[1] * y1), float(Y_UP[1] * y0)))
 
 
 def _eye(data: RunData) -> Any:
@@ -237,19 +309,7 @@ def log_run(rec: Any, data: RunData) -> dict[str, float]:
             rec.log(f"mechanism/paths/{name}", strips_t(
                 [path], radii=PATH_WIDTH * radius, colors=PATH_COLOR, **order("paths")),
                 static=True)
-    legend = (
-        f"**{data.scene}**: velocity arrows (green) **v × {_fmt(v_scale)} s**, "
-        f"acceleration arrows (orange) **a × {_fmt(a_scale)} s²** (m/s, m/s² drawn as m); "
-        f"grey: path of each published point over one cycle; red: fixed pivots. "
-        f"{n} ticks, t = {_fmt(float(data.t[0]) if n else 0.0)} … "
-        f"{_fmt(float(data.t[-1]) if n else 0.0)} s.\n"
-    )
-    if data.loads:  # scenes with forces: the pin-load arrows (.forces)
-        from .forces import forces_legend, load_scale
-
-        legend += forces_legend(data, load_scale(data)) + "\n"
-    if data.note:
-        legend += f"\n{data.note}\n"
+    legend = legend_text(data)
     rec.log("mechanism/legend", rr.TextDocument(legend, media_type="text/markdown"), static=True)
     if n == 0:
         return {"velocity": v_scale, "acceleration": a_scale}
@@ -299,8 +359,31 @@ def log_run(rec: Any, data: RunData) -> dict[str, float]:
     if data.loads or data.efforts:  # scenes with forces: arrows at the pins, efforts (.forces)
         from .forces import log_forces
 
-        return {"velocity": v_scale, "acceleration": a_scale, "load": log_forces(rec, data, times, radius=radius)}
+        rule = log_forces(rec, data, times, radius=radius)
+        knee = {"load_knee": rule.knee} if math.isfinite(rule.knee) else {}
+        return {"velocity": v_scale, "acceleration": a_scale, "load": rule.scale, **knee}
     return {"velocity": v_scale, "acceleration": a_scale}
+
+
+def legend_text(data: RunData) -> str:
+    """The legend under the mechanism: the arrow scales (and the load arrows' rule), the colours,
+    the ticks, the run's note."""
+    n, extent = data.n, data.extent()
+    v_scale, a_scale = arrow_scale(data.velocities, extent), arrow_scale(data.accelerations, extent)
+    legend = (
+        f"**{data.scene}**: velocity arrows (green) **v × {_fmt(v_scale)} s**, "
+        f"acceleration arrows (orange) **a × {_fmt(a_scale)} s²** (m/s, m/s² drawn as m); "
+        f"grey: path of each published point over one cycle; red: fixed pivots. "
+        f"{n} ticks, t = {_fmt(float(data.t[0]) if n else 0.0)} … "
+        f"{_fmt(float(data.t[-1]) if n else 0.0)} s.\n"
+    )
+    if data.loads:  # scenes with forces: the pin-load arrows (.forces)
+        from .forces import forces_legend, load_rule
+
+        legend += forces_legend(data, load_rule(data)) + "\n"
+    if data.note:
+        legend += f"\n{data.note}\n"
+    return legend
 
 
 def _greek(name: str) -> str:

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["Array", "RunBuilder", "RunData"]
+__all__ = ["Array", "RunBuilder", "RunData", "joint_units"]
 
 Array = NDArray[np.float64]
 
@@ -47,6 +47,9 @@ class RunData:
     loads: dict[str, Array] = field(default_factory=dict)  # load key → (N, 3) Fx, Fy N, M N·m
     load_pins: dict[str, tuple[str, str, str]] = field(default_factory=dict)  # key → (point, on, from)
     effort_units: dict[str, str] = field(default_factory=dict)  # input → "N·m" | "N"
+    joint_units: dict[str, str] = field(default_factory=dict)
+    """Joint → unit of its position, "rad" or "m" (a joint not listed: "rad"); the view plots
+    angles and lengths apart."""
 
     @property
     def n(self) -> int:
@@ -138,4 +141,11 @@ class RunBuilder:
             loads={key: f[:k] for key, f in self.lds.items()},
             load_pins={p.key: (p.point, p.body, p.other) for p in getattr(self.engine, "load_pairs", ())},
             effort_units=dict(getattr(self.engine, "effort_units", {})),
+            joint_units=joint_units(scene, self.jnt),
         )
+
+
+def joint_units(scene: Any, joints: Any) -> dict[str, str]:
+    """The unit ("rad" or "m") of each of ``joints``' positions in ``scene``."""
+    units = dict(getattr(scene, "joint_units", {}) or {})
+    return {j: str(units.get(j, "rad")) for j in joints}

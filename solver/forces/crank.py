@@ -1,9 +1,10 @@
 """Route 2 for the input crank (body c: pivot O on the ground, input effort Q about +z).
 
-Equilibrium of the crank with its known wrench (F, M_O about O), the ground's pin force R_O and
-the actuator's torque Q (the opposite torque acts on the ground):
+Equilibrium of the crank with its known wrench (F, M_O about O: the crank's wrench is kept
+about its pivot, solver.forces.state), the ground's pin force R_O and the actuator's torque Q
+(the opposite torque acts on the ground):
     ΣF:        F + R_O = 0                →  R_O = −F
-    ΣM about O: M_O + Q = 0               →  Q = −M_O,  M_O = M − O × F
+    ΣM about O: M_O + Q = 0               →  Q = −M_O
 Linear system: none (explicit). Singular positions: none of its own; Q inherits the dyads'
 (the reactions they hand back grow without bound at their toggles).
 Several inputs (five_bar): each crank closes its own balance, in the same reverse pass.
@@ -25,7 +26,10 @@ class CrankForces:
     joint: str
     pin_center: int  # index of the pin (O, crank, ground)
 
+    def refs(self) -> dict[str, str]:
+        """The point the crank's wrench is kept about: its pivot O."""
+        return {self.link: self.center}
+
     def solve(self, s: ForcePass) -> None:
-        f, m_o = s.about(self.link, s.point(self.center))
-        s.pins[self.pin_center] = -f
-        s.efforts[self.joint] = -m_o
+        s.pins[self.pin_center] = s.force(self.link, negate=True)
+        s.efforts[self.joint] = s.moment(self.link, negate=True)

@@ -8,9 +8,10 @@ of unit direction e has G = B + c·e, G' = B', G'' = B'' and θ' = θ'' = 0; a s
 block turns with the link (r = eyelet − pivot, origin at the eyelet).
 Real motion: a = a_q·ω² + v_q·ε (one input; with several the jets are real motion already).
 
-A body's known loads are kept as one wrench (F, M): the resultant force F (complex, N) and its
-moment M about the world origin (N·m): a force F at P adds (F, P × F), a torque T adds (0, T).
-d'Alembert's inertial load with gravity: F = m·(g − a_G), M = G × F − I·α.
+A body's known loads are kept as one wrench (F, M) about the point R its group takes moments
+about (solver.forces.state): the resultant force F (complex, N) and its moment M about R
+(N·m): a force F at P adds (F, (P − R) × F), a torque T adds (0, T). d'Alembert's inertial load
+with gravity: F = m·(g − a_G), M = (G − R) × F − I·α.
 """
 
 from __future__ import annotations
@@ -25,9 +26,11 @@ import numpy as np
 from .._backend import Backend, abs2, cross, minus
 from ..jet import Jet, direction, sub, turning
 from .spec import Body, Spring, TableForce
+from .state import ForcePass
 
 __all__ = [
-    "BodyMotion", "accel", "body_motion", "divide", "inertial_motion", "moment_of", "spring_force", "table_force"
+    "BodyMotion", "accel", "along", "body_motion", "divide", "inertial_wrench", "moment_of", "spring_force",
+    "table_force",
 ]
 
 _NAN = math.nan
@@ -49,6 +52,19 @@ def moment_of(r: Any, f: Any) -> Any:
     t = r.conjugate()
     t *= f  # in place on the fresh conjugate
     return t.imag
+
+
+def along(e: complex, v: Any) -> Any:
+    """``e·v`` for a constant unit vector ``e`` (a Python complex) and a planar vector ``v``:
+    Re(conj(e)·v), a zero coefficient skipped (a guide along an axis: one real product)."""
+    x, y = e.real, e.imag
+    if y == 0.0:
+        return v.real * x
+    if x == 0.0:
+        return v.imag * y
+    out = v.real * x
+    out += v.imag * y  # in place on the fresh product
+    return out
 
 
 def divide(x: Any, y: Any) -> Any:
@@ -84,50 +100,92 @@ def body_motion(body: Body, values: Any, xp: Backend) -> BodyMotion:
     return BodyMotion(Jet(origin.value + v, origin.d1 + v1, origin.d2 + v2), t1, t2)
 
 
-def inertial_motion(
+def inertial_wrench(
     body: Body,
-    values: Any,
+    s: ForcePass,
     a_of: Callable[[str], Any],
     a_of_jet: Callable[[Jet], Any],
-    xp: Backend,
+    gravity: complex,
     length: float | None = None,
-) -> tuple[Any, Any, Any]:
-    """(G, a_G, α) of ``body`` in real motion, ``a_of(point)`` giving a point's real acceleration
-    and ``a_of_jet`` a jet's; ``length`` = |r| when the frame's two points are a rigid pair.
+) -> tuple[Any, Any]:
+    """d'Alembert's load of ``body`` with gravity in real motion, as (F, M): the force
+    F = m·(g − a_G) at G and the moment M = (G − R) × F − I·α about the link's reference point
+    R = ``s.ref[link]`` (each None when zero). ``a_of(point)`` gives a point's real acceleration,
+    ``a_of_jet`` a jet's; ``length`` = |r| when the frame's two points are a rigid pair.
 
     The frame vector r = X − O keeps its length, so with κ = c/|r| (c the centre in the frame):
         G = O + κ·r,   a_G = a_O + κ·a_r,   α = (r × a_r)/|r|²   (a_r = a_X − a_O)
-    — the real-motion form of G'' and θ'' above, in fewer array passes (route 2's evaluation;
-    route 1 uses :func:`body_motion`)."""
+    — the real-motion form of G'' and θ'' above, in few array passes (route 2's evaluation;
+    route 1 uses :func:`body_motion`): F = −m·κ·a_r − m·a_O + m·g, and where R is O or X,
+    G − R = λ·r (λ = κ or κ − 1), so that both parts of M are cross products with r:
+        M = r × (conj(λ)·F − I·a_r/|r|²) = Im(conj(r)·(conj(λ)·F − I·a_r/|r|²))."""
     link = body.link
-    c = body.center
-    if link.block and link.guide is not None:  # a translating block
+    c, mass, inertia = body.center, body.mass, body.inertia
+    ref = s.ref[link.name]
+    if link.block and link.guide is not None:  # a translating block: G = B + c·e, α = 0
         b = link.points[0]
-        return (values[b].value if c == 0 else values[b].value + c * link.guide), a_of(b), 0.0
+        f = _weight(a_of(b), mass, gravity)
+        if f is None or (c == 0 and b == ref):
+            return f, None
+        offset = c * link.guide  # G − B, a constant
+        if b == ref:
+            return f, (f * offset.conjugate()).imag
+        return f, moment_of(s.arm(b, ref) + offset, f)
     if link.along is not None:  # the slotted link's block: |pivot → eyelet| varies, the jets' way
-        m = body_motion(body, values, xp)
-        return m.center.value, a_of_jet(m.center), a_of_jet(Jet(0.0, m.theta1, m.theta2))
+        m = body_motion(body, s.values, s.xp)
+        f = _weight(a_of_jet(m.center), mass, gravity)
+        moment = None if f is None else moment_of(minus(m.center.value, s.point(ref)), f)
+        if inertia != 0.0:
+            torque = a_of_jet(Jet(0.0, m.theta1, m.theta2)) * -inertia
+            moment = torque if moment is None else moment + torque
+        return f, moment
     o, x = body.frame
-    origin = values[o].value
-    r = values[x].value - origin
+    r_conj = s.arm_conj(x, o)
     a_o = a_of(o)
     a_r = minus(a_of(x), a_o)
     if length is not None:  # |r| = L: constants, no array pass
         inv: Any = 1.0 / (length * length)
         kappa: Any = c / length
     else:
-        inv = divide(1.0, abs2(r))
-        kappa = c * xp.sqrt(inv)
-    alpha = moment_of(r, a_r)
-    alpha *= inv  # in place on fresh temporaries (never on a jet or a cached acceleration)
-    if c == 0:
-        return origin, a_o, alpha
-    center = r * kappa
-    center += origin
-    a_g = a_r * kappa
-    if not (a_o.__class__ is float and a_o == 0.0):
-        a_g += a_o
-    return center, a_g, alpha
+        inv = divide(1.0, abs2(s.arm(x, o)))
+        kappa = c * s.xp.sqrt(inv)
+    spin = None if inertia == 0.0 else a_r * (inv * -inertia)  # −I·a_r/|r|²: r × it = −I·α
+    if c == 0:  # G = O: a_G = a_O (a constant m·g for a fixed O)
+        f = _weight(a_o, mass, gravity)
+    elif mass != 0.0:
+        f = a_r * (kappa * -mass)
+        if not (a_o.__class__ is float and a_o == 0.0):
+            f -= a_o * mass  # in place on the fresh product (never on a jet or a cached acceleration)
+        if gravity != 0:
+            f += gravity * mass
+    else:
+        f = None
+    lever = spin
+    if f is not None and (c != 0 or o != ref):
+        if o != ref and x != ref:  # R off the frame's axis points: G − R = (O − R) + κ·r
+            moment = moment_of(s.arm(o, ref) + s.arm(x, o) * kappa, f)
+            if spin is not None:
+                moment += (r_conj * spin).imag  # in place on the fresh product's part
+            return f, moment
+        lever = f * (kappa if o == ref else kappa - 1.0).conjugate()
+        if spin is not None:
+            lever += spin  # in place on the fresh product
+    if lever is None:
+        return f, None
+    lever *= r_conj  # in place on a fresh product (F·conj(λ) or −I·a_r/|r|²)
+    return f, lever.imag
+
+
+def _weight(a_g: Any, mass: float, gravity: complex) -> Any:
+    """m·(g − a_G), or None for a massless body."""
+    if mass == 0.0:
+        return None
+    if a_g.__class__ is float and a_g == 0.0:  # a fixed point
+        return gravity * mass
+    f = a_g * -mass
+    if gravity != 0:
+        f += gravity * mass  # in place on the fresh product
+    return f
 
 
 def accel(d1: Any, d2: Any, ww: Any, e: Any) -> Any:

@@ -24,7 +24,7 @@ from ..groups import RRP, RRR, Crank, Slotted
 from ..jet import Jet
 from ..tolerances import SINGULAR
 from .crank import CrankForces
-from .frames import accel, inertial_motion, spring_force, table_force
+from .frames import accel, inertial_wrench, spring_force, table_force
 from .rrp import RRPForces
 from .rrr import RRRForces
 from .slotted import SlottedForces
@@ -109,57 +109,68 @@ class ForceModel:
     def groups(self) -> tuple[str, ...]:
         return tuple(g.name for g in self.spec.structure.groups)
 
+    @cached_property
+    def refs(self) -> dict[str, str]:
+        """Each link → the point its group takes moments about (its wrench's reference point)."""
+        return {link: point for step in self.steps for link, point in step.refs().items()}
+
     def evaluate(self, values: Any, xp: Backend, conditioning: Mapping[str, Any], omega: Any, epsilon: Any) -> tuple:
         """Efforts (in ``inputs`` order), pin forces, slide forces and couples, as one flat tuple
         (see :meth:`layout`), from the jets ``values`` of a plan run at the rates ω, ε (with
         several inputs the jets are real motion: ω = 1, ε = 0)."""
-        s = ForcePass(values, xp, {b.link.name: [None, None] for b in self.spec.bodies})
-        st = self.spec.structure
-        s.pins = [0j] * len(st.pins)
-        s.slides = [(0j, 0.0)] * len(st.slides)
+        n_pins, n_slides = self._counts
+        s = ForcePass(values, xp, self.refs, n_pins, n_slides)
         self._apply_loads(s, omega, epsilon)
-        for step in reversed(self.steps):
+        for step in self._reversed_steps:
             step.solve(s)
-        out = (*(s.efforts[j] for j in self.inputs), *s.pins, *(f for f, _ in s.slides), *(c for _, c in s.slides))
-        return _flag(out, conditioning, self.groups, xp)
+        efforts = s.efforts
+        out = [efforts[j] for j in self.inputs]
+        out += s.pins
+        if n_slides:
+            out += [f for f, _ in s.slides]
+            out += [c for _, c in s.slides]
+        return _flag(tuple(out), conditioning, self.groups, xp)
+
+    @cached_property
+    def _counts(self) -> tuple[int, int]:
+        return len(self.spec.structure.pins), len(self.spec.structure.slides)
+
+    @cached_property
+    def _reversed_steps(self) -> tuple[Step, ...]:
+        return self.steps[::-1]
 
     def _apply_loads(self, s: ForcePass, omega: Any, epsilon: Any) -> None:
-        values, xp = s.values, s.xp
+        values = s.values
         ww = omega * omega
-        g = self.spec.gravity
         acc: dict[str, Any] = {}  # real accelerations of the frames' points, each computed once
 
         def a_of(name: str) -> Any:
-            if name not in acc:
+            a = acc.get(name)
+            if a is None:
                 jet = values[name]
-                acc[name] = accel(jet.d1, jet.d2, ww, epsilon)
-            return acc[name]
+                a = acc[name] = accel(jet.d1, jet.d2, ww, epsilon)
+            return a
 
         def a_of_jet(jet: Jet) -> Any:
             return accel(jet.d1, jet.d2, ww, epsilon)
 
+        lengths, gravity = self._lengths, self.spec.gravity
         for b in self._loaded:
-            center, a_g, alpha = inertial_motion(b, values, a_of, a_of_jet, xp, self._lengths.get(b.name))
-            if b.mass != 0.0:
-                f = a_g * -b.mass  # m·(g − a_G)
-                if g != 0:
-                    f += g * b.mass
-                s.add(b.link.name, center, f)
-            if b.inertia != 0.0:
-                s.couple(b.link.name, alpha * -b.inertia)
+            f, moment = inertial_wrench(b, s, a_of, a_of_jet, gravity, lengths.get(b.name))
+            s.add_wrench(b.link.name, f, moment)
         link = self.link_of
         for ld in self.spec.loads:
             if isinstance(ld, PointForce):
-                s.add(link[ld.body], values[ld.point].value, ld.force)
+                s.add(link[ld.body], ld.force, ld.point)
             elif isinstance(ld, Torque):
                 s.couple(link[ld.body], ld.torque)
             elif isinstance(ld, Spring):
-                f = spring_force(ld, values, xp)
+                f = spring_force(ld, values, s.xp)
                 (b0, p0), (b1, p1) = ld.ends
-                s.add(link.get(b0, GROUND), values[p0].value, f)
-                s.add(link.get(b1, GROUND), values[p1].value, -f)
+                s.add(link.get(b0, GROUND), f, p0)
+                s.add(link.get(b1, GROUND), f, p1, subtract=True)
             else:
-                s.add(link[ld.body], values[ld.point].value, table_force(ld, values, xp))
+                s.add(link[ld.body], table_force(ld, values, s.xp), ld.point)
 
     @cached_property
     def layout(self) -> tuple[tuple[str, Any, bool], ...]:

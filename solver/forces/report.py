@@ -19,6 +19,8 @@ from typing import Any
 
 import numpy as np
 
+from ..tolerances import ZERO_TO_ROUNDING
+
 __all__ = ["force_lines", "force_section"]
 
 
@@ -69,6 +71,7 @@ def force_lines(scene: Any, k: Any, *, sampling: str | None = None) -> list[str]
     idx = np.flatnonzero(ok)
     omega = np.asarray(k.omega, float)
     power = np.zeros(ok.shape)
+    scale = 0.0  # Σ max|Q|·max|ω|: what the power is made of, for "zero to rounding"
     for i, q in enumerate(inputs):
         unit = "N" if units.get(q) == "m" else "N·m"
         v = efforts[q][ok]
@@ -76,10 +79,16 @@ def force_lines(scene: Any, k: Any, *, sampling: str | None = None) -> list[str]
         rms = math.sqrt(float(np.mean(v * v)))
         lines.append(f"  effort {q}: peak |Q| = {_g(abs(efforts[q][j]))} {unit} at {_at(k, j, inputs)} "
                      f"(Q = {_g(efforts[q][j])}), RMS {_g(rms)} {unit}")
-        w = omega if omega.ndim <= 1 else omega[:, i]
-        power = power + efforts[q] * np.broadcast_to(w, ok.shape)
+        w = np.broadcast_to(omega if omega.ndim <= 1 else omega[:, i], ok.shape)
+        power = power + efforts[q] * w
+        scale += float(np.abs(v).max()) * float(np.abs(w[ok]).max())
     j = int(idx[np.argmax(np.abs(power[ok]))])
-    lines.append(f"  input power Σ Q·ω: peak |P| = {_g(abs(power[j]))} W at {_at(k, j, inputs)}")
+    if power[j] == 0.0:
+        lines.append("  input power Σ Q·ω: zero")
+    elif abs(power[j]) <= ZERO_TO_ROUNDING * scale:  # (Σ Q·ω cancelling to rounding)
+        lines.append(f"  input power Σ Q·ω: zero to rounding (at most {abs(power[j]):.2g} W)")
+    else:
+        lines.append(f"  input power Σ Q·ω: peak |P| = {_g(abs(power[j]))} W at {_at(k, j, inputs)}")
     for pin in scene.pins:
         r = np.asarray(k.reaction(pin.point, on=pin.body, by=pin.other), float)
         mag = np.hypot(r[..., 0], r[..., 1])[ok]

@@ -2,9 +2,9 @@
 
 Unknowns (six, three equations per body): R_A (on the rod at A, from the owner of A), X (on the
 block at B, from the rod; the rod gets −X), the guide's normal force N·n (n = j·e) and couple C
-on the block (the ground gets the opposite). With p = B − A, the rod's known wrench (F_r, M_r)
-and the block's (F_k, M_k):
-    block about B:     M_k − B × F_k + C = 0            →  C = −(M_k − B × F_k)
+on the block (the ground gets the opposite). With p = B − A, the rod's known wrench (F_r, M_rA)
+and the block's (F_k, M_kB), each kept about its reference point (solver.forces.state):
+    block about B:     M_kB + C = 0                     →  C = −M_kB
     block along e:     e·(F_k + X) = 0                  →  X·e = s₁ = −e·F_k
     rod about A:       M_rA + (B − A) × (−X) = 0        →  X·(j·p) = s₂ = M_rA   (p × X = X·jp)
     block across e:    N = −n·(F_k + X)
@@ -19,9 +19,9 @@ offset C/N from B along e.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
-from .._backend import dot
-from .frames import divide
+from .frames import along, divide
 from .state import ForcePass
 
 __all__ = ["RRPForces"]
@@ -38,19 +38,28 @@ class RRPForces:
     pins: tuple[int, int]  # (A, rod, owner A), (B, rod, block)
     slide: int
 
+    def refs(self) -> dict[str, str]:
+        """The rod's wrench is kept about A, the block's about its pin B."""
+        return {self.rod: self.end, self.block: self.point}
+
     def solve(self, s: ForcePass) -> None:
         e = self.direction
-        a, b = s.point(self.end), s.point(self.point)
-        p = b - a
-        f_r, m_ra = s.about(self.rod, a)
-        f_k, m_kb = s.about(self.block, b)
-        inv = divide(1.0, dot(e, p))  # real coefficients first: no complex-by-real division
-        x = p * (dot(e, f_k) * -inv)
-        x += (1j * e) * (m_ra * inv)
         n = 1j * e
-        normal = n * -dot(n, f_k + x)
-        r_a = x - f_r
+        a = self.end
+        p = s.arm(self.point, a)
+        f_k = s.force(self.block)
+        minus_inv = divide(-1.0, along(e, p))  # real coefficients first: no complex-by-real division
+        parts = []
+        if self.block in s.forces:  # s₁ = −e·F_k
+            parts.append(p * (along(e, f_k) * minus_inv))
+        if self.rod in s.moments:  # s₂ = M_rA
+            parts.append(-n * (s.moment(self.rod) * minus_inv))
+        x: Any = parts[0] if parts else 0j
+        if len(parts) == 2:
+            x += parts[1]  # in place on the fresh product
+        normal = along(n, f_k + x) * -n
+        r_a = x - s.force(self.rod) if self.rod in s.forces else x
         pa, pb = self.pins
-        s.pins[pa], s.pins[pb] = r_a, -x
-        s.slides[self.slide] = (normal, -m_kb)
-        s.add(self.owner, a, -r_a)
+        s.pins[pa], s.pins[pb] = r_a, s.xp.negative(x)
+        s.slides[self.slide] = (normal, s.moment(self.block, negate=True))
+        s.add(self.owner, r_a, a, subtract=True)

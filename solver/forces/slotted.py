@@ -4,8 +4,8 @@ The block is pinned at B to the body that carries B (the drum in seed 000) and s
 link. Unknowns (six): R_A (on the link at A, from the owner of A), R_B (on the block at B, from
 the owner of B), the link's normal force N·n and couple C on the block (the link gets the
 opposite), n = j·u, u = r/ρ the link's direction, r = B − A, ρ = |r|. With the link's known
-wrench (F_l, M_l) and the block's (F_k, M_k):
-    block about B:   M_k − B × F_k + C = 0                  →  C = −(M_k − B × F_k)
+wrench (F_l, M_lA) about A and the block's (F_k, M_kB) about B (solver.forces.state):
+    block about B:   M_kB + C = 0                           →  C = −M_kB
     link about A:    M_lA + (B − A) × (−N·n) − C = 0,  r × n = ρ
                                                            →  N = (M_lA − C)/ρ,  N·n = j·r·(M_lA − C)/ρ²
     block, ΣF:       R_B = −F_k − N·n
@@ -36,17 +36,19 @@ class SlottedForces:
     pins: tuple[int, int]  # (A, link, owner A), (B, block, owner B)
     slide: int
 
+    def refs(self) -> dict[str, str]:
+        """The link's wrench is kept about its pivot A, the block's about its eyelet B."""
+        return {self.link: self.pivot, self.block: self.through}
+
     def solve(self, s: ForcePass) -> None:
-        a, b = s.point(self.pivot), s.point(self.through)
-        r = b - a
-        f_l, m_la = s.about(self.link, a)
-        f_k, m_kb = s.about(self.block, b)
-        couple = -m_kb
-        normal = (1j * r) * divide(m_la - couple, abs2(r))
-        r_b = -f_k - normal
-        r_a = normal - f_l
+        a, b = self.pivot, self.through
+        r = s.arm(b, a)
+        couple = s.moment(self.block, negate=True)
+        normal = (1j * r) * divide(s.moment(self.link) - couple, abs2(r))
+        minus_r_b = s.force(self.block) + normal  # −R_B
+        r_a = normal - s.force(self.link) if self.link in s.forces else normal
         pa, pb = self.pins
-        s.pins[pa], s.pins[pb] = r_a, r_b
+        s.pins[pa], s.pins[pb] = r_a, s.xp.negative(minus_r_b)
         s.slides[self.slide] = (normal, couple)
-        s.add(self.owners[0], a, -r_a)
-        s.add(self.owners[1], b, -r_b)
+        s.add(self.owners[0], r_a, a, subtract=True)
+        s.add(self.owners[1], minus_r_b, b)

@@ -238,6 +238,14 @@ def test_the_summary_gives_peaks_and_rms_read_off_the_samples_with_the_step() ->
     assert force_lines(solver.load_scene("four_bar"), solver.load_scene("four_bar").solve(phi)) == []
 
 
+def test_the_input_power_at_rest_is_said_to_be_zero_and_a_tiny_one_is_not() -> None:
+    scene = solver.load_scene("four_bar_loaded")
+    phi = np.linspace(0.0, 2 * math.pi, 36, endpoint=False)
+    assert "  input power Σ Q·ω: zero" in force_lines(scene, scene.solve(phi, omega=0.0))
+    lines = force_lines(scene, scene.solve(phi, omega=1e-300))  # |P| ~ 1e-300 W: tiny, not rounding
+    assert any(line.startswith("  input power Σ Q·ω: peak |P| = ") for line in lines)
+
+
 def test_the_summary_counts_singular_samples_and_leaves_them_out() -> None:
     scene = _parallelogram()
     k = scene.solve(np.linspace(0.0, 2 * math.pi, 8, endpoint=False), mask=True)

@@ -93,8 +93,10 @@ def test_every_rejected_change_is_logged_and_the_relay_settings_are_parameters(
         (limits,) = gap_descriptor.floating_point_range
         assert (limits.from_value, limits.to_value) == (0.001, 60.0) and gap_descriptor.description
         assert "difference" in rule_descriptor.description
+        assert all(r.successful for r in client.set_parameters(node, scene="slider_crank"))
         for text in ("parameter change rejected (rate_hz): ", "parameter change rejected (scene): unknown scene",
-                     "parameter change rejected (topic_max_gap): ", "parameter change rejected (topic_epsilon): "):
+                     "parameter change rejected (topic_max_gap): ", "parameter change rejected (topic_epsilon): ",
+                     "scene slider_crank: publishing "):
             assert logged(client, process, text), f"not logged: {text}\n" + process.output()
     finally:
         assert process.stop(signal.SIGTERM) == 0

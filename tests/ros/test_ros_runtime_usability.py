@@ -113,6 +113,19 @@ def test_a_scene_that_is_a_directory_is_called_one(tmp_path: Path) -> None:
     assert "no such scene file" in (validate_parameter("scene", str(tmp_path / "absent")) or "")
 
 
+def test_a_directory_of_many_scenes_says_how_many_it_leaves_out(tmp_path: Path) -> None:
+    for i in range(7):
+        (tmp_path / f"s{i}.yaml").write_text("scene: s\n")
+    with pytest.raises(solver.SceneError, match=r"scene files in it: s0\.yaml, .*, s4\.yaml and 2 more$"):
+        solver.find_scene(tmp_path)
+
+
+def test_an_unknown_scene_is_named_once() -> None:
+    reason = validate_parameter("scene", "nope") or ""
+    assert reason.startswith("unknown scene 'nope': no such scene file, and no shipped scene of that name")
+    assert reason.count("nope") == 1
+
+
 def test_the_five_bar_at_its_stretched_corner_is_a_singular_position_of_group_distal() -> None:
     """(q1, q2) = (π, 0): A1, P, A2 on one line, the distal links stretched: P exists, its
     velocities do not. The solve's group with conditioning 0 is named (docs/ros.md)."""

@@ -38,3 +38,35 @@ def test_a_rate_naming_another_input_is_refused_in_linkage_runs_words(capsys: py
 def test_a_named_rate_that_is_not_a_number_says_so(capsys: pytest.CaptureFixture[str]) -> None:
     code, _, err = _out(capsys, "four_bar", "--epsilon", "crank=fast")
     assert code == 2 and err == "linkage-solve: error: --epsilon 'crank=fast': 'fast' is not a number\n"
+
+
+@pytest.mark.parametrize("option", [["--range", "q1=0:1"], ["--region"], ["--samples", "1,2"], ["--derivatives"]])
+def test_a_several_input_option_on_a_one_input_scene_says_which_form_it_belongs_to(
+    option: list[str], capsys: pytest.CaptureFixture[str]
+) -> None:
+    code, out, err = _out(capsys, "four_bar", *option)
+    assert code == 2 and out == ""
+    assert err == (f"linkage-solve: error: {option[0]} is an option for scenes with several inputs (e.g. five_bar); "
+                   "four_bar has one: sweep its input with --phi-count N or --phi V1,V2,... (linkage-solve --help)\n")
+
+
+def test_an_unknown_scene_with_a_several_input_option_is_reported_as_unknown(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    code, _, err = _out(capsys, "no_such_scene", "--range", "q1=0:1")
+    assert code == 2 and err.startswith("linkage-solve: error: no_such_scene: no such scene file")
+
+
+def test_count_is_phi_count_for_one_input_as_phi_count_is_count_for_several(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    code, out, _ = _out(capsys, "four_bar", "--count", "5", "--csv", "-")
+    assert code == 0 and len(out.strip().splitlines()) == 1 + 5
+
+
+def test_an_unknown_option_is_still_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as stop:
+        main(["four_bar", "--bogus"])
+    assert stop.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert err == "linkage-solve: error: unrecognized arguments: --bogus (see linkage-solve --help)"

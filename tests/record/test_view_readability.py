@@ -1,0 +1,73 @@
+"""The rerun view stays readable for force scenes and mixed joints: every plot one unit, numbered
+y axes, the legend in full, load arrows visible for most of a turn and never huge."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from linkage_ros.forces import LoadArrows
+from linkage_ros.record.forces import arrow_vectors, load_rule
+from linkage_ros.record.rerun import WINDOW_PX, _range, legend_share, legend_text, plot_columns
+from linkage_ros.record.run import RunOptions, run_standalone
+
+MIN_FRACTION, MAX_FRACTION = 0.03, 0.6
+"""Of the drawing's extent: an arrow shorter than the first is hard to see at the default window
+(the engine: ~8 mm, ~12 px); none may be longer than the second."""
+
+
+@pytest.fixture(scope="module")
+def engine():  # type: ignore[no-untyped-def]
+    return run_standalone(RunOptions(scene="engine", duration=1.0, rate=100.0)).data
+
+
+def test_angles_and_lengths_are_never_on_one_axis(engine) -> None:  # type: ignore[no-untyped-def]
+    assert engine.joint_units["piston_x"] == "m" and engine.joint_units["crankshaft"] == "rad"
+    for column in plot_columns(engine)[1:]:
+        for title, paths in column:
+            units = {engine.joint_units[p.rsplit("/", 1)[1]] for p in paths}
+            assert len(units) == 1, title
+            assert f"({next(iter(units))}" in title
+
+
+def test_the_engines_load_arrows_are_visible_for_most_of_a_turn_and_never_huge(engine) -> None:  # type: ignore[no-untyped-def]
+    rule, extent = load_rule(engine), engine.extent()
+    longest = np.max([np.linalg.norm(arrow_vectors(rule, v, 2), axis=1) for v in engine.loads.values()], axis=0)
+    assert np.mean(longest >= MIN_FRACTION * extent) >= 0.75
+    assert float(np.max(longest)) <= MAX_FRACTION * extent
+    # the peak (4.5 kN at top dead centre) is above the knee: proportional would be 0.9 m
+    assert math.isfinite(rule.knee) and rule.scale * 4.4e3 > MAX_FRACTION * extent
+
+
+def test_the_arrow_length_is_proportional_to_the_knee_then_one_knee_length_per_tenfold() -> None:
+    rule = LoadArrows(2e-4, 300.0)
+    forces = np.array([0.0, 10.0, 300.0, 3000.0, 30000.0, math.nan])
+    assert rule.length(forces[:3]) == pytest.approx([0.0, 2e-3, 0.06])
+    assert rule.length(forces[3:5]) == pytest.approx([0.12, 0.18])
+    assert [rule.factor(float(f)) for f in forces[:5]] == pytest.approx(list(rule.factor(forces[:5])), rel=1e-15)
+    assert math.isnan(rule.factor(math.nan)) and np.isnan(rule.factor(forces)[-1])
+    assert LoadArrows(0.005).length(1e6) == pytest.approx(5e3)  # no knee: proportional
+
+
+@pytest.mark.parametrize(("lo", "hi", "marks"), [(-70.0, 88.0, (-100.0, 100.0)), (0.11, 0.2, (0.1, 0.2)),
+                                                  (0.11, 0.21, (0.1, 0.3)), (0.0, 6.283, (0.0, 7.0)),
+                                                  (-0.69, 0.69, (-1.0, 1.0))])
+def test_each_y_range_shows_two_numbered_powers_of_ten(lo: float, hi: float, marks: tuple[float, float]) -> None:
+    bottom, top = _range(np.array([lo, hi]))
+    assert bottom < marks[0] <= lo and hi <= marks[1] < top
+
+
+def test_rounding_noise_around_a_constant_is_plotted_flat() -> None:
+    bottom, top = _range(np.array([0.0, 7e-15, -5e-15]))
+    assert bottom < -0.9 and top > 0.9
+
+
+def test_the_legend_panel_is_tall_enough_for_five_bars_list_of_loads() -> None:
+    data = run_standalone(RunOptions(scene="five_bar", duration=0.1, rate=100.0)).data
+    text = legend_text(data)
+    assert "P on left_distal_link from right_distal_link" in text
+    _, legend = legend_share(text, len(plot_columns(data)))
+    assert legend >= 40.0 + 16.0 * 5  # five lines at the default window's width
+    assert legend <= 0.45 * WINDOW_PX[1]
