@@ -29,6 +29,7 @@ import hashlib
 import io
 import json
 import math
+import multiprocessing
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
@@ -319,8 +320,12 @@ def peer(cfg: Config, log: Callable[[str], None]) -> tuple[list[dict[str, Any]],
 
 def measure(cfg: Config, log: Callable[[str], None] = print) -> ForcesReport:
     report = ForcesReport(cfg, {})
+    # each scene in a fresh interpreter: what the allocator kept from the scenes before (freed
+    # pages reused, or faulted in again) moves "kinematics alone" by up to 2× on its own
+    spawn = multiprocessing.get_context("spawn")
     for name in SCENES:
-        row = cost_of_forces(name, cfg)
+        with spawn.Pool(1) as pool:
+            row = pool.apply(cost_of_forces, (name, cfg))
         if row is not None:
             report.cost.append(row)
             log(f"  {name}: cost of forces measured")

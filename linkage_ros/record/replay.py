@@ -36,7 +36,7 @@ from ..forces import TOPIC_PREFIX
 from .cdr import extract
 from .forces import forces_from_mcap, forces_metadata
 from .mcap import McapContents, read_mcap
-from .rundata import RunData
+from .rundata import RunData, joint_units
 
 __all__ = ["METADATA_NAME", "scene_metadata", "run_data_from_mcap", "stamp_text"]
 
@@ -76,6 +76,7 @@ def scene_metadata(engine: Any, *, frame_id: str = "world", topics: Mapping[str,
         "fixed_points": json.dumps(fixed),
         "links": json.dumps([[str(link.name), list(link.points)] for link in scene.links]),
         "joints": json.dumps(list(engine.joint_names)),
+        "joint_units": json.dumps(joint_units(scene, engine.joint_names)),
     }
     if topics:
         record["topics"] = json.dumps(dict(topics))
@@ -200,6 +201,7 @@ def run_data_from_mcap(path: str | os.PathLike[str],
         velocities=velocities, accelerations=accelerations, joints=joints, links=links,
         fixed=fixed, paths=paths, input_joint=input_joint, note=note,
         inputs=tuple(inputs) if len(inputs) > 1 else (), start_ns=start_ns,
+        joint_units={str(j): str(u) for j, u in json.loads(meta.get("joint_units", "{}")).items()},
         **forces_from_mcap(ts, meta, topics, rows, types, (kind_of["joint_kinematics"][1], kin_rows, joint_names)))
     return data, contents
 

@@ -94,8 +94,9 @@ Y_UP = (1.0, -1.0, 1.0)
 """Scale of the mirror that shows a planar mechanism y up in rerun's y-down 2-D view."""
 DRAWN_2D = ("links", "points", "fixed", "paths", "velocity", "acceleration", "loads")
 """The children of ``mechanism`` that carry it."""
-VIEW_MARGIN = ARROW_FRACTION
-"""Margin around the drawing in the 2-D view, in units of its extent: room for a long arrow."""
+VIEW_MARGIN = 0.15
+"""Margin around the drawing in the 2-D view, in units of its extent: room for most arrows (a
+long one, a quarter of the extent, may reach past it)."""
 EYE_OFFSET = (0.5, -0.7, 0.45)
 """3-D camera position from the middle of the drawing, in units of its extent."""
 
@@ -109,6 +110,8 @@ SERIES_PALETTE = (
     (228, 26, 28), (55, 126, 184), (77, 175, 74), (152, 78, 163), (255, 127, 0),
     (200, 200, 50), (166, 86, 40), (247, 129, 191), (120, 120, 120),
 )
+SERIES_COLOUR_NAMES = ("red", "blue", "green", "purple", "orange", "yellow", "brown", "pink", "grey")
+"""The palette's colours by name, for the legend's key: each joint's colour in every plot."""
 
 def nice_scale(raw: float) -> float:
     """The round number (1, 2 or 5 × 10^k) at or below ``raw`` > 0."""
@@ -377,6 +380,9 @@ def legend_text(data: RunData) -> str:
         f"{n} ticks, t = {_fmt(float(data.t[0]) if n else 0.0)} … "
         f"{_fmt(float(data.t[-1]) if n else 0.0)} s.\n"
     )
+    # the plots' key, in words as well (a plot's own legend can be hidden or cut by the viewer)
+    key = ", ".join(f"{j} {SERIES_COLOUR_NAMES[i % len(SERIES_COLOUR_NAMES)]}" for i, j in enumerate(data.joints))
+    legend += f"Plots: one colour per joint, the inputs and efforts in their joint's: {key}.\n"
     if data.loads:  # scenes with forces: the pin-load arrows (.forces)
         from .forces import forces_legend, load_rule
 

@@ -68,6 +68,24 @@ def test_the_legend_panel_is_tall_enough_for_five_bars_list_of_loads() -> None:
     data = run_standalone(RunOptions(scene="five_bar", duration=0.1, rate=100.0)).data
     text = legend_text(data)
     assert "P on left_distal_link from right_distal_link" in text
+    # every plotted series is identifiable from the legend alone: each joint and its colour
+    from linkage_ros.record.rerun import SERIES_COLOUR_NAMES, SERIES_PALETTE
+
+    assert len(SERIES_COLOUR_NAMES) == len(SERIES_PALETTE)
+    key = ", ".join(f"{j} {SERIES_COLOUR_NAMES[i]}" for i, j in enumerate(data.joints))
+    assert f"one colour per joint, the inputs and efforts in their joint's: {key}." in text
+    assert "q1 red" in text and "q2 blue" in text
     _, legend = legend_share(text, len(plot_columns(data)))
     assert legend >= 40.0 + 16.0 * 5  # five lines at the default window's width
     assert legend <= 0.45 * WINDOW_PX[1]
+
+
+def test_a_recording_replays_with_its_joints_units(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    from linkage_ros.record.replay import run_data_from_mcap
+
+    mcap = tmp_path / "engine.mcap"
+    run_standalone(RunOptions(scene="engine", duration=0.2, rate=50.0, mcap=mcap))
+    data, _ = run_data_from_mcap(mcap)
+    assert data.joint_units == {"crankshaft": "rad", "piston_x": "m"}
+    titles = [title for column in plot_columns(data) for title, _ in column]
+    assert "joint positions (m)" in titles and "joint angles (rad)" in titles
