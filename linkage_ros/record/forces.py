@@ -126,7 +126,7 @@ def force_sections(scene: Any, data: RunData) -> list[Any]:
 
     k = scene.solve(data.phi, omega=data.omega, epsilon=data.epsilon, mask=True)
     step = float(data.t[1] - data.t[0]) if data.n > 1 else 0.0
-    return [force_section(scene, k, sampling=f"read off {data.n} ticks, every {step:g} s")]
+    return [force_section(scene, k, sampling=f"read off {data.n} ticks, every {step:g} s", times=data.t)]
 
 
 # ---------------------------------------------------------------------------------- replay

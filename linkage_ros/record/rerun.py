@@ -219,7 +219,7 @@ def blueprint(data: RunData) -> Any:
         row_shares=list(legend_share(legend_text(data), len(layout))))
     values = {f"plots/input/{kind}" + (f"/{q}" if q else ""): v for kind, q, v in data.input_series()}
     for kind, i in (("position", 0), ("velocity", 1), ("acceleration", 2)):
-        values.update({f"plots/joints/{kind}/{j}": series[i] for j, series in data.joints.items()})
+        values.update({f"plots/joints/{kind}/{j}": data.plotted_joint(j)[i] for j in data.joints})
     columns = []
     for c, column in enumerate(layout):
         views = [_plot(paths[0] if len(paths) == 1 else paths[0].rsplit("/", 1)[0], title,
@@ -356,7 +356,8 @@ def log_run(rec: Any, data: RunData) -> dict[str, float]:
             _series(rec, f"plots/input/{name}/{q}", f"{_greek(name)} {q} ({units[name]})", times, values, i)
         else:
             _series(rec, f"plots/input/{name}", f"{_greek(name)} ({units[name]})", times, values, i)
-    for i, (joint, (p, v, a)) in enumerate(data.joints.items()):
+    for i, joint in enumerate(data.joints):
+        p, v, a = data.plotted_joint(joint)
         for kind, values in (("position", p), ("velocity", v), ("acceleration", a)):
             _series(rec, f"plots/joints/{kind}/{joint}", joint, times, values, i)
     if data.loads or data.efforts:  # scenes with forces: arrows at the pins, efforts (.forces)

@@ -68,6 +68,19 @@ class RunData:
                 out += [(kind, q, values[:, i]) for i, q in enumerate(names)]
         return out
 
+    def plotted_joint(self, name: str) -> tuple[Array, Array, Array]:
+        """A joint's (position, velocity, acceleration) as plotted: an angle unwrapped over the
+        run (a revolving joint draws one continuous line, as the summary reads it, instead of
+        jumping by 2π), a slide as it is. Unassemblable ticks (NaN) stay NaN."""
+        p, v, a = self.joints[name]
+        if self.joint_units.get(name, "rad") != "rad":
+            return p, v, a
+        out = np.array(p, dtype=float)
+        ok = np.isfinite(out)
+        if int(ok.sum()) > 1:
+            out[ok] = np.unwrap(out[ok])
+        return out, v, a
+
     def extent(self) -> float:
         """Diagonal of the box holding every point of the run (m); 1 when degenerate."""
         chunks = [p.reshape(-1, self.dim) for p in self.positions.values()]

@@ -36,19 +36,26 @@ def _step(k: Any, sampling: str | None) -> str:
     return f"read off {n} samples"
 
 
-def _at(k: Any, i: int, inputs: tuple[str, ...]) -> str:
+def _at(k: Any, i: int, inputs: tuple[str, ...], times: Any = None) -> str:
+    """Where sample ``i`` lies: its input angle(s), after its time ``t`` when the samples are a
+    run's ticks (as the kinematic lines of a run's summary say it)."""
     phi = np.asarray(k.phi, float)
     if phi.ndim == 2:
-        return "(" + ", ".join(f"{q} = {math.degrees(v) % 360.0:.2f}°" for q, v in zip(inputs, phi[i])) + ")"
-    return f"φ = {math.degrees(float(phi[i])) % 360.0:.2f}°"
+        where = "(" + ", ".join(f"{q} = {math.degrees(v) % 360.0:.2f}°" for q, v in zip(inputs, phi[i])) + ")"
+    else:
+        where = f"φ = {math.degrees(float(phi[i])) % 360.0:.2f}°"
+    if times is None:
+        return where
+    return f"t = {float(times[i]):.6g} s ({where.strip('()')})"
 
 
 def _g(x: float) -> str:
     return f"{x:.6g}"
 
 
-def force_lines(scene: Any, k: Any, *, sampling: str | None = None) -> list[str]:
-    """The force summary of the sweep ``k`` of ``scene`` (none for a scene without forces)."""
+def force_lines(scene: Any, k: Any, *, sampling: str | None = None, times: Any = None) -> list[str]:
+    """The force summary of the sweep ``k`` of ``scene`` (none for a scene without forces);
+    ``times``: the samples' times (a run's ticks), said with each peak's angle."""
     if not getattr(scene, "has_forces", False) or np.ndim(k.phi) == 0 or np.shape(k.phi)[0] == 0:
         return []
     inputs = tuple(scene.inputs)
@@ -77,7 +84,7 @@ def force_lines(scene: Any, k: Any, *, sampling: str | None = None) -> list[str]
         v = efforts[q][ok]
         j = int(idx[np.argmax(np.abs(v))])
         rms = math.sqrt(float(np.mean(v * v)))
-        lines.append(f"  effort {q}: peak |Q| = {_g(abs(efforts[q][j]))} {unit} at {_at(k, j, inputs)} "
+        lines.append(f"  effort {q}: peak |Q| = {_g(abs(efforts[q][j]))} {unit} at {_at(k, j, inputs, times)} "
                      f"(Q = {_g(efforts[q][j])}), RMS {_g(rms)} {unit}")
         w = np.broadcast_to(omega if omega.ndim <= 1 else omega[:, i], ok.shape)
         power = power + efforts[q] * w
@@ -88,12 +95,12 @@ def force_lines(scene: Any, k: Any, *, sampling: str | None = None) -> list[str]
     elif abs(power[j]) <= ZERO_TO_ROUNDING * scale:  # (Σ Q·ω cancelling to rounding)
         lines.append(f"  input power Σ Q·ω: zero to rounding (at most {abs(power[j]):.2g} W)")
     else:
-        lines.append(f"  input power Σ Q·ω: peak |P| = {_g(abs(power[j]))} W at {_at(k, j, inputs)}")
+        lines.append(f"  input power Σ Q·ω: peak |P| = {_g(abs(power[j]))} W at {_at(k, j, inputs, times)}")
     for pin in scene.pins:
         r = np.asarray(k.reaction(pin.point, on=pin.body, by=pin.other), float)
         mag = np.hypot(r[..., 0], r[..., 1])[ok]
         j = int(idx[np.argmax(mag)])
-        where = _at(k, j, inputs)
+        where = _at(k, j, inputs, times)
         lines.append(f"  pin {pin.point} ({pin.body}–{pin.other}): peak load {_g(float(mag.max()))} N at {where}")
     for s in scene.slides:
         pair = k.slide_reaction(s.body)
@@ -101,10 +108,11 @@ def force_lines(scene: Any, k: Any, *, sampling: str | None = None) -> list[str]
         couple = np.abs(np.broadcast_to(pair.couple, ok.shape))[ok]
         j = int(idx[np.argmax(mag)])
         lines.append(f"  slide {s.point} ({s.body} on {s.guide}): peak normal force {_g(float(mag.max()))} N at "
-                     f"{_at(k, j, inputs)}, peak couple {_g(float(couple.max()))} N·m")
+                     f"{_at(k, j, inputs, times)}, peak couple {_g(float(couple.max()))} N·m")
     return lines
 
 
-def force_section(scene: Any, k: Any, *, sampling: str | None = None) -> Callable[[Any], list[str]]:
+def force_section(scene: Any, k: Any, *, sampling: str | None = None,
+                  times: Any = None) -> Callable[[Any], list[str]]:
     """:func:`force_lines` as a section of :func:`solver.summary.summary_lines`."""
-    return lambda _sweep: force_lines(scene, k, sampling=sampling)
+    return lambda _sweep: force_lines(scene, k, sampling=sampling, times=times)

@@ -246,6 +246,17 @@ def test_the_input_power_at_rest_is_said_to_be_zero_and_a_tiny_one_is_not() -> N
     assert any(line.startswith("  input power Σ Q·ω: peak |P| = ") for line in lines)
 
 
+def test_a_runs_summary_says_when_each_peak_happens_as_well_as_where() -> None:
+    scene = solver.load_scene("five_bar")
+    q = np.column_stack([np.linspace(1.2, 1.9, 5), np.linspace(1.0, 2.0, 5)])
+    times = np.linspace(0.0, 0.04, 5)
+    lines = force_lines(scene, scene.solve(q), sampling="read off 5 ticks, every 0.01 s", times=times)
+    j = int(np.argmax(np.abs(scene.solve(q).effort("q1"))))
+    assert lines[1].startswith("  effort q1: peak |Q| = ")
+    angles = f"q1 = {math.degrees(q[j, 0]):.2f}°, q2 = {math.degrees(q[j, 1]):.2f}°"
+    assert f" at t = {times[j]:.6g} s ({angles})" in lines[1]
+
+
 def test_the_summary_counts_singular_samples_and_leaves_them_out() -> None:
     scene = _parallelogram()
     k = scene.solve(np.linspace(0.0, 2 * math.pi, 8, endpoint=False), mask=True)

@@ -89,3 +89,14 @@ def test_a_recording_replays_with_its_joints_units(tmp_path) -> None:  # type: i
     assert data.joint_units == {"crankshaft": "rad", "piston_x": "m"}
     titles = [title for column in plot_columns(data) for title, _ in column]
     assert "joint positions (m)" in titles and "joint angles (rad)" in titles
+
+
+def test_a_revolving_joint_is_plotted_as_one_continuous_line_and_a_slide_as_it_is(engine) -> None:  # type: ignore[no-untyped-def]
+    data = run_standalone(RunOptions(scene="harvester_finger", duration=1.0, rate=100.0)).data
+    raw = data.joints["finger"][0]
+    plotted = data.plotted_joint("finger")[0]
+    assert np.nanmax(np.abs(np.diff(raw))) > math.pi  # the finger turns: its angle wraps at 2π
+    assert np.nanmax(np.abs(np.diff(plotted))) < 0.5  # plotted, it does not jump
+    np.testing.assert_allclose(np.mod(plotted - raw + math.pi, 2 * math.pi) - math.pi, 0.0, atol=1e-12)
+    assert data.plotted_joint("finger")[1] is data.joints["finger"][1]
+    assert engine.plotted_joint("piston_x")[0] is engine.joints["piston_x"][0]
