@@ -23,8 +23,9 @@ and :meth:`~linkage_ros.serialize.Serializer.render`), unchanged.
 ``solve`` comes from :func:`flat_solver`: the scene's compiled instant
 (:meth:`solver.Scene.compiled`, ``.core``: None on a miss), its layout names translated once into
 the slots of :mod:`linkage_ros.serialize` (``"B.vx"`` → ``("v", "B", 0)``, ``"rocker.ddq"`` →
-``("j", "rocker", 2)``); scenes with forces take today's scalar path with
-:func:`linkage_ros.forces.frame_forces` until the compiled tuple's force part is mapped to loads.
+``("j", "rocker", 2)``); in scenes with forces the efforts and loads are read off the same
+tuple's force part, where a probe of :func:`linkage_ros.forces.frame_forces` found them once
+(:func:`_force_reader`).
 
 Safety: the first fast tick is also rendered the Frame way, and the fast path switches itself
 off for good when the bytes differ (:attr:`FastPath.enabled`).
