@@ -185,22 +185,16 @@ def test_route_one_virtual_power_equals_route_two_assur_groups(name: str, data: 
 
 
 def _four_bar(lengths: tuple[float, float, float, float], masses: list[float], extra: dict[str, Any]) -> solver.Scene:
-    a, b, c, d = lengths
-    data: dict[str, Any] = {
-        "scene": "random_four_bar",
-        "units": {"length": "m", "angle": "rad"},
-        "fixed": {"O": [0.0, 0.0], "C": [d, 0.0]},
-        "groups": [
-            {"type": "crank", "name": "crank", "center": "O", "point": "A", "length": a},
-            {"type": "rrr", "name": "dyad", "ends": ["A", "C"], "point": "B", "lengths": [b, c], "M": 1},
-        ],
-        "outputs": {"points": ["A", "B"]},
+    a, b, c, _ = lengths
+    data = _raw(lengths)
+    data["scene"] = "random_four_bar"
+    data.update({
         "bodies": {
             "crank": {"points": ["O", "A"], "mass": masses[0], "center": [a * masses[3], a / 10], "inertia": masses[4]},
             "coupler": {"points": ["A", "B"], "mass": masses[1], "center": [b * 0.4, -b * masses[3]], "inertia": 0.01},
             "rocker": {"points": ["C", "B"], "mass": masses[2], "center": [c * 0.5, 0.01], "inertia": masses[4]},
         },
-    }
+    })
     data.update(extra)
     return build(data)
 
