@@ -174,6 +174,16 @@ class Client:
             self.node.create_subscription(classes[typename], topic, listener.callback(topic), qos, raw=True)
         return listener
 
+    def published_by(self, node_name: str, namespace: str) -> list[tuple[str, list[str]]]:
+        """The topics ``node_name`` publishes, as far as discovery has got: none until the graph
+        knows the node (its messages can arrive before its node entry does)."""
+        from rclpy._rclpy_pybind11 import NodeNameNonExistentError
+
+        try:
+            return list(self.node.get_publisher_names_and_types_by_node(node_name, namespace))
+        except NodeNameNonExistentError:
+            return []
+
     def call(self, service_type: Any, name: str, request: Any, timeout: float = CALL_TIMEOUT_S) -> Any:
         client = self.node.create_client(service_type, name)
         try:

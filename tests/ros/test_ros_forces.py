@@ -161,8 +161,10 @@ def test_a_scene_without_forces_keeps_an_empty_effort_and_no_load_topics(start_n
         assert client.spin_until(lambda: len(listener.by_topic["/plain/joint_states"]) >= 3, WAIT_S), process.output()
         js = decode(listener.by_topic["/plain/joint_states"][-1], plain["joint_states"])
         assert len(js.name) == 6 and len(js.effort) == 0
-        found = client.node.get_publisher_names_and_types_by_node("mechanism_node", "/plain")
-        assert {name for name, _ in found} >= {f"/plain/{t}" for t in plain}
+        expected = {f"/plain/{t}" for t in plain}
+        assert client.spin_until(lambda: {n for n, _ in client.published_by("mechanism_node", "/plain")} >= expected,
+                                 WAIT_S), client.published_by("mechanism_node", "/plain")
+        found = client.published_by("mechanism_node", "/plain")
         assert not [name for name, _ in found if "loads" in name]
     finally:
         assert process.stop(signal.SIGTERM) == 0

@@ -85,7 +85,7 @@ def test_every_topic_is_published_with_its_type(four_bar: Any, client: Client) -
     expected = {(t, (typename,)) for t, typename in absolute("/", FOUR_BAR_TOPICS).items()}
 
     def published() -> set[tuple[str, tuple[str, ...]]]:
-        found = client.node.get_publisher_names_and_types_by_node("mechanism_node", "/")
+        found = client.published_by("mechanism_node", "/")
         return {(name, tuple(types)) for name, types in found}
 
     assert client.spin_until(lambda: expected <= published(), WAIT_S), published()

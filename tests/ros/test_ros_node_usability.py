@@ -52,7 +52,7 @@ def test_a_remapped_topic_is_recorded_under_its_wire_name_and_the_recording_is_l
     wait_for(client, listener, "/robot/joint_states", 10, process)
 
     def wire() -> set[str]:
-        found = client.node.get_publisher_names_and_types_by_node("mechanism_node", "/remap")
+        found = client.published_by("mechanism_node", "/remap")
         return {name for name, _ in found} - {"/rosout", "/parameter_events"}
 
     assert client.spin_until(lambda: len(wire()) >= len(TYPES), WAIT_S), wire()
