@@ -2,6 +2,7 @@
 
     .venv/bin/python -m bench.node_floor                                   # both executors, 3 rounds
     .venv/bin/python -m bench.node_floor --executor events --rounds 5 --seconds 30
+    .venv/bin/python -m bench.node_floor --executor events --also before=/tmp/old   # paired A/B
 
 Two processes on localhost, in a ROS domain of their own (``LINKAGE_ROS_DOMAIN_ID``, else one
 from this process's id), one at a time:
@@ -21,6 +22,12 @@ EventsExecutor, the node's default; ``single``, the SingleThreadedExecutor of ``
 bytes, reliable, depth 1000: each matched reliable reader adds to what a publish costs). Node and
 floor run back to back, ``--rounds`` times per executor; other load on the machine shows as the
 spread between rounds.
+
+``--also LABEL=DIR`` (repeatable) adds, in every round, the node run from another copy of the
+package (``PYTHONPATH=DIR``: DIR holds a ``linkage_ros`` folder, e.g. a snapshot taken before a
+change; the solver stays this tree's), in namespace ``/node_LABEL``: a paired before/after
+comparison under the same load. The processes of a round run one at a time; odd rounds run them
+in reverse order, so that drifting load favours neither.
 
 Measured over ``--seconds`` after ``--warmup`` s, for each process: its CPU (utime + stime from
 ``/proc/PID/stat``, as a fraction of one core) and the ticks delivered: the distinct stamps of
@@ -182,6 +189,13 @@ def run(opts: argparse.Namespace) -> dict[str, list[dict[str, dict[str, float]]]
         "floor": lambda kind: [sys.executable, "-m", "bench.node_floor", "--floor", "--scene", opts.scene,
                                "--rate", rate, "--floor-executor", kind, "--ros-args", "-r", "__ns:=/floor"],
     }
+    paths: dict[str, str] = {}  # extra node variants: name -> PYTHONPATH
+    for label, where in variants(opts.also):
+        name = f"node_{label}"
+        paths[name] = where
+        commands[name] = (lambda ns: lambda kind: [node_exe, "--ros-args", "-r", f"__ns:=/{ns}", "-p",
+                                                   f"scene:={opts.scene}", "-p", f"rate_hz:={rate}"])(name)
+    order = ["node", *paths, "floor"]
     import rclpy
     from rclpy.qos import QoSProfile, ReliabilityPolicy
 
@@ -206,10 +220,12 @@ def run(opts: argparse.Namespace) -> dict[str, list[dict[str, dict[str, float]]]
     try:
         for kind in EXECUTORS if opts.executor == "both" else (opts.executor,):
             results[kind] = []
-            for _ in range(opts.rounds):
+            for k in range(opts.rounds):
                 row = {}
-                for name in ("node", "floor"):
+                for name in order if k % 2 == 0 else order[::-1]:
                     env = {**os.environ, "LINKAGE_ROS_EXECUTOR": kind}
+                    if name in paths:
+                        env["PYTHONPATH"] = os.pathsep.join(filter(None, (paths[name], env.get("PYTHONPATH"))))
                     process = subprocess.Popen(commands[name](kind), cwd=root, stdout=subprocess.DEVNULL,
                                                stderr=subprocess.DEVNULL, env=env)
                     row[name] = measure(process, counters[name], executor, seconds=opts.seconds,
@@ -225,6 +241,17 @@ def run(opts: argparse.Namespace) -> dict[str, list[dict[str, dict[str, float]]]
         node.destroy_node()
         rclpy.try_shutdown()
     return results
+
+
+def variants(specs: Sequence[str] | None) -> list[tuple[str, str]]:
+    """``[(label, dir)]`` of ``--also LABEL=DIR`` options (SystemExit for a malformed one)."""
+    out = []
+    for spec in specs or ():
+        label, sep, where = spec.partition("=")
+        if not sep or not label.isidentifier() or not (Path(where) / "linkage_ros").is_dir():
+            sys.exit(f"--also {spec!r}: expected LABEL=DIR, LABEL a name, DIR holding a linkage_ros folder")
+        out.append((label, str(Path(where).resolve())))
+    return out
 
 
 def _ignore(data: bytes) -> None:
@@ -248,19 +275,20 @@ def _print_round(kind: str, k: int, name: str, r: dict[str, float]) -> None:
 
 def summary(results: dict[str, list[dict[str, dict[str, float]]]]) -> list[str]:
     """Per executor: median [min–max] of node and floor CPU and of their per-round ratio, the
-    worst delivered of each, and a RESULT line."""
+    worst delivered of each, and a RESULT line; then a line per ``--also`` variant (its CPU, its
+    ratio to the floor and to the node, per round)."""
     lines = []
+
+    def spread(values: list[float], scale: float = 100.0, fmt: str = ".1f") -> str:
+        return (f"{scale * statistics.median(values):{fmt}} [{scale * min(values):{fmt}}–"
+                f"{scale * max(values):{fmt}}]")
+
     for kind, rounds in results.items():
         node = [r["node"]["cpu"] for r in rounds]
         floor = [r["floor"]["cpu"] for r in rounds]
         ratio = [n / f if f else float("inf") for n, f in zip(node, floor)]
         worst = min(r["node"]["delivered"] for r in rounds)
         worst_floor = min(r["floor"]["delivered"] for r in rounds)
-
-        def spread(values: list[float], scale: float = 100.0, fmt: str = ".1f") -> str:
-            return (f"{scale * statistics.median(values):{fmt}} [{scale * min(values):{fmt}}–"
-                    f"{scale * max(values):{fmt}}]")
-
         lines.append(f"{kind}: node CPU {spread(node)} %, floor CPU {spread(floor)} %, node/floor "
                      f"{spread(ratio, 1.0, '.2f')}; delivered: node ≥ {100 * worst:.2f} %, "
                      f"floor ≥ {100 * worst_floor:.2f} %")
@@ -268,6 +296,13 @@ def summary(results: dict[str, list[dict[str, dict[str, float]]]]) -> list[str]:
         lines.append(f"RESULT {kind} {verdict}: node/floor CPU median {statistics.median(ratio):.2f} "
                      f"(target <= {TARGET_RATIO}), node ticks delivered >= {100 * worst:.2f} % "
                      f"(target >= {100 * TARGET_DELIVERED:g} %)")
+        for name in [n for n in rounds[0] if n not in ("node", "floor")]:
+            cpu = [r[name]["cpu"] for r in rounds]
+            to_floor = [c / f if f else float("inf") for c, f in zip(cpu, floor)]
+            to_node = [c / n if n else float("inf") for c, n in zip(cpu, node)]
+            lines.append(f"{kind}: {name} CPU {spread(cpu)} %, {name}/floor {spread(to_floor, 1.0, '.2f')}, "
+                         f"{name}/node {spread(to_node, 1.0, '.2f')}; delivered ≥ "
+                         f"{100 * min(r[name]['delivered'] for r in rounds):.2f} %")
     return lines
 
 
@@ -279,6 +314,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--rounds", type=int, default=3, help="node-then-floor rounds per executor")
     parser.add_argument("--scene", default="four_bar")
     parser.add_argument("--executor", choices=(*EXECUTORS, "both"), default="both")
+    parser.add_argument("--also", action="append", metavar="LABEL=DIR",
+                        help="also run the node from DIR/linkage_ros in every round (paired A/B)")
     parser.add_argument("--floor", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--floor-executor", choices=EXECUTORS, default="events", help=argparse.SUPPRESS)
     opts, ros_args = parser.parse_known_args(argv)
@@ -288,6 +325,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.error(f"unrecognised arguments: {' '.join(ros_args)}")
     print(f"{opts.scene} at {opts.rate:g} Hz, {opts.seconds:g} s windows after {opts.warmup:g} s warm-up, "
           f"{opts.rounds} round(s) of node then floor per executor, {os.cpu_count()} cores, "
+          f"{len(opts.also or ())} extra node variant(s), "
           "a subscriber on every topic", flush=True)
     for line in summary(run(opts)):
         print(line)

@@ -24,16 +24,18 @@ Three rows per case (:data:`METHODS`), each ending in CDR bytes, as a node sends
 
 * ``ours (node path)``: what mechanism_node does per incoming JointState in topic mode,
   :meth:`linkage_ros.runtime.Runtime.answer` (rosbags' Jazzy classes, no rclpy): the relay reads
-  the input state off the message (ω from the message, ε = 0), the scene's compiled instant
-  solves every point and joint with velocities, accelerations and conditioning (the fast path of
-  ``linkage_ros/instant.py``; the Frame path where a guard hands the instant back), then the CDR
-  bytes of every topic from the byte templates of ``linkage_ros/serialize.py`` (diagnostics and
-  path markers, when due, the Frame way). "solve" is the time in ``Relay.read``, the solve and
-  (Frame path) ``Relay.solve``; "messages" the rest (URDF tree joints, one pack per topic).
-* ``ours, joint_states only``: the same read and solve, then only the node's joint_states bytes
-  (the passive scene joints and the URDF tree's joints; the efforts in scenes with forces), from
-  its own template; the run checks they are the node's joint_states bytes, message for message.
-  This is the Gauss–Newton row's output, so the two rows compare like for like.
+  the input state off the message (ω from the message, ε = 0), then the generated tick of
+  ``linkage_ros/instant.py`` — one function: the scene's compiled instant (every point and joint
+  with velocities, accelerations and conditioning), its guards, the URDF tree joints, one
+  ``struct`` pack per topic from the byte templates of ``linkage_ros/serialize.py`` (the Frame
+  path where a guard hands the instant back; diagnostics and path markers, when due, the Frame
+  way). "solve" is the time in ``Relay.read`` and the generated tick (or the Frame path's
+  solve); "messages" the rest (the runtime's bookkeeping; the Frame path's bytes).
+* ``ours, joint_states only``: the same read, then the generated tick for the node's
+  joint_states alone (the same compiled call and guards, the passive scene joints and the URDF
+  tree's joints, the efforts in scenes with forces; one pack); the run checks they are the
+  node's joint_states bytes, message for message. This is the Gauss–Newton row's output, so the
+  two rows compare like for like.
 * ``Gauss–Newton (warm)``: the anchor's solve, then the bytes of one JointState of its two joints
   (:class:`JointStateBytes`, the same packing).
 
@@ -395,9 +397,10 @@ def _runtime(mech: FourBar | Finger, phis: Sequence[float]) -> Any:
 
 
 def _node_path(mech: FourBar | Finger, phis: Sequence[float]) -> tuple[_Pass, int]:
-    """``Runtime.answer`` per message: the relay reads the input state, the compiled instant
-    solves it (the fast path; the Frame path where it hands back), then the CDR bytes of every
-    topic. "solve" = the relay's read + the solve."""
+    """``Runtime.answer`` per message: the relay reads the input state, the generated tick
+    solves it and packs every topic (the fast path; the Frame path where it hands back), then
+    the CDR bytes of every topic. "solve" = the relay's read + the generated tick (its solve and
+    packs: one function) or, where it hands back, the Frame path's solve."""
     runtime = _runtime(mech, phis)
     name = runtime.relay.input_joint
     path = runtime._fast_path
@@ -406,6 +409,9 @@ def _node_path(mech: FourBar | Finger, phis: Sequence[float]) -> tuple[_Pass, in
     if path is not None:
         timers.append(_Timed(path.solve))
         path.solve = timers[-1]
+        if path._emit is not None:
+            timers.append(_Timed(path._emit))
+            path._emit = timers[-1]
     out: list[bytes | None] = []
     clock = time.perf_counter
     total = 0.0
@@ -419,12 +425,16 @@ def _node_path(mech: FourBar | Finger, phis: Sequence[float]) -> tuple[_Pass, in
 
 
 def _joint_states_only(mech: FourBar | Finger, phis: Sequence[float]) -> _Pass:
-    """The same read and solve, then the node's joint_states bytes alone (its own template)."""
+    """The same read, then the node's joint_states bytes alone: the generated tick for that one
+    topic (:meth:`linkage_ros.instant.FastPath.emitter`: the same compiled call, guards, tree
+    joints and efforts, one pack); the Frame path where it hands back. "solve" = read + the
+    generated tick (solve and bytes in one function), "messages" = the Frame path's bytes."""
     runtime = _runtime(mech, phis)
     relay, path = runtime.relay, runtime._fast_path
     assert relay is not None and path is not None
     name = relay.input_joint
-    pack = runtime.wire.packer(path.order, ["joint_states"])
+    emit = path.emitter(["joint_states"])
+    assert emit is not None, "no generated tick"
     out: list[bytes | None] = []
     clock = time.perf_counter
     solve_s = build_s = 0.0
@@ -432,12 +442,12 @@ def _joint_states_only(mech: FourBar | Finger, phis: Sequence[float]) -> _Pass:
         stamp = NS + k * STAMP_STEP_NS
         t0 = clock()
         reading = relay.read([name], [phi], [1.0], stamp)
-        flat = path.solve(reading.phi, reading.omega, reading.epsilon)
-        frame = None if flat is not None else relay.solve(reading).frame  # the Frame path
+        messages = emit(reading.phi, reading.omega, reading.epsilon, stamp)
+        frame = None if messages is not None else relay.solve(reading).frame  # the Frame path
         t1 = clock()
         data = None
-        if flat is not None:
-            data = pack(path.complete(flat, stamp))[0][1]
+        if messages is not None:
+            data = messages[0][1]
         elif frame is not None:
             data = dict(runtime.wire.render(frame, stamp, diagnostics=False))["joint_states"]
         t2 = clock()
@@ -547,13 +557,14 @@ def run(*, quick: bool = False, repeat: int = 3) -> list[Row]:
 HEADER = """\
 Rows per case (mean µs per message over the sequence, best of the passes):
   ours (node path)        what mechanism_node does per incoming JointState in topic mode:
-                          Runtime.answer = Relay.read + the compiled instant (every point and
-                          joint, velocities, accelerations, conditioning) + the CDR bytes of every
-                          topic from the byte templates (diagnostics and path markers when due);
-                          "solve" is read + solve, "msgs" the rest (tree joints, packs).
-  ours, joint_states only the same read and solve + the node's joint_states bytes alone, what the
-                          Gauss–Newton row outputs: one JointState (ours: the passive scene joints
-                          and the URDF tree's joints, the node's own bytes; Gauss–Newton: 2 joints).
+                          Runtime.answer = Relay.read + the generated tick (the compiled instant:
+                          every point and joint, velocities, accelerations, conditioning; tree
+                          joints; one pack per topic) (diagnostics and path markers when due);
+                          "solve" is read + the generated tick, "msgs" the runtime's rest.
+  ours, joint_states only the same read + the generated tick for the node's joint_states alone,
+                          what the Gauss–Newton row outputs: one JointState (ours: the passive
+                          scene joints and the URDF tree's joints, the node's own bytes, solve
+                          and pack in one function, all under "solve"; Gauss–Newton: 2 joints).
   Gauss–Newton (warm)     the anchor: warm-started Gauss–Newton on the cut joint + the CDR bytes
                           of one JointState of its two joints (same template technique).
 Errors: the passive joints read back from the joint_states bytes, against the 50-digit

@@ -23,7 +23,7 @@ import sys
 import time
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from solver._cmdline import (
     EPSILON_MAX,
@@ -36,6 +36,9 @@ from solver._cmdline import (
     positive,
     quiet_pipe,
 )
+
+if TYPE_CHECKING:  # for the annotation; imported where used, when a run has loads
+    from .forces import LoadArrows
 
 __all__ = ["mcap_main", "rerun_command", "run_main", "view_main"]
 
@@ -200,14 +203,14 @@ def _start_line(scene: Any, duration: float, rate: float, ticks: int, laws: dict
     return head + f"{len(scene.inputs)} inputs: {each}; angles in degrees, everything else SI"
 
 
-@quiet_pipe
-def _load_rule(scales: dict[str, float]) -> Any:
+def _load_rule(scales: dict[str, float]) -> LoadArrows:
     """The load arrows' rule from a run's arrow scales (``load``, and ``load_knee`` with a knee)."""
     from .forces import LoadArrows
 
     return LoadArrows(scales["load"], scales.get("load_knee", math.inf))
 
 
+@quiet_pipe
 def run_main(argv: Sequence[str] | None = None) -> int:
     """``linkage-run``."""
     args = _run_parser().parse_args(argv)
@@ -406,7 +409,7 @@ def view_main(argv: Sequence[str] | None = None) -> int:
 def _unreadable(path: Path, error: Exception) -> str:
     """Why linkage-view cannot show ``path``: a recording cut short before any of its chunks was
     closed holds no message (said so), anything else is not a linkage_ros recording."""
-    from linkage_ros.record.mcap import read_mcap
+    from linkage_ros.record.mcap_read import read_mcap
 
     try:
         contents = read_mcap(path, messages=False)
@@ -438,7 +441,7 @@ def mcap_main(argv: Sequence[str] | None = None) -> int:
     info = sub.add_parser("info", help="topics, counts and whether the file was finished")
     info.add_argument("file", type=Path)
     args = p.parse_args(argv)
-    from linkage_ros.record.mcap import read_mcap, recover
+    from linkage_ros.record.mcap_read import read_mcap, recover
     from linkage_ros.record.replay import stamp_text
 
     source: Path = args.broken if args.command == "recover" else args.file

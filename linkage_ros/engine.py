@@ -16,7 +16,7 @@ reports ``"unassemblable"``, the frames after it are ordinary.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from types import MappingProxyType
 from typing import Any
 
@@ -33,6 +33,7 @@ from .frame import (
     STATUS_NEAR_SINGULAR,
     STATUS_OK,
     STATUS_UNASSEMBLABLE,
+    Angles,
     Frame,
     JointState,
     PointState,
@@ -58,7 +59,8 @@ CHUNK = 4096
 
 
 class Engine:
-    """Maps run time to solved frames of one scene under one :class:`~linkage_ros.motion.Motion`.
+    """Maps run time to solved frames of one scene under one :class:`~linkage_ros.motion.Motion`
+    (:class:`~linkage_ros.motion.Motions` for a scene with several inputs).
 
     ``scene`` is a :class:`solver.Scene` or anything :func:`solver.load_scene` accepts (a path or
     a shipped name). ``points`` selects the published points (default: the scene's outputs).
@@ -70,7 +72,7 @@ class Engine:
     def __init__(
         self,
         scene: Any,
-        motion: Motion,
+        motion: Motion | Motions,
         *,
         points: Sequence[str] | None = None,
         on_unassemblable: str = "stop",
@@ -111,6 +113,9 @@ class Engine:
                 f"scene '{scene.name}' has {len(self.inputs)} input(s) ({', '.join(self.inputs)}): give "
                 + ("a Motion" if len(self.inputs) == 1 else f"Motions of {len(self.inputs)} laws, one per input")
             )
+        phi0: Angles
+        omega0: Angles
+        eps0: Angles
         if isinstance(motion, Motions):
             t0, phi0, omega0, eps0 = motion.start()
         else:
@@ -151,7 +156,7 @@ class Engine:
         the solve is not finite) the :class:`solver.AssemblyError` is returned, not raised.
         With several inputs ``phi``, ``omega``, ``epsilon`` are k-tuples."""
         if isinstance(phi, tuple):
-            return self._tick(float(t), phi, omega, epsilon, holding=False)  # type: ignore[arg-type]
+            return self._tick(float(t), phi, omega, epsilon, holding=False)
         return self._tick(float(t), float(phi), float(omega), float(epsilon), holding=False)  # type: ignore[arg-type]
 
     def mark_valid(self, t: float) -> None:
@@ -161,7 +166,7 @@ class Engine:
             self._last_valid_t = t
 
     def _tick(
-        self, t: float, phi: float, omega: float, eps: float, *, holding: bool | None = None
+        self, t: float, phi: Angles, omega: Angles, eps: Angles, *, holding: bool | None = None
     ) -> Frame | AssemblyError:
         """One solve at a scalar φ: the frame, or the reason it has none (``holding``: whether
         the frame is a hold of the motion; None: ask the motion)."""
@@ -177,8 +182,14 @@ class Engine:
             return _non_finite(phi, k.conditioning, self.inputs)
         return frame
 
-    def _unassemblable(self, t: float, phi: float, omega: float, error: AssemblyError) -> Frame:
-        interval = interval_containing(error.intervals, phi)
+    def _unassemblable(self, t: float, phi: Angles, omega: Angles, error: AssemblyError) -> Frame:
+        # The φ interval and the end of it the input crossed: one input only (with several,
+        # SampleAssemblyError.intervals is empty and Motions.crossing always None).
+        interval: tuple[float, float] | None = None
+        boundary: float | None = None
+        if isinstance(phi, float) and isinstance(omega, float):
+            interval = interval_containing(error.intervals, phi)
+            boundary = None if interval is None else _boundary(interval, phi, omega)
         where = (
             f"φ in {format_intervals([interval])}" if interval is not None else f"φ = {_angles(phi, '.6g')} rad"
         )
@@ -186,15 +197,14 @@ class Engine:
         t_last = min(self._last_valid_t, t)
         if self.on_unassemblable == "reverse":
             candidates: list[float] = []
-            if interval is not None:
-                boundary = _boundary(interval, phi, omega)
+            if boundary is not None:
                 t_cross = self.motion.crossing(boundary, t_last, t)
                 if t_cross is not None:
                     candidates.append(t_cross)
             candidates.append(t_last)
-            before = self.motion.snapshot()
+            restore = _restorer(self.motion)
             for t_rev in candidates:
-                self.motion.restore(before)
+                restore()
                 self.motion.reverse(t_rev)
                 p, w, e = self.motion.state(t)
                 result = self._tick(t, p, w, e)
@@ -202,7 +212,7 @@ class Engine:
                     self._event_message = f"{reason}; reversed at t = {t_rev:.6f} s"
                     self._last_valid_t = t
                     return with_status(result, STATUS_UNASSEMBLABLE, self._event_message)
-            self.motion.restore(before)
+            restore()
         # stop (or a reversal that found no valid state): hold at the last valid tick.
         self.motion.hold(t_last)
         p, w, e = self.motion.state(t)
@@ -261,9 +271,9 @@ class Engine:
     def _make_frame(
         self,
         t: float,
-        phi: float,
-        omega: float,
-        eps: float,
+        phi: Angles,
+        omega: Angles,
+        eps: Angles,
         k: Any,
         i: int | None,
         *,
@@ -380,6 +390,15 @@ def interval_containing(
         if lo + shift <= phi <= hi + shift:
             return (lo + shift, hi + shift)
     return None
+
+
+def _restorer(motion: Motion | Motions) -> Callable[[], None]:
+    """A function that puts ``motion`` back as it is now, after tentative reversals."""
+    if isinstance(motion, Motions):
+        laws = motion.snapshot()
+        return lambda: motion.restore(laws)
+    segments = motion.snapshot()
+    return lambda: motion.restore(segments)
 
 
 def _boundary(interval: tuple[float, float], phi: float, omega: float) -> float:

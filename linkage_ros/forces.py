@@ -78,10 +78,10 @@ class LoadArrows(NamedTuple):
         """Arrow length per N of load at magnitude ``force`` (a float or an array): the arrow is
         the force vector times this factor. NaN stays NaN."""
         if isinstance(force, np.ndarray):
-            f = np.asarray(force, dtype=np.float64)
+            fs = np.asarray(force, dtype=np.float64)
             with np.errstate(divide="ignore", invalid="ignore"):
-                bent = self.scale * self.knee * (1.0 + np.log10(f / self.knee)) / f
-            return np.where(f > self.knee, bent, np.where(np.isnan(f), np.nan, self.scale))
+                bent = self.scale * self.knee * (1.0 + np.log10(fs / self.knee)) / fs
+            return np.where(fs > self.knee, bent, np.where(np.isnan(fs), np.nan, self.scale))
         f = float(force)
         if f > self.knee:
             return self.scale * self.knee * (1.0 + math.log10(f / self.knee)) / f

@@ -23,6 +23,7 @@ __all__ = [
     "STATUS_NEAR_SINGULAR",
     "STATUS_OK",
     "STATUS_UNASSEMBLABLE",
+    "Angles",
     "Frame",
     "JointState",
     "PointState",
@@ -57,14 +58,20 @@ class JointState(NamedTuple):
     acceleration: float
 
 
+#: One input value per input joint: a float, or a k-tuple with several inputs.
+Angles = float | tuple[float, ...]
+
+
 @dataclass(frozen=True, slots=True)
 class Frame:
     """The mechanism at one instant ``t`` (s of run time)."""
 
     t: float
-    phi: float
-    omega: float
-    epsilon: float
+    #: The input state (rad, rad/s, rad/s²; m for a slide): floats, or k-tuples in input order
+    #: with several inputs (docs/inputs.md).
+    phi: Angles
+    omega: Angles
+    epsilon: Angles
     points: Mapping[str, PointState]
     joints: Mapping[str, JointState]
     status: str

@@ -1,18 +1,28 @@
-"""The node's hot path: one instant as one flat tuple of numbers, then one pack per topic.
+"""The node's hot path: one instant as one generated function, from the solve to the bytes.
 
 A tick of ``mechanism_node`` (clock mode) or an answer of its relay (topic mode) at an ordinary
 instant — assemblable, not near singular, not a hold of the motion, every number finite, no path
 markers or diagnostics due — is::
 
-    phi, omega, epsilon = motion.state(t)                  # the exact time law (clock mode)
+    phi, omega, epsilon = motion.moving_state(t)           # the exact time law (clock mode)
+    emit(phi, omega, epsilon, stamp_ns)                    # the generated tick: [(topic, bytes)]
+
+with no Frame, no result objects, no dicts and no vector of the tick's values. ``emit``
+(:meth:`FastPath.emitter`, source: :func:`emit_source`) is built once per scene, on the first
+ordinary instant, from the same pieces the reference path below uses: one call of the scene's
+compiled instant (:meth:`solver.Scene.compiled`, ``.core``: None on a miss), its tuple unpacked
+into locals, the conditioning and finiteness checks, the efforts and loads read off its force
+part (:func:`_force_reader`), the numbers the builder derives (the URDF tree joints and the load
+arrows' tips: :mod:`linkage_ros._derived`, their evaluation traced once into lines inlined here),
+and one ``struct`` pack per topic straight from those locals (:meth:`Packer.source
+<linkage_ros.serialize.Packer.source>`). It returns None where the reference path does.
+
+The reference path, which the first fast tick runs and checks, and which serves when the
+generated tick cannot be built (the scalar path, an untraceable derived number)::
+
     flat = solve(phi, omega, epsilon)                      # one compiled call: every point, joint
     values = (sec, nanosec) + flat + derived               # one tuple, in the slot order `order`
-    packer(values)                                         # one struct.pack per topic
-
-with no Frame, no result objects and no dicts of the tick's values. ``derived`` are the numbers
-the builder computes from the frame's rather than copying them: the URDF tree joints on
-``joint_states`` (:func:`compiled_tree`: their evaluation traced once into straight-line code)
-and the tips of the load arrows (read off the flat tuple through a frame-like view).
+    packer(values)                                         # one struct.pack, one slice per topic
 
 Everything else — the first tick, a status change, an instant the guards hand back (``solve``
 returns None: not assemblable, a guard of the compiled code, conditioning below
@@ -20,36 +30,52 @@ returns None: not assemblable, a guard of the compiled code, conditioning below
 diagnostics (about once a second) — takes the Frame path (:meth:`~linkage_ros.engine.Engine.frame`
 and :meth:`~linkage_ros.serialize.Serializer.render`), unchanged.
 
-``solve`` comes from :func:`flat_solver`: the scene's compiled instant
-(:meth:`solver.Scene.compiled`, ``.core``: None on a miss), its layout names translated once into
-the slots of :mod:`linkage_ros.serialize` (``"B.vx"`` → ``("v", "B", 0)``, ``"rocker.ddq"`` →
-``("j", "rocker", 2)``); in scenes with forces the efforts and loads are read off the same
-tuple's force part, where a probe of :func:`linkage_ros.forces.frame_forces` found them once
-(:func:`_force_reader`).
+``solve`` comes from :func:`flat_solver`: the scene's compiled instant, its layout names
+translated once into the slots of :mod:`linkage_ros.serialize` (``"B.vx"`` → ``("v", "B", 0)``,
+``"rocker.ddq"`` → ``("j", "rocker", 2)``); in scenes with forces the efforts and loads are read
+off the same tuple's force part, where a probe of :func:`linkage_ros.forces.frame_forces` found
+them once (:func:`_force_reader`).
 
-Safety: the first fast tick is also rendered the Frame way, and the fast path switches itself
-off for good when the bytes differ (:attr:`FastPath.enabled`).
+Safety: the first fast tick is rendered three ways — the reference path, the generated tick and
+the Frame path; the fast path switches itself off for good when the reference bytes differ from
+the Frame path's (:attr:`FastPath.enabled`), and the generated tick is bound only when its bytes
+are the same too (``tests/ros/test_ros_fast_path.py`` compares it with the reference path over
+sweeps, near a toggle included).
 """
 
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Callable, Sequence
-from operator import itemgetter
-from typing import Any
+from typing import Any, NamedTuple
 
 from solver.errors import AssemblyError
 
+from ._derived import View, compiled_tree, compiled_view, tree_code, view_code
 from .engine import Engine
-from .frame import Frame, JointState, PointState
+from .frame import Frame
 from .messages import NS_PER_S, MessageBuilder
-from .motion import SEGMENT_HOLD
 from .serialize import STAMP_SLOTS, Packer, Serializer, Slot
 
-__all__ = ["FastPath", "flat_solver"]
+__all__ = ["Emit", "FastPath", "compiled_tree", "emit_source", "flat_solver"]
 
 #: ``solve(phi, omega, epsilon)``: the flat numbers of an ordinary instant, or None.
 FlatSolve = Callable[[Any, Any, Any], "tuple[float, ...] | None"]
+
+
+class _Shape(NamedTuple):
+    """Where the numbers sit in the compiled instant's tuple, for the generated tick: ``n``
+    outputs, then the conditioning figures (``unit.conditioning``, known once traced), then the
+    force part (``forces`` entries, read into efforts and loads by the expressions ``reader`` of
+    ``f[i]``); ``inputs``: k."""
+
+    unit: Any
+    n: int
+    forces: int
+    reader: tuple[str, ...]
+    inputs: int
+    near: float
 
 
 def flat_solver(engine: Engine) -> tuple[tuple[Slot, ...], FlatSolve]:
@@ -59,14 +85,20 @@ def flat_solver(engine: Engine) -> tuple[tuple[Slot, ...], FlatSolve]:
     group cannot be assembled, a guard of the compiled code trips, or some group's conditioning
     is below the engine's ``near_singular_below`` (those instants take the Frame path, which
     reports them)."""
+    layout, solve, _ = _flat(engine)
+    return layout, solve
+
+
+def _flat(engine: Engine) -> tuple[tuple[Slot, ...], FlatSolve, _Shape | None]:
+    """:func:`flat_solver`, and the shape of the compiled tuple (None on the scalar path)."""
     scene = engine.scene.everything()
     near = engine.near_singular_below
     if hasattr(scene, "compiled"):
         return _compiled(engine, scene, near)
-    return _scalar(engine, scene, near)
+    return (*_scalar(engine, scene, near), None)
 
 
-def _compiled(engine: Engine, scene: Any, near: float) -> tuple[tuple[Slot, ...], FlatSolve]:
+def _compiled(engine: Engine, scene: Any, near: float) -> tuple[tuple[Slot, ...], FlatSolve, _Shape | None]:
     """The scene's compiled instant (:meth:`solver.Scene.compiled`): its flat tuple as it is, up
     to the conditioning figures that follow the outputs (checked, then cut off); in scenes with
     forces, the efforts and loads read off the force part after them (:func:`_force_reader`)."""
@@ -74,7 +106,7 @@ def _compiled(engine: Engine, scene: Any, near: float) -> tuple[tuple[Slot, ...]
     n = unit.size
     forces = _force_reader(engine, scene) if getattr(engine, "forces", False) else None
     if getattr(engine, "forces", False) and forces is None:
-        return _scalar(engine, scene, near)
+        return (*_scalar(engine, scene, near), None)
     kinds = {"": "p", "v": "v", "a": "a"}
     layout: list[Slot] = []
     for name in unit.layout:  # "P.x", "P.vx", "P.ax", "J.q", "J.dq", "J.ddq"
@@ -85,9 +117,10 @@ def _compiled(engine: Engine, scene: Any, near: float) -> tuple[tuple[Slot, ...]
             layout.append((kinds[part[:-1]], owner, "xyz".index(part[-1])))
     several = len(scene.inputs) > 1
     if forces is not None:
-        reader, force_slots = forces
+        reader, force_slots, exprs = forces
         layout += force_slots
         size = n + len(scene.forces.layout)
+        shape = _Shape(unit, n, len(scene.forces.layout), exprs, len(scene.inputs), near)
 
         def solve_forces(phi: Any, omega: Any, epsilon: Any) -> tuple[float, ...] | None:
             flat = unit.core(*phi, *omega, *epsilon) if several else unit.core(phi, omega, epsilon)
@@ -98,7 +131,7 @@ def _compiled(engine: Engine, scene: Any, near: float) -> tuple[tuple[Slot, ...]
                 return None
             return flat[:n] + reader(flat[cut:])  # type: ignore[no-any-return]
 
-        return tuple(layout), solve_forces
+        return tuple(layout), solve_forces, shape
 
     def solve(phi: Any, omega: Any, epsilon: Any) -> tuple[float, ...] | None:
         flat = unit.core(*phi, *omega, *epsilon) if several else unit.core(phi, omega, epsilon)
@@ -106,15 +139,17 @@ def _compiled(engine: Engine, scene: Any, near: float) -> tuple[tuple[Slot, ...]
             return None
         return flat[:n]  # type: ignore[no-any-return]
 
-    return tuple(layout), solve
+    shape = _Shape(unit, n, 0, (), len(scene.inputs), near)
+    return tuple(layout), solve, shape
 
 
-def _force_reader(engine: Engine, scene: Any) -> tuple[Callable[[Any], tuple[float, ...]], list[Slot]] | None:
+def _force_reader(engine: Engine, scene: Any) -> tuple[Callable[[Any], tuple[float, ...]], list[Slot],
+                                                      tuple[str, ...]] | None:
     """How the efforts and loads of :func:`linkage_ros.forces.frame_forces` sit in the compiled
     tuple's force part (``scene.forces.layout``): found once by running ``frame_forces`` on a
     probe whose every value is distinct, then read per tick by one generated expression (the
-    same operations as ``frame_forces`` on the solver's result). None where a value cannot be
-    placed (then the scalar path serves the scene)."""
+    same operations as ``frame_forces`` on the solver's result; its expressions of ``f[i]`` are
+    the third item). None where a value cannot be placed (then the scalar path serves the scene)."""
     from solver.forces import ForceResult
 
     from .forces import frame_forces
@@ -136,8 +171,9 @@ def _force_reader(engine: Engine, scene: Any) -> tuple[Callable[[Any], tuple[flo
     numbers = [*efforts.values(), *(x for load in loads.values() for x in load)]
     if any(x not in found for x in numbers):
         return None
-    source = "lambda f: (" + "".join(found[x] + ", " for x in numbers) + ")"
-    return eval(source, {"complex": complex, "float": float}), slots
+    exprs = tuple(found[x] for x in numbers)
+    source = "lambda f: (" + "".join(x + ", " for x in exprs) + ")"
+    return eval(source, {"complex": complex, "float": float}), slots, exprs
 
 
 def _scalar(engine: Engine, scene: Any, near: float) -> tuple[tuple[Slot, ...], FlatSolve]:
@@ -182,142 +218,6 @@ def _scalar(engine: Engine, scene: Any, near: float) -> tuple[tuple[Slot, ...], 
     return tuple(layout), solve
 
 
-def compiled_tree(scene: Any, order: Sequence[Slot], values: tuple[Any, ...]) -> Callable[..., tuple[Any, ...]] | None:
-    """The URDF tree joints' positions then velocities from a vector in slot ``order``, as one
-    straight-line function: :mod:`linkage_ros.urdf.states`' own evaluation run once on tracing
-    values (``solver._trace``, the compiled instant's tracer) at ``values``, so that every
-    operation, and so every bit, is the evaluation's. None when the scene has no tree, or the
-    evaluation compares a traced value (it does not today) or cannot be traced: then the builder's
-    ``tree_states`` runs per tick."""
-    from solver._trace import TRACE, Guard, Recorder, TraceError
-
-    from .urdf import exportable_model
-    from .urdf import states as tree_states
-
-    model = exportable_model(scene)
-    if model is None:
-        return None
-    plan = tree_states._plan(model)
-    where = {slot: i for i, slot in enumerate(order)}
-    rec = Recorder({})
-    head: list[str] = []
-    points: dict[str, tuple[Any, Any]] = {}
-    joints: dict[str, tuple[Any, Any]] = {}
-    try:
-        for k, name in enumerate(plan.points):
-            parts = []
-            for kind in ("p", "v"):
-                i, j = where[(kind, name, 0)], where[(kind, name, 1)]
-                head.append(f"    point_{kind}{k} = complex(x[{i}], x[{j}])")
-                parts.append(rec.input(f"point_{kind}{k}", complex(values[i], values[j])))
-            points[name] = (parts[0], parts[1])
-        for k, name in enumerate(plan.joint_inputs):
-            i, j = where[("j", name, 0)], where[("j", name, 1)]
-            head += [f"    joint_q{k} = x[{i}]", f"    joint_dq{k} = x[{j}]"]
-            joints[name] = (rec.input(f"joint_q{k}", values[i]), rec.input(f"joint_dq{k}", values[j]))
-        functions = tree_states._Functions(TRACE.atan2, TRACE.sin, TRACE.cos,
-                                           lambda x: TRACE.call(math.floor, x))
-        q, dq = tree_states._evaluate(plan, points, joints, functions)
-    except (TraceError, KeyError, TypeError):
-        return None
-    if any(isinstance(item, Guard) for item in rec.items):
-        return None
-    body = [f"    {item.name} = {item.expr}" for item in rec.items]  # type: ignore[union-attr]
-    outputs = ", ".join(rec.atom(x)[0] for x in (*q, *dq))
-    source = "\n".join(["def tree(x):", *head, *body, f"    return ({outputs}{',' if outputs else ''})"])
-    namespace: dict[str, Any] = {"complex": complex, "max": max}
-    namespace.update({n: getattr(math, n) for n in ("sqrt", "cos", "sin", "atan2", "tan")})
-    namespace.update({name: value for name, value in rec.constants.values()})
-    exec(compile(source, f"<tree joints of {scene.name}>", "exec"), namespace)
-    return namespace["tree"]  # type: ignore[no-any-return]
-
-
-def compiled_view(produce: Callable[[Any], Sequence[Any]], view: _View, values: tuple[Any, ...],
-                  label: str) -> Callable[..., tuple[Any, ...]] | None:
-    """``produce(view)`` (e.g. the builder's ``load_tips``) as one straight-line function of the
-    vector: run once with the view reading tracing values (``solver._trace``) at ``values``, so
-    that the generated code performs the same operations, bit for bit. None when ``produce``
-    compares a traced value or needs a plain number (then it runs per tick)."""
-    from solver._trace import Guard, Recorder, TraceError
-
-    rec = Recorder({})
-    view.values = tuple(rec.input(f"x[{i}]", v) for i, v in enumerate(values))
-    try:
-        out = tuple(produce(view))
-    except (TraceError, TypeError, ValueError):
-        return None
-    finally:
-        view.values = values
-    if any(isinstance(item, Guard) for item in rec.items):
-        return None
-    body = [f"    {item.name} = {item.expr}" for item in rec.items]  # type: ignore[union-attr]
-    outputs = "".join(rec.atom(x)[0] + ", " for x in out)
-    source = "\n".join(["def derived(x):", *body, f"    return ({outputs})"])
-    namespace: dict[str, Any] = {"complex": complex, "max": max}
-    namespace.update({n: getattr(math, n) for n in ("sqrt", "cos", "sin", "atan2", "tan")})
-    namespace.update({name: value for name, value in rec.constants.values()})
-    exec(compile(source, f"<{label}>", "exec"), namespace)
-    return namespace["derived"]  # type: ignore[no-any-return]
-
-
-class _View:
-    """A frame-like view of a flat vector for the URDF tree joints (``.points``, ``.joints``:
-    ``get`` / ``[]`` give the named tuples, read from the vector set last)."""
-
-    __slots__ = ("points", "joints", "loads", "values")
-
-    def __init__(self, order: Sequence[Slot], dim: int) -> None:
-        where = {slot: i for i, slot in enumerate(order)}
-
-        def getter(kind: str, name: str) -> Callable[[Sequence[Any]], Any]:
-            return itemgetter(*(where[(kind, name, c)] for c in range(dim)))
-
-        self.values: tuple[Any, ...] = ()
-        self.points = _Reader(self, {s[1]: (PointState, getter("p", s[1]), getter("v", s[1]))
-                                     for s in order if s[0] == "p"})
-        self.joints = _Reader(self, {s[1]: (JointState, itemgetter(where[("j", s[1], 0)]),
-                                            itemgetter(where[("j", s[1], 1)]))
-                                     for s in order if s[0] == "j"})
-        self.loads = _Loads(self, {s[1]: itemgetter(*(where[("l", s[1], i)] for i in range(3)))
-                                   for s in order if s[0] == "l" and s[2] == 0})
-
-
-class _Loads:
-    """``get``: a load's (Fx, Fy, M) from the view's vector."""
-
-    __slots__ = ("_view", "_index")
-
-    def __init__(self, view: _View, index: dict[str, Any]) -> None:
-        self._view, self._index = view, index
-
-    def get(self, key: str, default: Any = None) -> Any:
-        found = self._index.get(key)
-        return default if found is None else found(self._view.values)
-
-
-class _Reader:
-    """``get`` / ``[]``: the position and velocity of one point or joint of the view's vector
-    (the acceleration, which the tree joints do not read, is left empty)."""
-
-    __slots__ = ("_view", "_index")
-
-    def __init__(self, view: _View, index: dict[str, Any]) -> None:
-        self._view, self._index = view, index
-
-    def get(self, name: str) -> Any:
-        found = self._index.get(name)
-        if found is None:
-            return None
-        kind, position, velocity = found
-        values = self._view.values
-        return kind(position(values), velocity(values), ())
-
-    def __getitem__(self, name: str) -> Any:
-        kind, position, velocity = self._index[name]
-        values = self._view.values
-        return kind(position(values), velocity(values), ())
-
-
 class FastPath:
     """The ordinary instants of ``engine`` as bytes, from ``serializer``'s templates (see the
     module docstring). ``tick(t, stamp_ns)`` (clock mode: the motion law at ``t``) and
@@ -328,12 +228,12 @@ class FastPath:
         self.engine = engine
         self.builder = builder
         self.serializer = serializer
-        layout, self.solve = flat_solver(engine)
+        layout, self.solve, self._shape = _flat(engine)
         names = builder.tree_joint_names
         tips = 2 * len(getattr(engine, "load_pairs", ())) if getattr(engine, "forces", False) else 0
         order = (*STAMP_SLOTS, *layout)
         # the numbers the builder derives from the frame's: the URDF tree joints, the load arrows' tips
-        self._view = _View(order, int(engine.scene.dim)) if names or tips else None
+        self._view = View(order, int(engine.scene.dim)) if names or tips else None
         self._derived = (bool(names), bool(tips))
         self.order: tuple[Slot, ...] = (*order, *(("tq", k) for k in range(len(names))),
                                         *(("tv", k) for k in range(len(names))),
@@ -347,18 +247,30 @@ class FastPath:
         self._tree_traced = False
         self._tips_function: Callable[..., tuple[Any, ...]] | None = None
         self._tips_traced = False
+        #: the generated tick (:meth:`emitter`), bound on the first fast tick; None: not (yet) bound
+        self._emit: Emit | None = None
+        self._sample: tuple[Any, ...] | None = None  # the numbers of the first fast tick
 
     def tick(self, t: float, stamp_ns: int) -> list[tuple[str, bytes]] | None:
-        motion = self.engine.motion
-        if not self.enabled or motion.segment_at(t).tag == SEGMENT_HOLD:
+        state = self.engine.motion.moving_state(t) if self.enabled else None
+        if state is None:  # off, or a hold of the motion
             return None
-        phi, omega, epsilon = motion.state(t)
-        messages = self._messages(t, phi, omega, epsilon, stamp_ns)
+        phi, omega, epsilon = state
+        emit = self._emit
+        if emit is None:
+            messages = self._messages(t, phi, omega, epsilon, stamp_ns)
+        else:
+            messages = emit(phi, omega, epsilon, stamp_ns)
+            self._state = (t, phi, omega, epsilon)
         if messages is not None:
             self.engine.mark_valid(t)
         return messages
 
     def answer(self, phi: Any, omega: Any, epsilon: Any, stamp_ns: int) -> list[tuple[str, bytes]] | None:
+        emit = self._emit
+        if emit is not None:
+            self._state = (stamp_ns / NS_PER_S, phi, omega, epsilon)
+            return emit(phi, omega, epsilon, stamp_ns)
         if not self.enabled:
             return None
         return self._messages(stamp_ns / NS_PER_S, phi, omega, epsilon, stamp_ns)
@@ -399,6 +311,23 @@ class FastPath:
                     values += self.builder.load_tips(self._view)  # type: ignore[arg-type]
         return values
 
+    def emitter(self, topics: Sequence[str] | None = None) -> Emit | None:
+        """The generated tick: ``emit(phi, omega, epsilon, stamp_ns)`` gives what :meth:`answer`
+        gives at an ordinary instant — the bytes of every per-tick topic (or of ``topics``), or
+        None — as one function (:func:`emit_source`): one compiled call, its guards, the
+        efforts and loads, the tree joints and arrow tips traced once, one pack. None before the
+        first fast tick (it supplies the tracing values), on the scalar path, or when a derived
+        number cannot be traced."""
+        packer = self.serializer.packer(self.order, topics)
+        if self._sample is None or self._shape is None or packer is None:
+            return None
+        built = emit_source(self, self._shape, self._sample, packer)
+        if built is None:
+            return None
+        source, namespace = built
+        exec(compile(source, f"<tick of {self.engine.scene.name}>", "exec"), namespace)
+        return namespace["emit"]  # type: ignore[no-any-return]
+
     def _messages(self, t: float, phi: Any, omega: Any, epsilon: Any,
                   stamp_ns: int) -> list[tuple[str, bytes]] | None:
         values = self.values(phi, omega, epsilon, stamp_ns)
@@ -421,7 +350,8 @@ class FastPath:
     def _first(self, t: float, phi: Any, omega: Any, epsilon: Any, stamp_ns: int,
                values: tuple[Any, ...]) -> list[tuple[str, bytes]] | None:
         """The first fast tick: bind the templates (verified on a frame before) and check the
-        bytes against the Frame path's; on any difference the fast path is off."""
+        bytes against the Frame path's; on any difference the fast path is off. Then the
+        generated tick (:meth:`emitter`) is bound when it gives the same bytes here too."""
         if not self.serializer.verified:
             return None
         try:
@@ -437,4 +367,94 @@ class FastPath:
         if messages != self.serializer.render(frame, stamp_ns, diagnostics=False):
             self.enabled = False
             return None
+        self._sample = values
+        emit = self.emitter()
+        if emit is not None and emit(phi, omega, epsilon, stamp_ns) == messages:
+            self._emit = emit
         return messages
+
+
+#: The generated tick (:meth:`FastPath.emitter`).
+Emit = Callable[[Any, Any, Any, int], "list[tuple[str, bytes]] | None"]
+
+
+#: ``f[3]`` in a force reader's expression, the local ``f3`` in the generated tick.
+_FORCE_PART = re.compile(r"f\[(\d+)\]")
+_PART_OF = re.compile(r"float\(complex\((-?f\[\d+\])\)\.(real|imag)\)")
+_AS_FLOAT = re.compile(r"float\((-?f\[\d+\])\)")
+
+
+def _plain(expr: str) -> str:
+    """A force reader's expression without its conversions: ``(f[3]).real`` for
+    ``float(complex(f[3]).real)`` and ``(f[3])`` for ``float(f[3])`` — the same bits for a float
+    or complex ``f[3]`` (``.real`` and ``.imag`` of a float are itself and 0.0), and ``struct``
+    packs an int as the float it converts to."""
+    return _AS_FLOAT.sub(r"(\1)", _PART_OF.sub(r"(\1).\2", expr))
+
+
+def emit_source(path: FastPath, shape: _Shape, values: tuple[Any, ...],
+                packer: Packer) -> tuple[str, dict[str, Any]] | None:
+    """The source of ``path``'s generated tick and its namespace (None: something cannot be
+    traced). Every number of :attr:`FastPath.order` is a local ``x{i}``::
+
+        def emit(phi, w, e, stamp_ns):
+            flat = _unit.core(phi, w, e)              # (q1, …, qk, ω1, …, εk) with k inputs
+            if flat is None or len(flat) != L: return None
+            x2, …, c0, …, f0, … = flat                # outputs, conditioning, force part
+            if min(c0, …) < _near: return None        # as FastPath.solve
+            x40 = float(f3) …                         # efforts and loads (_force_reader)
+            if not _isfinite(_sum(flat[:n]) + x40 + …): return None
+            x0, x1 = divmod(stamp_ns, 1000000000)
+            …                                         # tree joints, arrow tips (linkage_ros._derived)
+            _pdata = _ppack(_pk0, x0, x1, …)           # Packer.source
+            return [('joint_states', _pdata[0:232]), …]
+    """
+    unit = shape.unit
+    if unit.conditioning is None:
+        return None
+    n, k = shape.n, shape.inputs
+    kinematics = [f"x{2 + i}" for i in range(n)]
+    conditioning = [f"c{i}" for i in range(len(unit.conditioning))]
+    force_part = [f"f{i}" for i in range(shape.forces)]
+    size = n + len(conditioning) + shape.forces
+    call = "phi, w, e" if k == 1 else ", ".join(f"{a}[{i}]" for a in ("phi", "w", "e") for i in range(k))
+    lines = [f"flat = _unit.core({call})",
+             f"if flat is None or len(flat) != {size}: return None",
+             f"{', '.join([*kinematics, *conditioning, *force_part])}, = flat"]
+    if conditioning:
+        lowest = conditioning[0] if len(conditioning) == 1 else f"min({', '.join(conditioning)})"
+        lines.append(f"if {lowest} < _near: return None")
+    loads = [f"x{2 + n + j}" for j in range(len(shape.reader))]
+    lines += [name + " = " + _FORCE_PART.sub(r"f\1", _plain(expr)) for name, expr in zip(loads, shape.reader)]
+    lines += [f"if not _isfinite(_sum(flat[:{n}]){''.join(' + ' + x for x in loads)}): return None",  # as values()
+              f"x0, x1 = divmod(stamp_ns, {NS_PER_S})"]
+    namespace: dict[str, Any] = {"_unit": unit, "_near": shape.near, "_isfinite": math.isfinite, "_sum": sum,
+                                 "complex": complex, "float": float, "min": min, "divmod": divmod}
+    tree, tips = path._derived
+    where = 2 + n + len(loads)
+
+    def local(i: int) -> str:
+        return f"x{i}"
+
+    pieces = []
+    if tree:
+        pieces.append(tree_code(path.engine.scene, path.order, values, read=local, prefix="T_"))
+    if tips:
+        assert path._view is not None
+        pieces.append(view_code(path.builder.load_tips, path._view, values, read=local, prefix="L_"))
+    used = packer.reads()
+    for code in pieces:
+        if code is None:
+            return None
+        outputs = range(where, where + len(code.outputs))
+        where += len(code.outputs)
+        if used.isdisjoint(outputs):  # e.g. the arrow tips when only joint_states is packed
+            continue
+        lines += code.lines
+        lines += [f"x{i} = {expr}" for i, expr in zip(outputs, code.outputs)]
+        namespace.update(code.namespace)
+    if where != len(path.order):
+        return None
+    pack, names = packer.source(local)
+    namespace.update(names)
+    return "\n".join(["def emit(phi, w, e, stamp_ns):", *("    " + line for line in lines + pack)]) + "\n", namespace

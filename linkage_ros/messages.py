@@ -6,25 +6,13 @@ differ in what they accept for primitive sequences (rosbags wants float64 numpy 
 ``array.array('d')`` or lists of Python floats) and in nothing else this builder uses;
 :class:`MessageTypes` hides the difference.
 
-Topics (relative names) and types::
-
-    joint_states               sensor_msgs/msg/JointState
-    joint_kinematics           trajectory_msgs/msg/JointTrajectory
-    points/<P>/position        geometry_msgs/msg/PointStamped
-    points/<P>/velocity        geometry_msgs/msg/Vector3Stamped
-    points/<P>/acceleration    geometry_msgs/msg/Vector3Stamped
-    pin_loads/<K>              geometry_msgs/msg/WrenchStamped   (scenes with forces only,
-    slide_loads/<K>            geometry_msgs/msg/WrenchStamped    :mod:`.load_messages`)
-    markers                    visualization_msgs/msg/MarkerArray
-    diagnostics                diagnostic_msgs/msg/DiagnosticArray
-
-All messages of one frame carry the same header (stamp and frame_id). Planar scenes have z = 0.
+The topics (relative names) and their types are in :mod:`.topics` (re-exported here). All
+messages of one frame carry the same header (stamp and frame_id). Planar scenes have z = 0.
 """
 
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
@@ -32,13 +20,30 @@ import numpy as np
 
 from .engine import Engine
 from .frame import STATUS_NEAR_SINGULAR, STATUS_OK, Frame
-from .load_messages import LoadMessages, load_topic_types, tree_effort_joints
+from .load_messages import LoadMessages, tree_effort_joints
 from .msgtypes import TYPE_NAMES, MessageTypes
+from .topics import (
+    DIAGNOSTICS,
+    FIXED_TOPIC_TYPES,
+    JOINT_KINEMATICS,
+    JOINT_STATES,
+    MARKER_NAMESPACES,
+    MARKERS,
+    NS_PER_S,
+    point_topics,
+    stamp_parts,
+    topic_types,
+)
 from .urdf import TreeJointStates, exportable_model, frame_tree_joint_states
 
 __all__ = [
+    "DIAGNOSTICS",
     "FIXED_TOPIC_TYPES",
+    "JOINT_KINEMATICS",
+    "JOINT_STATES",
+    "MARKERS",
     "MARKER_NAMESPACES",
+    "NS_PER_S",
     "PATH_PERIOD",
     "TYPE_NAMES",
     "MessageBuilder",
@@ -49,27 +54,8 @@ __all__ = [
     "topic_types",
 ]
 
-NS_PER_S = 1_000_000_000
 #: Seconds of frame time between two markers messages that carry the paths (0: every one).
 PATH_PERIOD = 1.0
-
-JOINT_STATES = "joint_states"
-JOINT_KINEMATICS = "joint_kinematics"
-MARKERS = "markers"
-DIAGNOSTICS = "diagnostics"
-
-#: Topics that every engine publishes, with their types.
-FIXED_TOPIC_TYPES: dict[str, str] = {
-    JOINT_STATES: "sensor_msgs/msg/JointState",
-    JOINT_KINEMATICS: "trajectory_msgs/msg/JointTrajectory",
-    MARKERS: "visualization_msgs/msg/MarkerArray",
-    DIAGNOSTICS: "diagnostic_msgs/msg/DiagnosticArray",
-}
-
-#: Marker namespaces in the markers topic.
-MARKER_NAMESPACES = ("links", "joints", "fixed_pivots", "paths")
-
-_NAME_TOKEN = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 
 # Colours (r, g, b, a).
 _LINK_COLOUR = (0.20, 0.45, 0.85, 1.0)
@@ -81,43 +67,6 @@ _PATH_COLOURS = (
     (0.10, 0.65, 0.75, 0.9),
     (0.55, 0.45, 0.10, 0.9),
 )
-
-
-def point_topics(point: str) -> tuple[str, str, str]:
-    """``(position, velocity, acceleration)`` topic names of point ``point``."""
-    if not _NAME_TOKEN.match(point):
-        raise ValueError(
-            f"point name {point!r} cannot be part of a ROS topic name "
-            "(letters, digits and underscores, not starting with a digit)"
-        )
-    base = f"points/{point}"
-    return (f"{base}/position", f"{base}/velocity", f"{base}/acceleration")
-
-
-def topic_types(engine_or_points: Engine | Sequence[str]) -> list[tuple[str, str]]:
-    """Every ``(topic, type name)`` published for an engine (or a list of published points),
-    in the order :func:`build_messages` returns them."""
-    points = engine_or_points.published_points if isinstance(engine_or_points, Engine) else tuple(engine_or_points)
-    out = [
-        (JOINT_STATES, FIXED_TOPIC_TYPES[JOINT_STATES]),
-        (JOINT_KINEMATICS, FIXED_TOPIC_TYPES[JOINT_KINEMATICS]),
-    ]
-    for p in points:
-        pos, vel, acc = point_topics(p)
-        out += [
-            (pos, "geometry_msgs/msg/PointStamped"),
-            (vel, "geometry_msgs/msg/Vector3Stamped"),
-            (acc, "geometry_msgs/msg/Vector3Stamped"),
-        ]
-    out += load_topic_types(getattr(engine_or_points, "load_pairs", ()))
-    out += [(MARKERS, FIXED_TOPIC_TYPES[MARKERS]), (DIAGNOSTICS, FIXED_TOPIC_TYPES[DIAGNOSTICS])]
-    return out
-
-
-def stamp_parts(stamp_ns: int) -> tuple[int, int]:
-    """``(sec, nanosec)`` of a time in integer nanoseconds (nanosec in [0, 10⁹))."""
-    sec, nanosec = divmod(int(stamp_ns), NS_PER_S)
-    return sec, nanosec
 
 
 class MessageBuilder:
@@ -395,15 +344,11 @@ class MessageBuilder:
             level, text = S.ERROR, frame.message or "cannot be assembled"
         KV = self._KeyValue
         values = [KV(key="status", value=frame.status), KV(key="t", value=f"{frame.t:.9f}")]
-        if isinstance(frame.phi, tuple):  # several inputs: phi/<input>, omega/<input>, epsilon/<input>
-            for key, row in (("phi", frame.phi), ("omega", frame.omega), ("epsilon", frame.epsilon)):
-                values += [KV(key=f"{key}/{name}", value=repr(v)) for name, v in zip(self._inputs, row)]  # type: ignore[call-overload]
-        else:
-            values += [
-                KV(key="phi", value=repr(frame.phi)),
-                KV(key="omega", value=repr(frame.omega)),
-                KV(key="epsilon", value=repr(frame.epsilon)),
-            ]
+        for key, row in (("phi", frame.phi), ("omega", frame.omega), ("epsilon", frame.epsilon)):
+            if isinstance(row, tuple):  # several inputs: phi/<input>, omega/<input>, epsilon/<input>
+                values += [KV(key=f"{key}/{name}", value=repr(v)) for name, v in zip(self._inputs, row)]
+            else:
+                values.append(KV(key=key, value=repr(row)))
         values.append(KV(key="conditioning", value=f"{frame.conditioning:.6g}"))
         status = S(
             level=level,

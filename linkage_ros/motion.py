@@ -112,6 +112,12 @@ class Motion:
         seg = self._segments[self.segment_index(t)]
         return _evaluate_scalar(seg, float(t))
 
+    def moving_state(self, t: float) -> tuple[float, float, float] | None:
+        """:meth:`state`, or None when the segment in effect at ``t`` is a hold (one look-up of
+        the segment: the node's per-tick call)."""
+        seg = self._segments[self.segment_index(t)]
+        return None if seg.tag == SEGMENT_HOLD else _evaluate_scalar(seg, float(t))
+
     def states(self, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         """Vectorised :meth:`state`: arrays ``phi, omega, epsilon`` of the shape of ``t``."""
         times = np.asarray(t, dtype=np.float64)
@@ -302,6 +308,10 @@ class Motions:
         """``(phi, omega, epsilon)`` at ``t``, each a k-tuple of Python floats."""
         states = [law.state(t) for law in self.laws]
         return tuple(s[0] for s in states), tuple(s[1] for s in states), tuple(s[2] for s in states)
+
+    def moving_state(self, t: float) -> tuple[tuple[float, ...], tuple[float, ...], tuple[float, ...]] | None:
+        """:meth:`state`, or None when every input holds at ``t`` (:meth:`segment_at`)."""
+        return None if self.segment_at(t).tag == SEGMENT_HOLD else self.state(t)
 
     def states(self, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         """Vectorised :meth:`state`: ``phi, omega, epsilon`` of shape ``t.shape + (k,)``."""

@@ -256,7 +256,7 @@ class Relay:
             return self._read_inputs(names, positions, velocities, stamp_ns)
         name = self.input_joint
         try:
-            i = list(names).index(name)
+            i = names.index(name) if isinstance(names, (list, tuple)) else list(names).index(name)
         except ValueError:
             if len(names) and self._own.issuperset(names):
                 return Answer(ANSWER_IGNORED, stamp_ns, reason="carries only joints this relay publishes")
@@ -405,8 +405,10 @@ class Relay:
             assert prev is not None
             if prev.dq is not None:
                 eps, eps_from = (dq - prev.dq) / dt, EPSILON_FROM_VELOCITIES
-        if prev is None or dt_ns > 0:  # an older (reordered) message does not replace a newer one
+        if prev is None:
             self._previous = _Previous(stamp_ns, q, dq)
+        elif dt_ns > 0:  # an older (reordered) message does not replace a newer one
+            prev.stamp_ns, prev.q, prev.dq = stamp_ns, q, dq
         return omega, omega_from, eps, eps_from
 
 

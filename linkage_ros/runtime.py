@@ -17,7 +17,7 @@ inputs (docs/inputs.md) take ``omega``, ``epsilon`` and ``phi0`` per input from 
 :class:`~linkage_ros.motion.Motions`. In topic mode every input joint is read from the same
 message and joint_states leaves out all of them.
 
-What a tick sends: every topic of :func:`~linkage_ros.messages.topic_types` except that
+What a tick sends: every topic of :func:`~linkage_ros.topics.topic_types` except that
 ``diagnostics`` goes out on the first tick, whenever the status changes (ok / near singular /
 unassemblable, or a new unassemblable event) and otherwise every :data:`DIAGNOSTICS_PERIOD_S`
 of clock time; the markers carry the paths on the first tick and then once per
@@ -36,7 +36,7 @@ from solver.errors import SolverError
 from .engine import Engine
 from .frame import STATUS_OK, STATUS_UNASSEMBLABLE, Frame
 from .instant import FastPath
-from .messages import DIAGNOSTICS, MessageBuilder, MessageTypes, topic_types
+from .messages import MessageBuilder, MessageTypes
 from .motion import SEGMENT_HOLD, Motion, Motions
 from .parameters import (
     checked_changes,
@@ -48,6 +48,7 @@ from .parameters import (
 )
 from .relay import ANSWER_DROPPED, ANSWER_FRAME, Answer, Reading, Relay
 from .serialize import Serializer
+from .topics import DIAGNOSTICS, topic_types
 
 __all__ = [
     "DIAGNOSTICS_PERIOD_S",

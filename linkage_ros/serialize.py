@@ -59,7 +59,7 @@ from .frame import STATUS_OK, Frame, JointState, PointState
 from .messages import DIAGNOSTICS, MARKERS, NS_PER_S, MessageBuilder
 from .urdf import TreeJointStates
 
-__all__ = ["Packer", "Serializer", "Slot", "cdr_bytes", "pad4"]
+__all__ = ["Packer", "Serializer", "Slot", "cdr_bytes", "pad4", "read_joint_state"]
 
 #: The name of one number of a tick (see the module docstring).
 Slot = tuple[Any, ...]
@@ -94,15 +94,18 @@ class Packer:
     returns ``[(topic, bytes)]`` in the builder's topic order. KeyError when the order lacks a
     slot the templates need."""
 
-    __slots__ = ("_consts", "_getter", "_pack", "_spans")
+    __slots__ = ("_consts", "_getter", "_pack", "_parts", "_size", "_spans")
 
     def __init__(self, templates: Sequence[_Template], order: Sequence[Slot], slots: Sequence[Slot]) -> None:
         where = {slot: i for i, slot in enumerate(order)}
         index = [where[slot] for slot in slots]  # canonical slot index -> position in the vector
         consts: list[bytes] = []
-        fmt, args, spans, start = ["<"], [], [], 0
+        fmt, spans, start = ["<"], [], 0
+        args: list[int] = []
+        parts: list[tuple[str, str, tuple[int, ...]]] = []  # per topic: its format and arguments
         for tpl in templates:  # one struct for all the topics, cut into one message per topic
             pos = 0
+            first = len(fmt), len(args)
             for off, code, j in tpl.fields:
                 if off > pos:
                     fmt.append(f"{off - pos}s")
@@ -116,11 +119,33 @@ class Packer:
                 args.append(len(order) + len(consts))
                 consts.append(tpl.raw[pos:])
             spans.append((tpl.topic, start, start + len(tpl.raw)))
+            parts.append((tpl.topic, "<" + "".join(fmt[first[0]:]), tuple(args[first[1]:])))
             start += len(tpl.raw)
         self._consts = tuple(consts)
+        self._parts, self._size = tuple(parts), len(order)
         self._getter = itemgetter(*args) if len(args) > 1 else _one(args[0])
         self._pack = struct.Struct("".join(fmt)).pack
         self._spans = tuple(spans)
+
+    def source(self, read: Callable[[int], str], *, prefix: str = "_p") -> tuple[list[str], dict[str, Any]]:
+        """The same packing as generated code: lines (no indentation) whose last returns what
+        ``packer(values)`` returns, ``read(i)`` being the source text of ``values[i]`` (a local
+        name, say); and the names they use (``{prefix}pack{t}``, the constant byte runs
+        ``{prefix}k{i}``). One ``struct`` pack per topic straight from the named numbers (a call
+        with a few tens of arguments, which CPython passes on its stack; one pack of everything
+        would need a list built item by item, then slices): no vector, no getter."""
+        n = self._size
+        namespace: dict[str, Any] = {f"{prefix}k{i}": c for i, c in enumerate(self._consts)}
+        messages = []
+        for t, (topic, fmt, args) in enumerate(self._parts):
+            namespace[f"{prefix}pack{t}"] = struct.Struct(fmt).pack
+            items = ", ".join(read(a) if a < n else f"{prefix}k{a - n}" for a in args)
+            messages.append(f"({topic!r}, {prefix}pack{t}({items}))")
+        return [f"return [{', '.join(messages)}]"], namespace
+
+    def reads(self) -> set[int]:
+        """The positions in the vector that the templates read."""
+        return {a for _, _, args in self._parts for a in args if a < self._size}
 
     def __call__(self, values: tuple[Any, ...]) -> list[tuple[str, bytes]]:
         data = self._pack(*self._getter(values + self._consts))
@@ -308,6 +333,57 @@ class Serializer:
     def _pack_each(self, values: tuple[Any, ...], topics: Sequence[str]) -> list[tuple[str, bytes]]:
         """``topics`` (templated) packed from canonical ``values``, one template at a time."""
         return [self._each[t](values)[0] for t in topics]
+
+
+_U32 = struct.Struct("<I").unpack_from
+_STAMP_AND_FRAME_ID = struct.Struct("<iII").unpack_from
+_CDR_LE = b"\x00\x01"
+
+
+def read_joint_state(data: bytes) -> tuple[list[str], tuple[float, ...], tuple[float, ...], int] | None:
+    """``(names, positions, velocities, stamp_ns)`` of the CDR bytes of a ``sensor_msgs/JointState``
+    (what a raw subscription receives: XCDR1 little endian, as Fast DDS and rosbags write it),
+    read straight off the bytes with ``struct`` instead of building the message object; None for
+    anything else (another encapsulation, truncated or inconsistent bytes, names that are not
+    UTF-8): the caller then deserialises the ordinary way. The effort array is not read."""
+    if data[:2] != _CDR_LE:
+        return None
+    try:
+        sec, nanosec, length = _STAMP_AND_FRAME_ID(data, 4)
+        pos = 16 + length  # header.frame_id: length (with its NUL), characters
+        pos += -pos & 3
+        (count,) = _U32(data, pos)
+        if count > (len(data) - pos) // 4:
+            return None
+        pos += 4
+        names = []
+        for _ in range(count):
+            (length,) = _U32(data, pos)
+            pos += 4
+            if length < 1 or pos + length > len(data) or data[pos + length - 1] != 0:
+                return None
+            names.append(data[pos:pos + length - 1].decode())
+            pos += length
+            pos += -pos & 3
+        positions, pos = _doubles(data, pos)
+        velocities, pos = _doubles(data, pos)
+    except (struct.error, UnicodeDecodeError):
+        return None
+    return names, positions, velocities, sec * NS_PER_S + nanosec
+
+
+def _doubles(data: bytes, pos: int) -> tuple[tuple[float, ...], int]:
+    """A ``float64[]`` at ``pos`` (length aligned to 4, elements to 8 after the 4-byte
+    encapsulation header): its values and the position after it."""
+    pos += -pos & 3
+    (count,) = _U32(data, pos)
+    pos += 4
+    if not count:
+        return (), pos
+    pos += -(pos - 4) & 7
+    if pos + 8 * count > len(data):
+        raise struct.error("truncated float64[]")
+    return struct.unpack_from(f"<{count}d", data, pos), pos + 8 * count
 
 
 def _compile(topic: str, raw: bytes, count: int) -> _Template | None:

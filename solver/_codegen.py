@@ -6,8 +6,11 @@ tree (paths agree line for line up to the guard where they part), drops what no 
 and compiles the result once. The function it yields takes the inputs, their rates and their
 accelerations as floats and returns a flat tuple of floats (:attr:`Compiled.layout`, then the
 groups' conditioning figures, :attr:`Compiled.conditioning`). It performs exactly the Python
-operations the per-tick path performs for those outputs, on the same types and in the same order,
-so its values are the scalar path's to the bit.
+operations the per-tick path performs for those outputs, on the same types and in the same order
+(or a spelling of them that gives the same bits by construction: ``cmath.rect(1.0, a)`` for
+``complex(cos a, sin a)``, a conditional for ``max(x, 0.0)`` and a float's ``abs``), so its
+values are the scalar path's to the bit. For a single input it also builds the same code behind
+the argument check of ``Scene.instant``, which the scene binds in place of that method.
 
 Guards: every comparison the group code made on a traced value is checked again; when one comes
 out otherwise (an assembly limit, a singular position, a branch not yet traced, a zero where the
@@ -20,16 +23,17 @@ the function rebuilt. See docs/compiled.md.
 from __future__ import annotations
 
 import math
-import re
 from collections import Counter
-from collections.abc import Callable, Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Sequence
+from operator import itemgetter
 from typing import Any
 
-from ._trace import TRACE, Guard, Let, Recorder, TraceError, Tracer
+from ._paths import Node, copy_tree, emit, merge, prune, share
+from ._trace import TRACE, Recorder, TraceError, Tracer
 from .errors import SolverError
 from .groups.base import Context
 from .jet import Jet
+from .kinematics import FlatFloats
 from .multi import directions, instant_jets, solve_instant, take_direction
 
 __all__ = ["Compiled", "FlatFloats", "MAX_PATHS", "MAX_TRACES", "EAGER_SAMPLES", "layout_of"]
@@ -41,185 +45,6 @@ MAX_TRACES = 48
 EAGER_SAMPLES = 12
 
 _MATH = {"sqrt": math.sqrt, "cos": math.cos, "sin": math.sin, "atan2": math.atan2, "tan": math.tan}
-
-
-@dataclass
-class _Node:
-    """Straight-line ``items``, then either a branch on a guard or the return of ``ret``."""
-
-    items: list[Let | Guard]
-    ret: tuple[str, ...] | None
-    ret_uses: tuple[str, ...] = ()
-    branch: tuple[Guard, dict[bool, _Node]] | None = None
-    live: list[Let | Guard] = field(default_factory=list)
-    #: after the branch: the tail its two sides share (written once, after the if/else)
-    after: _Node | None = None
-
-
-def _merge(node: _Node, items: list[Let | Guard], ret: tuple[str, ...], uses: tuple[str, ...]) -> bool:
-    """Add one traced path to the tree; False when it cannot be placed (it then stays uncompiled)."""
-    i = 0
-    while True:
-        for j, it in enumerate(node.items):
-            k = i + j
-            if k < len(items) and items[k] == it:
-                continue
-            other = items[k] if k < len(items) else None
-            if isinstance(it, Guard) and isinstance(other, Guard) and it.expr == other.expr:
-                tail = _Node(node.items[j + 1:], node.ret, node.ret_uses, node.branch)
-                new = _Node(items[k + 1:], ret, uses)
-                node.items, node.ret, node.ret_uses = node.items[:j], None, ()
-                node.branch = (it, {it.outcome: tail, other.outcome: new})
-                return True
-            return False
-        i += len(node.items)
-        if node.branch is None:
-            return False  # the same path again: nothing new
-        guard, kids = node.branch
-        other = items[i] if i < len(items) else None
-        if not isinstance(other, Guard) or other.expr != guard.expr:
-            return False
-        if other.outcome not in kids:
-            kids[other.outcome] = _Node(items[i + 1:], ret, uses)
-            return True
-        node, i = kids[other.outcome], i + 1
-
-
-def _prune(node: _Node) -> set[str]:
-    """Keep the lines some output or guard needs; returns the names live on entry."""
-    if node.branch is None:
-        live = set(node.ret_uses)
-    else:
-        guard, kids = node.branch
-        live = set(guard.uses)
-        for kid in kids.values():
-            live |= _prune(kid)
-    kept: list[Let | Guard] = []
-    for it in reversed(node.items):
-        if isinstance(it, Let):
-            if it.name not in live:
-                continue
-            live.discard(it.name)
-        live.update(it.uses)
-        kept.append(it)
-    node.live = kept[::-1]
-    return live
-
-
-def _copy(node: _Node) -> _Node:
-    """The tree's nodes copied (the recorded lines themselves are immutable and shared)."""
-    branch = None
-    if node.branch is not None:
-        guard, kids = node.branch
-        branch = (guard, {k: _copy(v) for k, v in kids.items()})
-    return _Node(list(node.items), node.ret, node.ret_uses, branch)
-
-
-def _share(node: _Node) -> None:
-    """Two sides of a branch that end alike keep only their heads; the common tail follows the if."""
-    if node.branch is None:
-        return
-    kids = node.branch[1]
-    for kid in kids.values():
-        _share(kid)
-    yes, no = kids[True], kids[False]
-    if yes.branch is not None or no.branch is not None or yes.ret != no.ret or yes.ret is None:
-        return
-    shared = 0
-    while (shared < min(len(yes.live), len(no.live))
-           and yes.live[len(yes.live) - 1 - shared] == no.live[len(no.live) - 1 - shared]):
-        shared += 1
-    if shared:
-        node.after = _Node([], yes.ret, yes.ret_uses, None, yes.live[len(yes.live) - shared:])
-        for kid in (yes, no):
-            kid.live, kid.ret, kid.ret_uses = kid.live[: len(kid.live) - shared], None, ()
-
-
-def _counts(node: _Node, counts: Counter[str]) -> Counter[str]:
-    """How often each name is read in the (pruned) subtree of ``node``."""
-    texts = [it.expr for it in node.live]
-    texts += list(node.ret or ()) if node.branch is None else [node.branch[0].expr]
-    counts.update(u for text in texts for u in _NAME.findall(text))
-    if node.branch is not None:
-        for kid in node.branch[1].values():
-            _counts(kid, counts)
-    if node.after is not None:
-        _counts(node.after, counts)
-    return counts
-
-
-_NAME = re.compile(r"\bv\d+\b")
-#: how deep single-use temporaries are folded into the expression that reads them
-INLINE_DEPTH = 6
-
-
-def _segment(items: list[Let | Guard], end: list[str], elsewhere: Counter[str]) -> tuple[list[str], list[str]]:
-    """Lines of one straight-line segment, and its ``end`` expressions (the return's atoms or the
-    branch's condition), with each temporary read once, and only here (``elsewhere``: the reads
-    of the code that runs after the segment), folded into its reader:
-    ``v9 = (v7.real * v7.real)`` instead of a name stored and loaded again. The same operations
-    on the same operands in the same order (Python evaluates operands left to right)."""
-    local: dict[str, int] = {}
-    for text in [*(it.expr for it in items), *end]:
-        for u in _NAME.findall(text):
-            local[u] = local.get(u, 0) + 1
-    pending: dict[str, tuple[str, int]] = {}
-
-    def fold(expr: str) -> tuple[str, int]:
-        depth = 0
-
-        def one(m: re.Match[str]) -> str:
-            nonlocal depth
-            held = pending.pop(m.group(0), None)
-            if held is None:
-                return m.group(0)
-            depth = max(depth, held[1] + 1)
-            return f"({held[0]})"
-
-        return _NAME.sub(one, expr), depth
-
-    lines: list[str] = []
-    for it in items:
-        text, depth = fold(it.expr)
-        if isinstance(it, Let):
-            if local.get(it.name, 0) == 1 and not elsewhere[it.name] and depth < INLINE_DEPTH:
-                pending[it.name] = (text, depth)
-            else:
-                lines.append(f"{it.name} = {text}")
-        elif it.outcome:
-            lines.append(f"if not ({text}): return {{miss}}")
-        else:
-            lines.append(f"if {text}: return {{miss}}")
-    tail = [fold(text)[0] for text in end]
-    for name, (text, _) in pending.items():  # (none are left: each was read in this segment)
-        lines.append(f"{name} = {text}")
-    return lines, tail
-
-
-def _emit(node: _Node, pad: str, miss: str, out: list[str], outer: Counter[str]) -> None:
-    """Write ``node``; ``outer``: the reads of the code that runs after it (its ancestors' tails)."""
-    end = list(node.ret or ()) if node.branch is None else [node.branch[0].expr]
-    later = outer + (_counts(node.after, Counter()) if node.after is not None else Counter())
-    elsewhere = later.copy()
-    if node.branch is not None:
-        for kid in node.branch[1].values():
-            elsewhere += _counts(kid, Counter())
-    lines, tail = _segment(node.live, end, elsewhere)
-    out.extend(pad + line.replace("{miss}", miss) for line in lines)
-    if node.branch is None:
-        if node.ret is None:  # the head of a branch whose tail follows the if/else
-            if not lines:
-                out.append(f"{pad}pass")
-            return
-        out.append(f"{pad}return ({', '.join(tail)}{',' if len(tail) == 1 else ''})")
-        return
-    kids = node.branch[1]
-    out.append(f"{pad}if {tail[0]}:")
-    _emit(kids[True], pad + "    ", miss, out, later)
-    out.append(f"{pad}else:")
-    _emit(kids[False], pad + "    ", miss, out, later)
-    if node.after is not None:
-        _emit(node.after, pad, miss, out, outer)
 
 
 def layout_of(scene: Any, order: int = 2) -> tuple[str, ...]:
@@ -234,33 +59,6 @@ def layout_of(scene: Any, order: int = 2) -> tuple[str, ...]:
     for j in scene.output_joints:
         names.extend(f"{j}.{s}" for s in ("q", "dq", "ddq")[: order + 1])
     return tuple(names)
-
-
-class FlatFloats(Mapping[str, tuple[Any, Any, Any]]):
-    """``Kinematics.floats`` read from a flat tuple: a (position, velocity, acceleration) triple
-    is made only for the output the caller asks for."""
-
-    __slots__ = ("_flat", "_index")
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._index)
-
-    def __len__(self) -> int:
-        return len(self._index)
-
-    def __init__(self, flat: tuple[Any, ...], index: dict[str, tuple[int, int]]) -> None:
-        self._flat = flat
-        self._index = index
-
-    def __contains__(self, name: object) -> bool:
-        return name in self._index
-
-    def __getitem__(self, name: str) -> tuple[Any, Any, Any]:
-        i, width = self._index[name]
-        f = self._flat
-        if width == 0:  # a joint
-            return f[i], f[i + 1], f[i + 2]
-        return f[i:i + width], f[i + width:i + 2 * width], f[i + 2 * width:i + 3 * width]
 
 
 def _as_float(rec: Recorder, x: Any) -> Any:
@@ -284,7 +82,15 @@ class Compiled:
     ``source`` is the generated Python (``Scene.compiled_source()``).
     """
 
-    def __init__(self, scene: Any, order: int = 2, *, derivatives: bool = False) -> None:
+    def __init__(
+        self,
+        scene: Any,
+        order: int = 2,
+        *,
+        derivatives: bool = False,
+        entry: Callable[..., Any] | None = None,
+        bind: Callable[[Callable[..., Any]], None] | None = None,
+    ) -> None:
         if order not in (0, 1, 2):
             raise SolverError(f"{scene.name}: order must be 0, 1 or 2, got {order!r}")
         self.scene = scene
@@ -304,6 +110,15 @@ class Compiled:
         for j in scene.output_joints:
             self.index[j] = (i, 0) if not self.derivatives else (i, k)
             i += order + 1 if not self.derivatives else k + k * k
+        #: output name → the (position, velocity, acceleration) reader of the flat tuple that
+        #: ``Kinematics.floats`` returns (one C call: tuples of a point's axes, a joint's floats)
+        self.readers: dict[str, Callable[[tuple[Any, ...]], tuple[Any, Any, Any]]] = {}
+        if order == 2 and not self.derivatives:
+            for name, (i, width) in self.index.items():
+                self.readers[name] = (
+                    itemgetter(i, i + 1, i + 2) if width == 0
+                    else itemgetter(*(slice(i + a * width, i + (a + 1) * width) for a in range(3)))
+                )
         if self.derivatives:
             self.layout = tuple(
                 f"{name}.{part}" for name in (*scene.output_points, *scene.output_joints)
@@ -314,16 +129,20 @@ class Compiled:
         if self.derivatives:
             self.args: tuple[str, ...] = tuple(f"q{i}" for i in range(k))
         elif k == 1:
-            self.args = ("phi", "w", "e")
+            self.args = ("phi", "omega", "epsilon")
         else:
             self.args = (*(f"q{i}" for i in range(k)), *(f"w{i}" for i in range(k)), *(f"e{i}" for i in range(k)))
         self._constants: dict[Any, tuple[str, Any]] = {}
-        self._root: _Node | None = None
+        self._root: Node | None = None
         self.paths = 0
         self.traces = 0
         self.source = ""
         self.core: Callable[..., Any] = self._no_code
         self.function: Callable[..., Any] = self._on_miss
+        #: one input: ``entry`` (the scene's general ``instant``) and ``bind`` (what installs the
+        #: checked function, :meth:`_build`) — the per-tick ``scene.instant`` in one call frame
+        self._entry = entry if k == 1 and not self.derivatives else None
+        self._bind = bind
         if k == 1 and not self.derivatives:
             for i in range(EAGER_SAMPLES):
                 self._trace((2.0 * math.pi * (i + 0.3819660112501051) / EAGER_SAMPLES, 1.3, 0.7))
@@ -379,8 +198,9 @@ class Compiled:
         self.traces += 1
         rec = Recorder(self._constants)
         inputs = [rec.input(name, v) for name, v in zip(self.args, sample)]
-        # a non-finite argument goes to the scalar path (which names it): x − x is 0 for finite x
-        rec.guard(" + ".join(f"({{{i}}} - {{{i}}})" for i in range(len(inputs))) + " == 0.0", tuple(inputs), True)
+        # a non-finite argument goes to the scalar path (which names it): 0·x is ±0 for finite x,
+        # NaN for ±inf and NaN, and stays so along the product (which cannot overflow)
+        rec.guard("0.0 * " + " * ".join(f"{{{i}}}" for i in range(len(inputs))) + " == 0.0", tuple(inputs), True)
         try:
             values, conditioning, forces = self._run(rec, inputs)
         except Exception:  # whatever stops a trace leaves that path to the scalar path
@@ -394,10 +214,10 @@ class Compiled:
         ret = tuple(a for a, _ in atoms)
         uses = tuple(dict.fromkeys(u for _, us in atoms for u in us))
         if self._root is None:
-            self._root = _Node(rec.items, ret, uses)
+            self._root = Node(rec.items, ret, uses)
             self.paths = 1
             return True
-        if _merge(self._root, rec.items, ret, uses):
+        if merge(self._root, rec.items, ret, uses):
             self.paths += 1
             return True
         return False
@@ -477,29 +297,43 @@ class Compiled:
         if self._root is None:
             self.source = "# no path could be traced: every instant takes the scalar path\n"
             return
-        root = _copy(self._root)  # pruning and sharing tails rewrite the tree: later traces merge into the original
-        _prune(root)
-        _share(root)
+        root = copy_tree(self._root)  # pruning and sharing tails rewrite the tree: later traces merge into the original
+        prune(root)
+        share(root)
         args = ", ".join(self.args)
         miss = f"_miss({args})"
         consts = [name for name, _ in self._constants.values()]
-        lines = [
-            f"def _factory(_miss, _SolverError, {', '.join([*_MATH, *consts])}):",
-            f"    def compiled_instant({args}):",
-            "        try:",
-        ]
-        _emit(root, " " * 12, miss, lines, Counter())
-        lines += [
+        body: list[str] = ["        try:"]
+        emit(root, " " * 12, miss, body, Counter())
+        body += [
             "        except (ArithmeticError, ValueError) as exc:",
             "            if isinstance(exc, _SolverError):",
             "                raise",
             f"        return {miss}",
             "    return compiled_instant",
         ]
-        self.source = "\n".join(lines) + "\n"
-        namespace: dict[str, Any] = {}
-        exec(compile(self.source, f"<compiled {self.scene.name}>", "exec"), namespace)
-        factory = namespace["_factory"]
+        head = f"def _factory(_miss, _SolverError, _entry, {', '.join([*_MATH, *consts])}):"
+        named = [f"# {name} = {getattr(v, '__module__', None) or '?'}.{v.__qualname__}"
+                 for name, v in self._constants.values() if callable(v) and hasattr(v, "__qualname__")]
+        self.source = "\n".join([*named, head, f"    def compiled_instant({args}):", *body]) + "\n"
         values = [v for _, v in self._constants.values()]
-        self.core = factory(self._no_code, SolverError, *_MATH.values(), *values)
-        self.function = factory(self._on_miss, SolverError, *_MATH.values(), *values)
+        factory = self._compile(self.source)
+        self.core = factory(self._no_code, SolverError, None, *_MATH.values(), *values)
+        self.function = factory(self._on_miss, SolverError, None, *_MATH.values(), *values)
+        if self._entry is not None and self._bind is not None:
+            # the same body behind the check the scene's instant() makes before its fast path:
+            # three floats and the default order, else the general entry (a call of the method)
+            checked = "\n".join([
+                head,
+                "    def compiled_instant(phi, omega=1.0, epsilon=0.0, order=2):",
+                "        if (phi.__class__ is not float or omega.__class__ is not float"
+                " or epsilon.__class__ is not float or order != 2):",
+                "            return _entry(phi, omega, epsilon, order=order)",
+                *body,
+            ]) + "\n"
+            self._bind(self._compile(checked)(self._on_miss, SolverError, self._entry, *_MATH.values(), *values))
+
+    def _compile(self, source: str) -> Callable[..., Any]:
+        namespace: dict[str, Any] = {}
+        exec(compile(source, f"<compiled {self.scene.name}>", "exec"), namespace)
+        return namespace["_factory"]  # type: ignore[no-any-return]

@@ -22,6 +22,7 @@ then not compiled, and the scalar path serves it.
 
 from __future__ import annotations
 
+import cmath
 import math
 import operator
 from collections.abc import Callable
@@ -234,6 +235,8 @@ class Tracer:
         return self.rec.let("+{0}", (self,), +self.value)
 
     def __abs__(self) -> Tracer:
+        if type(self.value) is float:  # |x| without a call where x ≷ 0; abs() for ±0.0 and NaN
+            return self.rec.let("({0} if {0} > 0.0 else (-{0} if {0} < 0.0 else abs({0})))", (self,), abs(self.value))
         return self.rec.let("abs({0})", (self,), abs(self.value))
 
     @property
@@ -276,7 +279,15 @@ class TraceBackend(Backend):
     def cis(self, angle: Any) -> Any:
         if type(angle) is not Tracer:
             return SCALAR.cis(angle)
-        return angle.rec.let("complex({0}, {1})", (self.cos(angle), self.sin(angle)), SCALAR.cis(angle.value))
+        value = SCALAR.cis(angle.value)
+        if type(angle.value) is float and _same(cmath.rect(1.0, angle.value), value):
+            # complex(cos a, sin a) in one call: cmath.rect(r, a) is (r·cos a, r·sin a) from the
+            # same libm cos and sin for a finite a ≠ 0, and (r, r·a) for a = ±0 — with r = 1.0 the
+            # same bits (checked here at the traced sample too); non-finite a: the scalar path.
+            # (bound as a constant, as xp.call's functions: whoever runs the lines has it)
+            rect, _ = angle.rec.atom(cmath.rect)
+            return angle.rec.let(rect + "(1.0, {0})", (angle,), value)
+        return angle.rec.let("complex({0}, {1})", (self.cos(angle), self.sin(angle)), value)
 
     def call(self, fn: Callable[..., Any], *args: Any) -> Any:
         """An opaque scalar function (its name bound in the generated code's namespace)."""
@@ -286,6 +297,12 @@ class TraceBackend(Backend):
                 slots = ", ".join("{" + str(i) + "}" for i in range(len(args)))
                 return a.rec.let(f"{name}({slots})", args, fn(*map(_value, args)))
         return fn(*args)
+
+
+def _same(a: complex, b: complex) -> bool:
+    """The same bits (signed zeros told apart; NaN never the same)."""
+    return (a == b and math.copysign(1.0, a.real) == math.copysign(1.0, b.real)
+            and math.copysign(1.0, a.imag) == math.copysign(1.0, b.imag))
 
 
 def _arg(z: Any) -> Any:
@@ -299,7 +316,9 @@ TRACE = TraceBackend(
     _function("sin({0})", math.sin),
     _function("atan2({0}, {1})", math.atan2),
     _function("tan({0})", math.tan),
-    _function("sqrt(max({0}, 0.0))", SCALAR.sqrt0),
+    # max(x, 0.0) keeps x unless 0.0 > x (so −0.0 and NaN pass, as max's do): the same value
+    # without a call
+    _function("sqrt((0.0 if 0.0 > {0} else {0}))", SCALAR.sqrt0),
     _arg,
     _function("-{0}", operator.neg),
     False,

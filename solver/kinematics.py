@@ -8,16 +8,20 @@ returned are the analogs themselves.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
+from functools import cached_property
 from typing import Any, NamedTuple
 
 import numpy as np
 
 from .errors import SolverError
+from .forces import ForceResult
 from .jet import Jet
 
 __all__ = [
     "Derivatives",
+    "FlatFloats",
+    "InstantKinematics",
     "Kinematics",
     "Motion",
     "OutputMotion",
@@ -304,3 +308,102 @@ class Kinematics:
         from .tolerances import SINGULAR
 
         return self.min_conditioning < SINGULAR
+
+
+class FlatFloats(Mapping[str, tuple[Any, Any, Any]]):
+    """``Kinematics.floats`` read from a compiled instant's flat tuple (solver._codegen): a
+    (position, velocity, acceleration) triple is made only for the output the caller asks for.
+    ``index``: output name → (start in the tuple, point width, or 0 for a joint)."""
+
+    __slots__ = ("_flat", "_index")
+
+    def __init__(self, flat: tuple[Any, ...], index: Mapping[str, tuple[int, int]]) -> None:
+        self._flat = flat
+        self._index = index
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._index)
+
+    def __len__(self) -> int:
+        return len(self._index)
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._index
+
+    def __getitem__(self, name: str) -> tuple[Any, Any, Any]:
+        i, width = self._index[name]
+        f = self._flat
+        if width == 0:  # a joint
+            return f[i], f[i + 1], f[i + 2]
+        return f[i:i + width], f[i + width:i + 2 * width], f[i + 2 * width:i + 3 * width]
+
+
+class InstantKinematics(Kinematics):
+    """The result of one compiled instant (solver._codegen, docs/compiled.md): the flat tuple of
+    the compiled function kept as it is, and everything else — conditioning, forces, arrays,
+    derivatives — made from it on first read. Building one is a few attribute stores, and
+    :meth:`floats` reads the tuple directly, so a caller pays only for what it touches.
+
+    ``unit``: the compiled unit (``index``, ``size``, ``conditioning``, ``scene``); ``given``:
+    (φ, ω, ε) as the caller gave them. :meth:`for_unit` also takes ``mask`` and the derivatives
+    (by default the single-input analogs, computed on first use)."""
+
+    _samples: tuple[int, ...] = ()
+    _valid: np.ndarray | None = None
+    _conditioning_arrays: dict[str, Any] | None = None
+    _mask = False
+
+    def __init__(self, unit: Any, flat: tuple[Any, ...], given: tuple[Any, Any, Any]) -> None:
+        # (Kinematics.__init__ is not called: every attribute it sets is a store here, a class
+        # default above, or made on first read below)
+        self._unit = unit
+        self._flat = flat
+        self._phi, self._omega, self._epsilon = given
+        scene = unit.scene
+        self.points, self.joints, self.inputs = scene.output_points, scene.output_joints, scene.inputs
+
+    @classmethod
+    def for_unit(cls, unit: Any, flat: tuple[Any, ...], given: tuple[Any, Any, Any], *, mask: bool = False,
+                 derivatives: Derivatives | None = None) -> InstantKinematics:
+        k = cls(unit, flat, given)
+        if mask:  # (a compiled instant is always assembled: every guard held)
+            k._mask, k._valid = True, np.array(True)
+        if derivatives is not None:
+            k.__dict__["_derivatives"] = derivatives
+        return k
+
+    def floats(self, name: str) -> tuple[Any, Any, Any]:
+        try:
+            return self._unit.readers[name](self._flat)  # type: ignore[no-any-return]
+        except KeyError:
+            if name in self._unit.index:  # (a unit of another order: no readers)
+                return self._floats[name]
+            raise SolverError(f"'{name}' was not requested; requested: {[*self.points, *self.joints]}") from None
+
+    floats.__doc__ = Kinematics.floats.__doc__
+
+    @cached_property
+    def _floats(self) -> FlatFloats:  # type: ignore[override]
+        return FlatFloats(self._flat, self._unit.index)
+
+    @cached_property
+    def _motions(self) -> dict[str, Motion]:  # type: ignore[override]
+        return {}
+
+    @cached_property
+    def _conditioning(self) -> dict[str, Any]:  # type: ignore[override]
+        names = self._unit.conditioning or ()
+        n = self._unit.size
+        return dict(zip(names, self._flat[n:n + len(names)]))
+
+    @cached_property
+    def _forces(self) -> Any:  # type: ignore[override]
+        model = self._unit.scene.forces
+        if model is None:
+            return None
+        return ForceResult(model, self._flat[self._unit.size + len(self._unit.conditioning or ()):], None)
+
+    @cached_property
+    def _derivatives(self) -> Derivatives:  # type: ignore[override]
+        scene, phi, mask = self._unit.scene, self._phi, self._mask
+        return Derivatives(lambda: scene._analogs(phi, mask))

@@ -10,23 +10,24 @@ from __future__ import annotations
 import math
 import os
 import sys
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
+from types import MethodType
 from typing import Any
 
 import numpy as np
 
 from ._backend import NUMPY, SCALAR
-from ._codegen import Compiled, FlatFloats, layout_of
+from ._codegen import Compiled, layout_of
 from ._inputs import check_outputs_move, input_joints
 from ._loader import SceneData, parse_scene, read_yaml
 from .assembly import unassemblable_intervals
 from .errors import AssemblyError, SceneError, SolverError
 from .forces import ForceBuffers, ForceModel, ForceResult
 from .groups import Context
-from .kinematics import Derivatives, Kinematics, empty_motion, fill_motion, motion_rows
+from .kinematics import Derivatives, InstantKinematics, Kinematics, empty_motion, fill_motion, motion_rows
 from .multi import solve_multi
 from .plan import Plan, build_plan, order_groups
 from .singular import change_points, refine_singular
@@ -243,7 +244,16 @@ class Scene:
         if self._multi:  # several inputs: phi (N, k) or (k,) (solver.multi, docs/inputs.md)
             return solve_multi(self, phi, omega, epsilon, mask)
         if type(phi) is float and type(omega) is float and type(epsilon) is float:  # the per-tick call
-            return self._solve_scalar(phi, omega, epsilon, mask)
+            try:
+                unit = self._instant_unit
+            except AttributeError:
+                unit = self.compiled()
+            flat = unit.core(phi, omega, epsilon)  # None where a guard trips: today's path then
+            if flat is None:
+                return self._solve_scalar(phi, omega, epsilon, mask, compiled=False)
+            if mask:
+                return InstantKinematics.for_unit(unit, flat, (phi, omega, epsilon), mask=True)
+            return InstantKinematics(unit, flat, (phi, omega, epsilon))
         if _is_scalar(phi) and _is_scalar(omega) and _is_scalar(epsilon):
             return self._solve_scalar(float(phi), float(omega), float(epsilon), mask)
         phi_arr = np.asarray(phi, dtype=float)
@@ -338,8 +348,7 @@ class Scene:
             unit = self.compiled()
             flat = unit.core(phi, omega, epsilon)
             if flat is not None:
-                return self._from_flat(unit, flat, phi, omega, epsilon, mask,
-                                       Derivatives(lambda: self._analogs(phi, mask)))
+                return InstantKinematics.for_unit(unit, flat, (phi, omega, epsilon), mask=mask)
         if not (math.isfinite(phi) and math.isfinite(omega) and math.isfinite(epsilon)):
             for label, v in (("phi", phi), ("omega", omega), ("epsilon", epsilon)):
                 if not math.isfinite(v):
@@ -400,10 +409,20 @@ class Scene:
             self._compiled_units: dict[tuple[int, bool], Compiled] = {}
         except KeyError:
             pass
-        unit = self._compiled_units[key] = Compiled(self, order, derivatives=derivatives)
-        if key == (2, False) and not self._multi:
-            self._instant_unit = unit  # instant()'s own look-up
+        if key == (2, False) and not self._multi:  # instant()'s own: bound in place of the method
+            unit = Compiled(self, order, entry=MethodType(Scene.instant, self), bind=self._bind_instant)
+            self._instant_unit = unit
+        else:
+            unit = Compiled(self, order, derivatives=derivatives)
+        self._compiled_units[key] = unit
         return unit
+
+    def _bind_instant(self, checked: Callable[..., tuple[Any, ...]]) -> None:
+        """``self.instant`` becomes the compiled function behind the same check of its arguments
+        the method makes (three floats, order 2; anything else goes to the method): one call
+        frame and no look-up per tick. Rebound whenever the unit is rebuilt (a retrace)."""
+        checked.__doc__ = Scene.instant.__doc__
+        self.__dict__["instant"] = checked
 
     def compiled_source(self, *, order: int = 2, derivatives: bool = False) -> str:
         """The generated Python of :meth:`compiled`, to read (docs/compiled.md)."""
@@ -438,21 +457,7 @@ class Scene:
     def _from_flat(self, unit: Compiled, flat: tuple[Any, ...], phi: Any, omega: Any, epsilon: Any,
                    mask: bool, derivatives: Derivatives) -> Kinematics:
         """The result of a compiled instant, read lazily from its flat tuple."""
-        n, names = unit.size, unit.conditioning or ()
-        return Kinematics(
-            phi=phi,
-            omega=omega,
-            epsilon=epsilon,
-            motions={},
-            floats=FlatFloats(flat, unit.index),
-            points=self.output_points,
-            joints=self.output_joints,
-            conditioning=dict(zip(names, flat[n:])),
-            valid=np.array(True) if mask else None,
-            derivatives=derivatives,
-            inputs=self.inputs,
-            forces=None if self.forces is None else ForceResult(self.forces, flat[n + len(names):], None),
-        )
+        return InstantKinematics.for_unit(unit, flat, (phi, omega, epsilon), mask=mask, derivatives=derivatives)
 
     def __repr__(self) -> str:
         return f"Scene({self.name!r}, points={self.output_points}, joints={self.output_joints})"

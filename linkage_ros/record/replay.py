@@ -35,7 +35,7 @@ import numpy as np
 from ..forces import TOPIC_PREFIX
 from .cdr import extract
 from .forces import forces_from_mcap, forces_metadata
-from .mcap import McapContents, read_mcap
+from .mcap_read import McapContents, read_mcap
 from .rundata import RunData, joint_units
 
 __all__ = ["METADATA_NAME", "scene_metadata", "run_data_from_mcap", "stamp_text"]

@@ -133,9 +133,10 @@ def _typestore() -> Any:
 def run_standalone(opts: RunOptions, *, progress: TextIO | None = None) -> RunResult:
     """Run, record and view; returns the arrays, counts and timings."""
     from linkage_ros.engine import Engine
-    from linkage_ros.messages import MessageBuilder, topic_types
+    from linkage_ros.messages import MessageBuilder
     from linkage_ros.motion import Motion, Motions
     from linkage_ros.serialize import Serializer
+    from linkage_ros.topics import topic_types
     from solver import load_scene
 
     from .mcap import Recorder
@@ -149,7 +150,7 @@ def run_standalone(opts: RunOptions, *, progress: TextIO | None = None) -> RunRe
     seconds: dict[str, float] = {}
     scene: Any = opts.scene if hasattr(opts.scene, "with_outputs") else load_scene(opts.scene)
     inputs = tuple(getattr(scene, "inputs", (scene.input_joint,)))
-    motion: Any
+    motion: Motion | Motions
     if len(inputs) > 1:  # several inputs (docs/inputs.md): one law per input
         motion = Motions.of(len(inputs), phi0=opts.phi0, omega=opts.omega, epsilon=opts.epsilon)
     else:

@@ -30,7 +30,8 @@ import numpy as np
 
 from .model import BASE_LINK, TreeModel
 
-__all__ = ["TreeJointStates", "tree_joint_states", "frame_tree_joint_states", "kinematics_tree_joint_states"]
+__all__ = ["TreeJointStates", "evaluate_tree", "tree_inputs", "tree_joint_states", "frame_tree_joint_states",
+           "kinematics_tree_joint_states"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -198,6 +199,7 @@ def _pose(b: _Body, points: _Values, joints: _Values, f: _Functions) -> tuple[An
         o, do = points[b.origin]  # type: ignore[index]
     else:  # o = P − u·x, ȯ = Ṗ − j·ω·u·x with x the anchor's place in the body frame
         pa, va = points[b.anchor]
+        assert w is not None  # an anchored body always spins (_body)
         u = r / abs(r)
         o, do = pa - u * b.x, va - 1j * w * u * b.x
     return o, do, r, dr, w
@@ -308,3 +310,19 @@ def tree_joint_states(model: TreeModel, source: Any) -> TreeJointStates:
     if hasattr(source, "points") and isinstance(source.points, Mapping):
         return frame_tree_joint_states(model, source)
     return kinematics_tree_joint_states(model, source)
+
+
+def tree_inputs(model: TreeModel) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The points and the scene joints whose positions and velocities the tree joints read (for
+    :func:`evaluate_tree`; ``linkage_ros._derived`` traces it into straight-line code)."""
+    plan = _plan(model)
+    return plan.points, plan.joint_inputs
+
+
+def evaluate_tree(model: TreeModel, points: _Values, joints: _Values, *, atan2: Callable[[Any, Any], Any],
+                  sin: Callable[[Any], Any], cos: Callable[[Any], Any],
+                  floor: Callable[[Any], Any]) -> tuple[list[Any], list[Any]]:
+    """Positions and velocities of the tree joints from the :func:`tree_inputs` (points: complex
+    position and velocity; joints: position and velocity) with the given elementary functions:
+    the one evaluation the frame and sweep paths run, on any number type (e.g. tracing values)."""
+    return _evaluate(_plan(model), points, joints, _Functions(atan2, sin, cos, floor))

@@ -1,10 +1,11 @@
 """Dependencies in solver/ point one way: no module imports a higher layer, not even in a function.
 
 Layers, from the bottom (docs/architecture.md, "Dependencies point one way"): errors and
-tolerances and the backend ← jets and the tracer ← groups ← plan ← singular positions and the
-force layer ← assembly intervals and results ← several inputs and scene reading ← the compiled
-instant ← scene ← summaries, classification and the CLI. Imports inside ``if TYPE_CHECKING:``
-count too: a lower module names the scene's type as an alias of ``Any`` instead of importing it.
+tolerances and the backend ← jets and the tracer (and its paths' tree) ← groups ← plan ←
+singular positions and the force layer ← assembly intervals and results ← several inputs and
+scene reading ← the compiled instant ← scene ← summaries, classification and the CLI. Imports
+inside ``if TYPE_CHECKING:`` count too: a lower module names the scene's type as an alias of
+``Any`` instead of importing it.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ LAYERS: dict[str, int] = {
     "solver._fields": 0,
     "solver.jet": 1,
     "solver._trace": 1,
+    "solver._paths": 1,
     "solver.groups": 2,
     "solver.vectors.terms": 2,
     "solver.vectors.analogs": 2,

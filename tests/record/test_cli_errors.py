@@ -153,6 +153,19 @@ def test_linkage_mcap_info_into_a_closed_pipe_ends_quietly(tmp_path: Path) -> No
     assert b"Traceback" not in err and b"Broken pipe" not in err
 
 
+def test_linkage_run_into_a_closed_pipe_ends_quietly() -> None:
+    code = "import sys; from linkage_ros.cli import run_main; sys.exit(run_main(sys.argv[1:]))"
+    child = subprocess.Popen(
+        [sys.executable, "-c", code, "four_bar", "--cycles", "0.2", "--no-mcap", "--no-rrd"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+    )
+    assert child.stdout is not None and child.stderr is not None
+    child.stdout.close()  # `linkage-run four_bar | head -0`
+    err = child.stderr.read()
+    assert child.wait(timeout=60) in (0, 141)
+    assert b"Traceback" not in err and b"Broken pipe" not in err
+
+
 def test_linkage_urdf_errors_are_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert _exit(urdf_main, ["four_bar", "-o", str(tmp_path)]) == 2
     assert "is a directory" in _one_line(capsys)[1]

@@ -186,9 +186,10 @@ def test_a_recording_without_our_metadata_still_gives_the_loads_by_topic_name(tm
     from rosbags.typesys import Stores, get_typestore
 
     from linkage_ros.engine import Engine
-    from linkage_ros.messages import MessageBuilder, topic_types
+    from linkage_ros.messages import MessageBuilder
     from linkage_ros.motion import Motion
     from linkage_ros.record.mcap import Recorder
+    from linkage_ros.topics import topic_types
 
     ts = get_typestore(Stores.ROS2_JAZZY)
     engine = Engine("engine", Motion(phi0=0.2, omega=OMEGA))

@@ -23,13 +23,8 @@ from mcap_ros2.decoder import DecoderFactory
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import Stores, get_typestore
 
-from linkage_ros.record.mcap import (
-    Recorder,
-    absolute_topic,
-    read_mcap,
-    recover,
-    ros2msg_definition,
-)
+from linkage_ros.record.mcap import Recorder, absolute_topic, ros2msg_definition
+from linkage_ros.record.mcap_read import read_mcap, recover
 
 TS = get_typestore(Stores.ROS2_JAZZY)
 T = TS.types
@@ -231,3 +226,11 @@ def test_mcap_cli_tells_a_cut_file_and_recovers_it(tmp_path: Path,
     assert mcap_main(["info", str(fixed)]) == 0
     assert f"{fixed}: finished;" in capsys.readouterr().out
     assert mcap_main(["info", str(tmp_path / "missing.mcap")]) == 2
+
+
+def test_the_reader_is_still_importable_from_the_mcap_module() -> None:
+    from linkage_ros.record import mcap, mcap_read
+
+    for name in mcap_read.__all__:
+        assert getattr(mcap, name) is getattr(mcap_read, name)
+        assert name in mcap.__all__

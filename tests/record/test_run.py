@@ -26,9 +26,8 @@ from rosbags.typesys import Stores, get_typestore
 import solver
 from linkage_ros.cli import run_main
 from linkage_ros.engine import Engine
-from linkage_ros.messages import topic_types
 from linkage_ros.motion import Motion
-from linkage_ros.record.mcap import read_mcap
+from linkage_ros.record.mcap_read import read_mcap
 from linkage_ros.record.run import (
     RunOptions,
     duration_for_cycles,
@@ -36,6 +35,7 @@ from linkage_ros.record.run import (
     summary_lines,
 )
 from linkage_ros.record.rundata import RunData
+from linkage_ros.topics import topic_types
 
 TS = get_typestore(Stores.ROS2_JAZZY)
 EPS = np.finfo(float).eps

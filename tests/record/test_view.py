@@ -19,13 +19,15 @@ from rosbags.typesys import Stores, get_typestore  # noqa: E402
 
 from linkage_ros.cli import view_main  # noqa: E402
 from linkage_ros.engine import Engine  # noqa: E402
-from linkage_ros.messages import MessageBuilder, topic_types  # noqa: E402
+from linkage_ros.messages import MessageBuilder  # noqa: E402
 from linkage_ros.motion import Motion  # noqa: E402
-from linkage_ros.record.mcap import Recorder, read_mcap  # noqa: E402
+from linkage_ros.record.mcap import Recorder  # noqa: E402
+from linkage_ros.record.mcap_read import read_mcap  # noqa: E402
 from linkage_ros.record.replay import run_data_from_mcap  # noqa: E402
 from linkage_ros.record.rerun import arrow_scale, write_rrd  # noqa: E402
 from linkage_ros.record.run import RunOptions, run_standalone  # noqa: E402
 from linkage_ros.record.rundata import RunData  # noqa: E402
+from linkage_ros.topics import topic_types  # noqa: E402
 
 RERUN = next((str(p) for p in (Path(sys.executable).parent / "rerun",) if p.exists()),
               shutil.which("rerun") or "rerun")

@@ -64,7 +64,7 @@ def test_the_fast_path_sends_the_frame_paths_bytes_and_runs_on_ordinary_ticks(sc
         assert got == frames.tick(stamp), k
         taken += fast._last_frame is fast._fast_path
     path = fast._fast_path
-    assert path is not None and path.enabled
+    assert path is not None and path.enabled and path._emit is not None  # the generated tick ran
     assert taken >= 1490  # all but the first ticks and those that carry paths or diagnostics
     last = fast.last_frame  # solved again on demand: the frame the bytes came from
     assert last is not None and frames.last_frame is not None
@@ -148,3 +148,37 @@ def test_the_traced_load_arrow_tips_are_the_builders_bits(scene: str) -> None:
         assert values[len(values) - len(tips):] == tips, k
         compared += 1
     assert compared >= 30
+
+
+@pytest.mark.parametrize("scene", ["four_bar", "five_bar", "harvester_finger", "hard/double_rocker"])
+def test_the_generated_tick_gives_the_values_and_packers_bytes_or_hands_back_where_they_do(scene: str) -> None:
+    from linkage_ros.instant import emit_source
+
+    runtime = Runtime({"scene": scene, "rate_hz": 1000.0}, STORE.types)
+    for k in range(3):
+        runtime.tick(T0 + k * NS // 1000)
+    path = runtime._fast_path
+    assert path is not None and path._emit is not None and path._shape is not None and path._sample is not None
+    packer = runtime.wire.packer(path.order)
+    assert packer is not None
+    source, _ = emit_source(path, path._shape, path._sample, packer) or ("", {})
+    assert source.startswith("def emit(phi, w, e, stamp_ns):") and "_unit.core(" in source
+    if scene == "five_bar":
+        samples = [((1.7 + 0.01 * k, 1.3 - 0.02 * k), (1.0, -2.0), (0.5, 0.0)) for k in range(60)]
+    elif scene == "hard/double_rocker":  # up to its toggle, where the guards hand the instant back
+        toggle = np.arccos(-0.40625)
+        samples = [(float(toggle - 0.1 * 10.0 ** (-k / 4)), 1.0, 0.0) for k in range(60)]
+    else:
+        samples = [(0.1 * k, 2.0, 0.3) for k in range(70)]
+    handed_back = 0
+    for k, (phi, omega, epsilon) in enumerate(samples):
+        stamp = T0 + 7 * k
+        path.solve(phi, omega, epsilon)  # a miss of the compiled code traces that branch: both see it
+        values = path.values(phi, omega, epsilon, stamp)
+        got = path._emit(phi, omega, epsilon, stamp)
+        handed_back += got is None
+        assert got == (None if values is None else packer(values)), k
+    if scene == "hard/double_rocker":
+        assert 0 < handed_back < len(samples)
+    else:
+        assert handed_back == 0

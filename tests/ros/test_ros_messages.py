@@ -13,16 +13,9 @@ from rosbags.typesys import Stores, get_typestore
 
 from linkage_ros.engine import Engine
 from linkage_ros.frame import STATUS_UNASSEMBLABLE
-from linkage_ros.messages import (
-    FIXED_TOPIC_TYPES,
-    MessageBuilder,
-    MessageTypes,
-    build_messages,
-    point_topics,
-    stamp_parts,
-    topic_types,
-)
+from linkage_ros.messages import MessageBuilder, MessageTypes, build_messages
 from linkage_ros.motion import Motion
+from linkage_ros.topics import FIXED_TOPIC_TYPES, point_topics, stamp_parts, topic_types
 from linkage_ros.urdf import exportable_model, frame_tree_joint_states
 
 STAMP = 1_700_000_123_456_789_012
@@ -211,3 +204,11 @@ def test_missing_message_classes_are_named() -> None:
     del partial["visualization_msgs/msg/Marker"]
     with pytest.raises(KeyError, match="visualization_msgs/msg/Marker"):
         MessageTypes(partial)
+
+
+def test_the_topic_table_is_still_importable_from_the_messages_module() -> None:
+    from linkage_ros import messages, topics
+
+    for name in topics.__all__:
+        assert getattr(messages, name) is getattr(topics, name)
+        assert name in messages.__all__

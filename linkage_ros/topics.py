@@ -1,0 +1,95 @@
+"""The topics a mechanism publishes: their names (relative, resolved in the node's namespace)
+and ROS types, in the order :class:`~linkage_ros.messages.MessageBuilder` builds them::
+
+    joint_states               sensor_msgs/msg/JointState
+    joint_kinematics           trajectory_msgs/msg/JointTrajectory
+    points/<P>/position        geometry_msgs/msg/PointStamped
+    points/<P>/velocity        geometry_msgs/msg/Vector3Stamped
+    points/<P>/acceleration    geometry_msgs/msg/Vector3Stamped
+    pin_loads/<K>              geometry_msgs/msg/WrenchStamped   (scenes with forces only,
+    slide_loads/<K>            geometry_msgs/msg/WrenchStamped    :mod:`.load_messages`)
+    markers                    visualization_msgs/msg/MarkerArray
+    diagnostics                diagnostic_msgs/msg/DiagnosticArray
+
+No message classes here: the table is what the recorders declare and the node advertises before
+any message is built.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+
+from .engine import Engine
+from .load_messages import load_topic_types
+
+__all__ = [
+    "DIAGNOSTICS",
+    "FIXED_TOPIC_TYPES",
+    "JOINT_KINEMATICS",
+    "JOINT_STATES",
+    "MARKERS",
+    "MARKER_NAMESPACES",
+    "NS_PER_S",
+    "point_topics",
+    "stamp_parts",
+    "topic_types",
+]
+
+#: Nanoseconds per second (stamps are integer ns).
+NS_PER_S = 1_000_000_000
+
+JOINT_STATES = "joint_states"
+JOINT_KINEMATICS = "joint_kinematics"
+MARKERS = "markers"
+DIAGNOSTICS = "diagnostics"
+
+#: Topics that every engine publishes, with their types.
+FIXED_TOPIC_TYPES: dict[str, str] = {
+    JOINT_STATES: "sensor_msgs/msg/JointState",
+    JOINT_KINEMATICS: "trajectory_msgs/msg/JointTrajectory",
+    MARKERS: "visualization_msgs/msg/MarkerArray",
+    DIAGNOSTICS: "diagnostic_msgs/msg/DiagnosticArray",
+}
+
+#: Marker namespaces in the markers topic.
+MARKER_NAMESPACES = ("links", "joints", "fixed_pivots", "paths")
+
+_NAME_TOKEN = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+
+
+def point_topics(point: str) -> tuple[str, str, str]:
+    """``(position, velocity, acceleration)`` topic names of point ``point``."""
+    if not _NAME_TOKEN.match(point):
+        raise ValueError(
+            f"point name {point!r} cannot be part of a ROS topic name "
+            "(letters, digits and underscores, not starting with a digit)"
+        )
+    base = f"points/{point}"
+    return (f"{base}/position", f"{base}/velocity", f"{base}/acceleration")
+
+
+def topic_types(engine_or_points: Engine | Sequence[str]) -> list[tuple[str, str]]:
+    """Every ``(topic, type name)`` published for an engine (or a list of published points),
+    in the order :func:`~linkage_ros.messages.build_messages` returns them."""
+    points = engine_or_points.published_points if isinstance(engine_or_points, Engine) else tuple(engine_or_points)
+    out = [
+        (JOINT_STATES, FIXED_TOPIC_TYPES[JOINT_STATES]),
+        (JOINT_KINEMATICS, FIXED_TOPIC_TYPES[JOINT_KINEMATICS]),
+    ]
+    for p in points:
+        pos, vel, acc = point_topics(p)
+        out += [
+            (pos, "geometry_msgs/msg/PointStamped"),
+            (vel, "geometry_msgs/msg/Vector3Stamped"),
+            (acc, "geometry_msgs/msg/Vector3Stamped"),
+        ]
+    out += load_topic_types(getattr(engine_or_points, "load_pairs", ()))
+    out += [(MARKERS, FIXED_TOPIC_TYPES[MARKERS]), (DIAGNOSTICS, FIXED_TOPIC_TYPES[DIAGNOSTICS])]
+    return out
+
+
+def stamp_parts(stamp_ns: int) -> tuple[int, int]:
+    """``(sec, nanosec)`` of a time in integer nanoseconds (nanosec in [0, 10⁹))."""
+    sec, nanosec = divmod(int(stamp_ns), NS_PER_S)
+    return sec, nanosec
