@@ -459,6 +459,13 @@ class Scene:
         """The result of a compiled instant, read lazily from its flat tuple."""
         return InstantKinematics.for_unit(unit, flat, (phi, omega, epsilon), mask=mask, derivatives=derivatives)
 
+    _COMPILED_CACHE = ("_compiled_units", "_instant_unit", "instant")
+
+    def __getstate__(self) -> dict[str, Any]:
+        """A scene pickles and copies without its compiled functions (generated code, bound to
+        this scene): the copy builds its own on first use, with the same values."""
+        return {k: v for k, v in self.__dict__.items() if k not in self._COMPILED_CACHE}
+
     def __repr__(self) -> str:
         return f"Scene({self.name!r}, points={self.output_points}, joints={self.output_joints})"
 

@@ -114,3 +114,21 @@ def test_the_one_call_spellings_give_the_same_bits_at_awkward_angles(name: str) 
     for a in angles:
         for w, e in ((1.0, 0.0), (-2.5, 7.0), (-0.0, -0.0)):
             assert outcome(unit.function, a, w, e) == outcome(unit.fallback, a, w, e), (a, w, e)
+
+
+@pytest.mark.parametrize("name", ["four_bar", "four_bar_loaded", "five_bar"])
+def test_a_used_scene_pickles_and_copies_without_its_compiled_code(name: str) -> None:
+    import copy
+    import pickle
+
+    scene = solver.load_scene(name).everything()
+    q = (0.4, 1.9) if name == "five_bar" else 0.4
+    first = scene.solve(q, omega=1.5, epsilon=0.25)
+    for other in (pickle.loads(pickle.dumps(scene)), copy.copy(scene), copy.deepcopy(scene)):
+        assert "instant" not in other.__dict__ and "_compiled_units" not in other.__dict__
+        again = other.solve(q, omega=1.5, epsilon=0.25)
+        for point in scene.output_points:
+            assert bits(again.floats(point)) == bits(first.floats(point))
+        if name != "five_bar":
+            assert other.instant is not scene.instant
+            assert other.instant(0.4, 1.5, 0.25) == scene.instant(0.4, 1.5, 0.25)
