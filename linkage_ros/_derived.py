@@ -2,13 +2,18 @@
 
 The URDF tree joints on ``joint_states`` (:mod:`linkage_ros.urdf.states`' own evaluation) and the
 tips of the load arrows (``MessageBuilder.load_tips``) are run once on tracing values
-(``solver._trace``, the compiled instant's tracer) read off a flat vector of a tick's numbers in
+(:mod:`solver.tracing`, the compiled instant's tracer) read off a flat vector of a tick's numbers in
 slot order (:mod:`linkage_ros.serialize`); what they did is recorded as lines of Python that
 perform the same operations, so every bit is the evaluation's. :class:`TracedCode` is that
 code, with the expression of each input number chosen by the caller (``read(i)``: ``"x[3]"``
 for a function of the vector, a local name where :mod:`linkage_ros.instant` inlines the lines
 into the tick's one generated function). None wherever the evaluation compares a traced value
 or cannot be traced: then the builder's own evaluation runs per tick.
+
+The recorded lines are then cut down without changing an operation (:func:`_split`: sums and
+differences of complex numbers part by part, no ``x - 0.0``, no dead lines; :func:`_inline`:
+each temporary read once written into its reader): the harvester finger's tree joints ≈ 2 → 1.2 µs;
+``tests/ros/test_ros_fast_path.py`` checks the result against the lines as recorded, bit for bit.
 """
 
 from __future__ import annotations
@@ -18,6 +23,8 @@ import re
 from collections.abc import Callable, Sequence
 from operator import itemgetter
 from typing import Any, NamedTuple
+
+from solver.tracing import TRACE, Guard, Recorder, TraceError
 
 from .frame import JointState, PointState
 from .serialize import Slot
@@ -47,25 +54,151 @@ def _rename(text: str, prefix: str) -> str:
     return re.sub(r"\b([vk]\d+)\b", prefix + r"\1", text)
 
 
-def _code(rec: Any, head: list[str], out: Sequence[Any], prefix: str) -> TracedCode | None:
-    from solver._trace import Guard
-
+def _code(rec: Any, head: list[str], out: Sequence[Any], prefix: str, simplify: bool = True) -> TracedCode | None:
     if any(isinstance(item, Guard) for item in rec.items):
         return None
-    body = [f"{item.name} = {item.expr}" for item in rec.items]
-    outputs = tuple(_rename(rec.atom(x)[0], prefix) for x in out)
+    lines = [(line.partition(" = ")[0], line.partition(" = ")[2]) for line in head]
+    lines += [(item.name, item.expr) for item in rec.items]
+    outputs = [rec.atom(x)[0] for x in out]
+    types = getattr(rec, "types", None)
+    if simplify and types is not None:
+        types.update({name: type(value) for name, value in rec.constants.values()})
+        lines, outputs = _split(lines, outputs, types)
+    if simplify:
+        lines, outputs = _inline(lines, outputs)
+    body = [f"{name} = {expr}" for name, expr in lines]
+    renamed = tuple(_rename(text, prefix) for text in outputs)
     namespace: dict[str, Any] = {"complex": complex, "max": max, "abs": abs}
     namespace.update({n: getattr(math, n) for n in ("sqrt", "cos", "sin", "atan2", "tan")})
     namespace.update({prefix + name: value for name, value in rec.constants.values()})
-    return TracedCode(tuple(head) + tuple(_rename(line, prefix) for line in body), outputs, namespace)
+    return TracedCode(tuple(_rename(line, prefix) for line in body), renamed, namespace)
+
+
+_NAME = re.compile(r"[A-Za-z_]\w*")
+_COMPLEX = re.compile(r"complex\(([^,()]+), ([^,()]+)\)")
+_SUM = re.compile(r"(\w+) ([-+]) (\w+)")
+_PART = re.compile(r"(\w+)\.(real|imag)")
+#: a name or an item of the vector (``x[3]``): the parts ``complex(x, y)`` is read as
+_READ = re.compile(r"[A-Za-z_]\w*(\[\d+\])?")
+
+
+#: the deepest nesting of parentheses :func:`_inline` writes (far below the parser's limit)
+_DEPTH = 24
+
+
+def _inline(lines: list[tuple[str, str]], outputs: list[str]) -> tuple[list[tuple[str, str]], list[str]]:
+    """Each name read once written into the one expression that reads it, in parentheses: the
+    same operations on the same operands (every name is bound once and every operation is a
+    pure one), without a store and a load per temporary."""
+    uses: dict[str, int] = {}
+    for text in [expr for _, expr in lines] + outputs:
+        for m in _NAME.finditer(text):
+            uses[m.group(0)] = uses.get(m.group(0), 0) + 1
+    inlined: dict[str, tuple[str, int]] = {}
+
+    def fill(text: str) -> tuple[str, int]:
+        depth = [0]
+
+        def one(m: re.Match[str]) -> str:
+            found = inlined.pop(m.group(0), None)
+            if found is None:
+                return m.group(0)
+            depth[0] = max(depth[0], found[1] + 1)
+            return f"({found[0]})"
+
+        return _NAME.sub(one, text), depth[0]
+
+    kept: list[tuple[str, str]] = []
+    for name, expr in lines:
+        expr, depth = fill(expr)
+        if uses.get(name) == 1 and depth < _DEPTH:
+            inlined[name] = (expr, depth)
+        else:
+            kept.append((name, expr))
+    return kept, [fill(text)[0] for text in outputs]
+
+
+class _TypedRecorder(Recorder):
+    """A :class:`solver.tracing.Recorder` that also keeps the class (float, complex) of the value
+    of every name it hands out: what :func:`_split` needs to know which lines are complex."""
+
+    def __init__(self) -> None:
+        super().__init__({})
+        self.types: dict[str, type] = {}
+
+    def let(self, template: str, args: tuple[Any, ...], value: Any) -> Any:
+        traced = super().let(template, args, value)
+        self.types[traced.name] = type(value)
+        return traced
+
+    def input(self, name: str, value: Any) -> Any:
+        self.types[name] = type(value)
+        return super().input(name, value)
+
+
+def _split(lines: list[tuple[str, str]], outputs: list[str],
+           types: dict[str, type]) -> tuple[list[tuple[str, str]], list[str]]:
+    """The same operations on the same bits, with fewer complex numbers: a sum or difference of
+    two complex numbers is taken part by part (``(a ± b).real`` is ``a.real ± b.real`` exactly:
+    CPython's complex ``+`` and ``-`` of two complex numbers are those two float operations), a
+    complex number built by ``complex(x, y)`` is read as ``x`` and ``y``, ``z.real`` / ``z.imag``
+    of such a number is its part, ``x - 0.0`` of a float ``x`` is ``x`` (for every x, −0.0
+    included) and a name bound to another name is that name; a complex number is built (by
+    ``complex(re, im)``: the same two floats) only where something else reads it, and lines no
+    output needs are dropped."""
+    alias: dict[str, str] = {}
+    parts: dict[str, tuple[str, str]] = {}
+    fresh = 1 + max((int(name[1:]) for name, _ in lines if re.fullmatch(r"v\d+", name)), default=-1)
+    new: list[tuple[str, str]] = []
+
+    def swap(text: str) -> str:
+        return _NAME.sub(lambda m: alias.get(m.group(0), m.group(0)), text)
+
+    def part(name: str, k: int) -> str:
+        return parts[name][k] if name in parts else f"{name}.{('real', 'imag')[k]}"
+
+    for name, expr in lines:
+        expr = swap(expr)
+        complex_ = types.get(name) is complex
+        if _NAME.fullmatch(expr):
+            alias[name] = expr
+        elif (complex_ and (m := _COMPLEX.fullmatch(expr))
+              and all(_READ.fullmatch(x) and types.get(x, float) is float for x in m.groups())):
+            parts[name] = (m.group(1), m.group(2))
+            new.append((name, expr))
+        elif (complex_ and (m := _SUM.fullmatch(expr)) and types.get(m.group(1)) is complex
+              and types.get(m.group(3)) is complex and (m.group(1) in parts or m.group(3) in parts)):
+            a, sign, b = m.groups()
+            made = []
+            for k in range(2):
+                made.append(f"v{fresh}")
+                new.append((f"v{fresh}", f"{part(a, k)} {sign} {part(b, k)}"))
+                fresh += 1
+            parts[name] = (made[0], made[1])
+            new.append((name, f"complex({made[0]}, {made[1]})"))
+        elif (m := _PART.fullmatch(expr)) and m.group(1) in parts:
+            alias[name] = parts[m.group(1)][m.group(2) == "imag"]
+        elif types.get(name) is float and expr.endswith(" - 0.0") and _NAME.fullmatch(expr[:-6]) \
+                and types.get(expr[:-6]) is float:
+            alias[name] = expr[:-6]
+        else:
+            new.append((name, expr))
+    outputs = [swap(text) for text in outputs]
+    needed = {m.group(0) for text in outputs for m in _NAME.finditer(text)}
+    kept: list[tuple[str, str]] = []
+    for name, expr in reversed(new):
+        if name in needed:
+            kept.append((name, expr))
+            needed.update(m.group(0) for m in _NAME.finditer(expr))
+    return kept[::-1], outputs
 
 
 def tree_code(scene: Any, order: Sequence[Slot], values: tuple[Any, ...], *, read: Read = _vector,
-              prefix: str = "") -> TracedCode | None:
+              prefix: str = "", simplify: bool = True) -> TracedCode | None:
     """The URDF tree joints' positions then velocities from the numbers in slot ``order``
-    (traced at ``values``); None when the scene has no tree or the evaluation cannot be traced."""
-    from solver._trace import TRACE, Recorder, TraceError
-
+    (traced at ``values``); None when the scene has no tree or the evaluation cannot be traced.
+    ``simplify``: the recorded lines with fewer complex numbers and temporaries (:func:`_split`,
+    :func:`_inline`: the same operations on the same bits); False: as recorded."""
     from .urdf import exportable_model
     from .urdf.states import evaluate_tree, tree_inputs
 
@@ -74,7 +207,7 @@ def tree_code(scene: Any, order: Sequence[Slot], values: tuple[Any, ...], *, rea
         return None
     tree_points, tree_joints = tree_inputs(model)
     where = {slot: i for i, slot in enumerate(order)}
-    rec = Recorder({})
+    rec = _TypedRecorder()
     head: list[str] = []
     points: dict[str, tuple[Any, Any]] = {}
     joints: dict[str, tuple[Any, Any]] = {}
@@ -94,15 +227,13 @@ def tree_code(scene: Any, order: Sequence[Slot], values: tuple[Any, ...], *, rea
                               floor=lambda x: TRACE.call(math.floor, x))
     except (TraceError, KeyError, TypeError):
         return None
-    return _code(rec, head, (*q, *dq), prefix)
+    return _code(rec, head, (*q, *dq), prefix, simplify)
 
 
 def view_code(produce: Callable[[Any], Sequence[Any]], view: View, values: tuple[Any, ...], *,
               read: Read = _vector, prefix: str = "") -> TracedCode | None:
     """``produce(view)`` (e.g. the builder's ``load_tips``) traced with the view reading the
     numbers (at ``values``); None when ``produce`` compares a traced value or needs a plain number."""
-    from solver._trace import Recorder, TraceError
-
     rec = Recorder({})
     view.values = tuple(rec.input(read(i), v) for i, v in enumerate(values))
     try:

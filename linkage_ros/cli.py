@@ -10,12 +10,15 @@ Each ``*_main`` returns the exit status (0 ok, 1 runtime error, 2 bad input, 130
 141 when the reader of its output went away, e.g. ``| head``). A bad command line, scene or
 output path is one line on stderr. Only the default ``runs/`` folder is created; an explicit
 output path must be a file name in an existing folder.
+
+``linkage-run`` is written here; ``linkage-view`` and ``linkage-mcap`` (the commands on a recorded
+file) in :mod:`linkage_ros._cli_recorded`, what the three share in :mod:`linkage_ros._cli_common`.
+Every command is imported from here (the console scripts name ``linkage_ros.cli``).
 """
 
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import math
 import os
 import shutil
@@ -32,10 +35,13 @@ from solver._cmdline import (
     Parser,
     bounded,
     check_output,
-    one_line,
     positive,
     quiet_pipe,
 )
+
+from ._cli_common import EXIT_ERROR, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, NO_RERUN, err, os_error, show, spawn_file
+from ._cli_common import have_rerun as _have_rerun  # looked up here at each run (tests replace it)
+from ._cli_recorded import mcap_main, view_main
 
 if TYPE_CHECKING:  # for the annotation; imported where used, when a run has loads
     from .forces import LoadArrows
@@ -43,28 +49,8 @@ if TYPE_CHECKING:  # for the annotation; imported where used, when a run has loa
 __all__ = ["mcap_main", "rerun_command", "run_main", "view_main"]
 
 RUNS_DIR = Path("runs")
-EXIT_OK, EXIT_ERROR, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
 MAX_TICKS = 10_000_000
 """Most ticks of one run (every tick is kept in memory for the rerun view and the summary)."""
-
-
-NO_RERUN = (
-    "rerun-sdk is not installed (pip install 'rerun-sdk>=0.41,<0.42'; it needs numpy >= 2, "
-    "so in a ROS 2 Jazzy environment with the system numpy 1.26 use a venv for viewing)"
-)
-
-
-def _have_rerun() -> bool:
-    return importlib.util.find_spec("rerun") is not None
-
-
-def _err(msg: str, prog: str = "linkage") -> None:
-    print(f"{prog}: error: {one_line(msg)}", file=sys.stderr)
-
-
-def _os_error(exc: OSError) -> str:
-    name = f"{exc.filename}: " if exc.filename else ""
-    return f"{name}{exc.strerror or exc}"
 
 
 def _law(limit: float) -> Any:
@@ -223,7 +209,7 @@ def run_main(argv: Sequence[str] | None = None) -> int:
             summary_lines,
         )
     except ImportError as exc:  # pragma: no cover - missing extra
-        _err(f"{exc}; install the record extra: pip install 'linkage_ros[record]'", "linkage-run")
+        err(f"{exc}; install the record extra: pip install 'linkage_ros[record]'", "linkage-run")
         return EXIT_ERROR
     points = [p.strip() for p in args.points.split(",") if p.strip()] if args.points else None
     try:  # everything the command line says is checked before the run starts
@@ -240,14 +226,14 @@ def run_main(argv: Sequence[str] | None = None) -> int:
         stem = f"{scene.name.replace('/', '_')}-{time.strftime('%Y%m%d-%H%M%S')}"
         mcap, rrd = _run_outputs(args, stem)
     except (solver.SolverError, ValueError) as exc:
-        _err(str(exc), "linkage-run")
+        err(str(exc), "linkage-run")
         return EXIT_USAGE
     except OSError as exc:
-        _err(_os_error(exc), "linkage-run")
+        err(os_error(exc), "linkage-run")
         return EXIT_USAGE
     if (rrd is not None or args.spawn) and not _have_rerun():
         if args.rrd is not None or args.spawn:
-            _err(NO_RERUN, "linkage-run")
+            err(NO_RERUN, "linkage-run")
             return EXIT_USAGE
         print(f"note: {NO_RERUN}; no .rrd written", file=sys.stderr)
         rrd = None
@@ -255,7 +241,7 @@ def run_main(argv: Sequence[str] | None = None) -> int:
         if default is not None and default.parent == RUNS_DIR:
             RUNS_DIR.mkdir(exist_ok=True)  # the one folder made on the user's behalf
     one = len(laws["omega"]) == 1
-    shown = _spawn_file(rrd, stem) if args.spawn else rrd  # the viewer opens a file
+    shown = spawn_file(rrd, stem) if args.spawn else rrd  # the viewer opens a file
     opts = RunOptions(
         scene=args.scene, duration=duration, rate=args.rate,
         omega=laws["omega"][0] if one else laws["omega"],
@@ -268,13 +254,13 @@ def run_main(argv: Sequence[str] | None = None) -> int:
     try:
         result = run_standalone(opts, progress=tty)
     except (solver.SolverError, ValueError, KeyError) as exc:
-        _err(str(exc), "linkage-run")
+        err(str(exc), "linkage-run")
         return EXIT_USAGE
     except OSError as exc:
-        _err(_os_error(exc), "linkage-run")
+        err(os_error(exc), "linkage-run")
         return EXIT_ERROR
     except RuntimeError as exc:
-        _err(str(exc), "linkage-run")
+        err(str(exc), "linkage-run")
         return EXIT_ERROR
     data = result.data
     outputs = tuple(points or scene.output_points)
@@ -304,7 +290,7 @@ def run_main(argv: Sequence[str] | None = None) -> int:
               file=sys.stderr)
         return EXIT_INTERRUPTED
     if args.spawn and shown is not None:
-        _show(shown, "linkage-run")
+        show(shown, "linkage-run")
     return EXIT_OK
 
 
@@ -320,168 +306,3 @@ def rerun_command(*, executable: str | None = None, cwd: Path | None = None) -> 
         return "rerun"
     base = Path.cwd() if cwd is None else cwd
     return str(here.relative_to(base)) if here.is_relative_to(base) else str(here)
-
-
-def _spawn_file(rrd: Path | None, stem: str) -> Path:
-    """The file a spawned viewer opens: the .rrd written anyway, else a temporary one."""
-    from linkage_ros.record.viewer import temporary_rrd
-
-    return rrd if rrd is not None else temporary_rrd(stem)
-
-
-def _show(rrd: Path, prog: str) -> bool:
-    """Open ``rrd`` in the rerun viewer; where it cannot be, one line saying how to view it."""
-    from linkage_ros.record.viewer import show
-
-    note = show(rrd)
-    if note is not None:
-        print(f"{prog}: note: {note}", file=sys.stderr)
-    return note is None
-
-
-def _check_input(path: Path, what: str) -> None:
-    if not path.exists():
-        raise ValueError(f"{path}: no such file")
-    if path.is_dir():
-        raise ValueError(f"{path}: is a directory, not {what}")
-
-
-@quiet_pipe
-def view_main(argv: Sequence[str] | None = None) -> int:
-    """``linkage-view``."""
-    p = Parser(
-        prog="linkage-view",
-        description="Turn a recorded MCAP run into the rerun view (from the messages, without "
-                    "solving again); works on files cut short by a crash.")
-    p.add_argument("mcap", type=Path, help="recorded run (.mcap)")
-    p.add_argument("-o", "--output", type=Path, metavar="RUN.rrd",
-                   help="rerun file to write (default: next to the MCAP, RUN.view.rrd, so that the "
-                        ".rrd linkage-run wrote beside it is kept)")
-    p.add_argument("--spawn", action="store_true", help="show it in a rerun viewer")
-    args = p.parse_args(argv)
-    out = args.output or (None if args.spawn else args.mcap.with_suffix(".view.rrd"))
-    kept = out is not None
-    try:
-        _check_input(args.mcap, "an MCAP file")
-        if out is not None:
-            check_output(out, "-o" if args.output else "output")
-            if out.resolve() == args.mcap.resolve():
-                raise ValueError(f"-o {out}: that is the MCAP file being read")
-    except ValueError as exc:
-        _err(str(exc), "linkage-view")
-        return EXIT_USAGE
-    if not _have_rerun():
-        _err(NO_RERUN, "linkage-view")
-        return EXIT_USAGE
-    from linkage_ros.record.replay import run_data_from_mcap, stamp_text
-    from linkage_ros.record.rerun import write_rrd
-
-    try:
-        data, contents = run_data_from_mcap(args.mcap)
-    except OSError as exc:
-        _err(_os_error(exc), "linkage-view")
-        return EXIT_USAGE
-    except (ValueError, KeyError, IndexError, TypeError) as exc:
-        _err(_unreadable(args.mcap, exc), "linkage-view")
-        return EXIT_USAGE
-    if out is None:
-        out = _spawn_file(None, args.mcap.stem)
-    try:
-        write_rrd(data, out)
-    except OSError as exc:
-        _err(_os_error(exc), "linkage-view")
-        return EXIT_ERROR
-    except RuntimeError as exc:
-        _err(str(exc), "linkage-view")
-        return EXIT_ERROR
-    state = "finished" if contents.complete else "cut short (no footer), read up to the last chunk"
-    span = float(data.t[-1]) if data.n else 0.0
-    first = f", from {stamp_text(data.start_ns)}" if data.n and data.start_ns else ""
-    print(f"{args.mcap}: {state}; {contents.message_count} messages, {data.n} ticks over "
-          f"{span:g} s of run time{first}")
-    if kept:
-        print(f"rerun: {out}")
-    if args.spawn and not _show(out, "linkage-view") and not kept:
-        return EXIT_ERROR
-    return EXIT_OK
-
-
-def _unreadable(path: Path, error: Exception) -> str:
-    """Why linkage-view cannot show ``path``: a recording cut short before any of its chunks was
-    closed holds no message (said so), anything else is not a linkage_ros recording."""
-    from linkage_ros.record.mcap_read import read_mcap
-
-    try:
-        contents = read_mcap(path, messages=False)
-    except (OSError, ValueError, KeyError, IndexError, TypeError):
-        contents = None
-    if contents is not None and not contents.complete and contents.message_count == 0:
-        return (f"{path}: cut short before its first chunk was closed: no messages to show (a recording "
-                f"keeps what it wrote up to its last closed chunk; linkage-mcap info {path})")
-    why = one_line(str(error), 200).removeprefix(f"{path}: ")
-    return f"{path}: not a readable linkage_ros recording ({why})"
-
-
-def _about(path: Path, error: Exception) -> str:
-    """``PATH: what is wrong``, naming the path once (some messages already start with it)."""
-    if isinstance(error, OSError) and error.filename:
-        return _os_error(error)  # names its own file (BROKEN or FIXED)
-    text = str(error)
-    return text if text.startswith(f"{path}:") else f"{path}: {text}"
-
-
-@quiet_pipe
-def mcap_main(argv: Sequence[str] | None = None) -> int:
-    """``linkage-mcap``: one line per outcome, each file named once."""
-    p = Parser(prog="linkage-mcap", description="Inspect and repair MCAP runs.")
-    sub = p.add_subparsers(dest="command", required=True)
-    rec = sub.add_parser("recover", help="write a valid, finished copy of a file cut short")
-    rec.add_argument("broken", type=Path)
-    rec.add_argument("fixed", type=Path)
-    info = sub.add_parser("info", help="topics, counts and whether the file was finished")
-    info.add_argument("file", type=Path)
-    args = p.parse_args(argv)
-    from linkage_ros.record.mcap_read import read_mcap, recover
-    from linkage_ros.record.replay import stamp_text
-
-    source: Path = args.broken if args.command == "recover" else args.file
-    try:
-        _check_input(source, "an MCAP file")
-        if args.command == "recover":
-            check_output(args.fixed, "FIXED")
-            if args.fixed.resolve() == args.broken.resolve():
-                raise ValueError(f"FIXED {args.fixed}: write the recovered copy to another file than BROKEN")
-    except ValueError as exc:
-        _err(str(exc), "linkage-mcap")
-        return EXIT_USAGE
-    try:
-        contents = recover(args.broken, args.fixed) if args.command == "recover" else read_mcap(source)
-    except (OSError, ValueError, KeyError, IndexError) as exc:
-        _err(_about(source, exc), "linkage-mcap")
-        return EXIT_ERROR if isinstance(exc, OSError) and exc.filename != str(source) else EXIT_USAGE
-    topics = contents.topics()
-    if args.command == "recover":
-        lost = contents.size - contents.valid_bytes
-        what = ("it was finished, nothing lost" if contents.complete
-                else f"cut short: the last {lost} bytes, after the last whole record, dropped")
-        print(f"{args.fixed}: {len(contents.messages)} messages on {len(topics)} topics recovered "
-              f"from {args.broken} ({what})")
-        return EXIT_OK
-    header = contents.header
-    writer = f"{header.profile} profile, written by {header.library}" if header else "no header"
-    times = [m.log_time for m in contents.messages]
-    first, last = (min(times), max(times)) if times else (0, 0)
-    span = f", {(last - first) / 1e9:g} s" if times else ""
-    span += f" from {stamp_text(first)}" if first else ""
-    if contents.complete:
-        state = "finished"
-    else:
-        state = (f"NOT finished (readable up to byte {contents.valid_bytes} of {contents.size}; "
-                 f"make a finished copy with: linkage-mcap recover {source} FIXED.mcap)")
-    print(f"{source}: {state}; {len(times)} messages on {len(topics)} topics{span}; {writer}")
-    counts: dict[str, int] = {}
-    for m in contents.messages:
-        counts[m.topic] = counts.get(m.topic, 0) + 1
-    for topic, typename in topics.items():
-        print(f"  {topic:40s} {typename:40s} {counts.get(topic, 0)}")
-    return EXIT_OK

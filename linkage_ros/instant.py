@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections import Counter
 from collections.abc import Callable, Sequence
 from typing import Any, NamedTuple
 
@@ -382,6 +383,9 @@ Emit = Callable[[Any, Any, Any, int], "list[tuple[str, bytes]] | None"]
 _FORCE_PART = re.compile(r"f\[(\d+)\]")
 _PART_OF = re.compile(r"float\(complex\((-?f\[\d+\])\)\.(real|imag)\)")
 _AS_FLOAT = re.compile(r"float\((-?f\[\d+\])\)")
+#: a plain name (the pack reads it as it is), one in parentheses
+_NAMED = re.compile(r"[A-Za-z_]\w*")
+_PARENTHESIZED = re.compile(r"\([A-Za-z_]\w*\)")
 
 
 def _plain(expr: str) -> str:
@@ -424,14 +428,24 @@ def emit_source(path: FastPath, shape: _Shape, values: tuple[Any, ...],
     if conditioning:
         lowest = conditioning[0] if len(conditioning) == 1 else f"min({', '.join(conditioning)})"
         lines.append(f"if {lowest} < _near: return None")
-    loads = [f"x{2 + n + j}" for j in range(len(shape.reader))]
-    lines += [name + " = " + _FORCE_PART.sub(r"f\1", _plain(expr)) for name, expr in zip(loads, shape.reader)]
-    lines += [f"if not _isfinite(_sum(flat[:{n}]){''.join(' + ' + x for x in loads)}): return None",  # as values()
+    used = packer.reads()
+    reads = Counter(int(i) for i in re.findall(r"\bx(\d+)\b", " ".join(packer.source(lambda i: f"x{i}")[0])))
+    terms: list[str] = []  # values()'s finiteness check's sum less its + 0.0 (finite iff the sum is)
+    named: dict[int, str] = {}  # numbers the pack reads as an expression, not a local x{i}
+    for i, expr in enumerate(shape.reader, start=2 + n):
+        expr = _FORCE_PART.sub(r"f\1", _plain(expr))
+        expr = expr[1:-1] if _PARENTHESIZED.fullmatch(expr) else expr  # (f0): f0 itself
+        if i in used and not _NAMED.fullmatch(expr):
+            lines.append(f"x{i} = {expr}")
+            expr = f"x{i}"
+        named[i] = expr
+        terms += [expr] if expr != "0.0" else []
+    lines += [f"if not _isfinite(_sum(flat[:{n}]){''.join(' + ' + x for x in terms)}): return None",
               f"x0, x1 = divmod(stamp_ns, {NS_PER_S})"]
     namespace: dict[str, Any] = {"_unit": unit, "_near": shape.near, "_isfinite": math.isfinite, "_sum": sum,
                                  "complex": complex, "float": float, "min": min, "divmod": divmod}
     tree, tips = path._derived
-    where = 2 + n + len(loads)
+    where = 2 + n + len(shape.reader)
 
     def local(i: int) -> str:
         return f"x{i}"
@@ -442,7 +456,6 @@ def emit_source(path: FastPath, shape: _Shape, values: tuple[Any, ...],
     if tips:
         assert path._view is not None
         pieces.append(view_code(path.builder.load_tips, path._view, values, read=local, prefix="L_"))
-    used = packer.reads()
     for code in pieces:
         if code is None:
             return None
@@ -451,10 +464,11 @@ def emit_source(path: FastPath, shape: _Shape, values: tuple[Any, ...],
         if used.isdisjoint(outputs):  # e.g. the arrow tips when only joint_states is packed
             continue
         lines += code.lines
-        lines += [f"x{i} = {expr}" for i, expr in zip(outputs, code.outputs)]
+        named.update((i, e) for i, e in zip(outputs, code.outputs) if _NAMED.fullmatch(e) or reads[i] == 1)
+        lines += [f"x{i} = {e}" for i, e in zip(outputs, code.outputs) if i not in named]
         namespace.update(code.namespace)
     if where != len(path.order):
         return None
-    pack, names = packer.source(local)
+    pack, names = packer.source(lambda i: named.get(i, f"x{i}"))
     namespace.update(names)
     return "\n".join(["def emit(phi, w, e, stamp_ns):", *("    " + line for line in lines + pack)]) + "\n", namespace

@@ -33,7 +33,7 @@ import math
 from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING, Any
 
-from solver._trace import TRACE
+from solver.tracing import TRACE
 
 from .forces import KIND_PIN, LoadArrows, LoadPair, load_arrows
 from .urdf import BASE_LINK

@@ -68,6 +68,10 @@ rules above input by input (``omega_from`` is the same for all: the message has 
 message's reason names the group and the failing sample ``(q1, …, qk)`` (no φ interval:
 ``answer.interval`` is None). ``relay.input_joints`` lists the joints read (``(input_joint,)``
 with one input); joint_states leaves out all of them.
+
+Written in three parts: the message read and answered here; which joint is read and φ from it
+in :mod:`linkage_ros._relay_joint`; the ω and ε rules in :mod:`linkage_ros._relay_rates` (its
+names are imported from here).
 """
 
 from __future__ import annotations
@@ -79,6 +83,20 @@ from typing import Any, NamedTuple
 
 from solver.errors import AssemblyError, format_intervals
 
+from ._relay_joint import InputMap, input_map
+from ._relay_rates import (
+    DEFAULT_MAX_GAP,
+    EPSILON_DIFFERENCE,
+    EPSILON_FROM_VELOCITIES,
+    EPSILON_FROM_ZERO,
+    EPSILON_RULES,
+    EPSILON_ZERO,
+    NS_PER_S,
+    OMEGA_FROM_MESSAGE,
+    OMEGA_FROM_NONE,
+    OMEGA_FROM_POSITIONS,
+    Rates,
+)
 from .engine import Engine, interval_containing
 from .frame import Frame
 from .urdf import exportable_model, frame_tree_joint_states
@@ -106,25 +124,6 @@ ANSWER_FRAME = "frame"
 ANSWER_DROPPED = "dropped"
 ANSWER_UNASSEMBLABLE = "unassemblable"
 ANSWER_IGNORED = "ignored"
-
-#: The ε rules (``Relay(epsilon=...)``).
-EPSILON_ZERO = "zero"
-EPSILON_DIFFERENCE = "difference"
-EPSILON_RULES = (EPSILON_ZERO, EPSILON_DIFFERENCE)
-
-#: Where an answer's ω came from.
-OMEGA_FROM_MESSAGE = "message"
-OMEGA_FROM_POSITIONS = "positions"
-OMEGA_FROM_NONE = "none"
-#: Where an answer's ε came from.
-EPSILON_FROM_ZERO = "zero"
-EPSILON_FROM_VELOCITIES = "velocities"
-
-#: Two messages further apart than this (s) are not differenced (for ω without velocities, or ε).
-DEFAULT_MAX_GAP = 0.25
-
-NS_PER_S = 1_000_000_000
-TWO_PI = 2.0 * math.pi
 
 
 @dataclass(frozen=True, slots=True)
@@ -158,31 +157,6 @@ class Reading(NamedTuple):
     q: Any
 
 
-@dataclass(frozen=True, slots=True)
-class _InputMap:
-    """φ = shift + sign·q for the joint the driver publishes (q its coordinate)."""
-
-    name: str
-    sign: float
-    shift: float
-
-
-@dataclass(slots=True)
-class _Previous:
-    stamp_ns: int
-    q: float
-    dq: float | None  # the message's velocity (None: the message had none)
-
-
-@dataclass(slots=True)
-class _PreviousInputs:
-    """The previous accepted message of a several-input relay: one entry per input."""
-
-    stamp_ns: int
-    q: tuple[float, ...]
-    dq: tuple[float, ...] | None
-
-
 class Relay:
     """Answers JointState messages with frames of ``engine``'s scene (see the module docstring)."""
 
@@ -210,13 +184,12 @@ class Relay:
                     f"({', '.join(inputs)}), each read by its own name from the same message; "
                     "leave input_joint empty"
                 )
-            self._map = _InputMap(inputs[0], 1.0, 0.0)
+            self._map = InputMap(inputs[0], 1.0, 0.0)
             self.input_joints: tuple[str, ...] = inputs
         else:
-            self._map = _input_map(self.scene, input_joint)
+            self._map = input_map(self.scene, input_joint)
             self.input_joints = (self._map.name,)
         self.input_joint: str = self._map.name
-        self._multi: _PreviousInputs | None = None
         skip = frozenset(self.input_joints)
         self._tree = exportable_model(self.scene)
         tree_names = () if self._tree is None else tuple(self._tree.joint_names)
@@ -227,7 +200,7 @@ class Relay:
             *(n for n, keep in zip(tree_names, self._tree_mask) if keep),
         )
         self._own = frozenset(self.published_joints)
-        self._previous: _Previous | None = None
+        self._rates = Rates(rule=epsilon, max_gap_ns=self.max_gap_ns)
 
     # ------------------------------------------------------------------ one message
     def answer(
@@ -279,7 +252,7 @@ class Relay:
             dq = float(velocities[i])
             if not math.isfinite(dq):
                 return Answer(ANSWER_DROPPED, stamp_ns, reason=f"joint '{name}' velocity is {dq}")
-        omega_q, omega_from, eps_q, eps_from = self._rates(stamp_ns, q, dq)
+        omega_q, omega_from, eps_q, eps_from = self._rates.one(stamp_ns, q, dq)
         m = self._map
         return Reading(stamp_ns, m.shift + m.sign * q, m.sign * omega_q, m.sign * eps_q, omega_from, eps_from, q)
 
@@ -305,8 +278,7 @@ class Relay:
 
     def reset(self) -> None:
         """Forget the previous message (e.g. when the node switches back to topic mode)."""
-        self._previous = None
-        self._multi = None
+        self._rates.reset()
 
     def _read_inputs(
         self, names: Sequence[str], positions: Sequence[float], velocities: Sequence[float], stamp_ns: int
@@ -343,34 +315,8 @@ class Relay:
             bad += [f"'{n}' velocity is {v}" for n, v in zip(self.input_joints, dq) if not math.isfinite(v)]
         if bad:
             return Answer(ANSWER_DROPPED, stamp_ns, reason="joint " + ", ".join(bad))
-        omega, omega_from, eps, eps_from = self._rates_inputs(stamp_ns, q, dq)
+        omega, omega_from, eps, eps_from = self._rates.several(stamp_ns, q, dq)
         return Reading(stamp_ns, q, omega, eps, omega_from, eps_from, q)
-
-    def _rates_inputs(
-        self, stamp_ns: int, q: tuple[float, ...], dq: tuple[float, ...] | None
-    ) -> tuple[tuple[float, ...], str, tuple[float, ...], str]:
-        """:meth:`_rates` input by input: ω and ε k-tuples, and where they came from."""
-        prev = self._multi
-        dt_ns = stamp_ns - prev.stamp_ns if prev is not None else 0
-        near = prev is not None and 0 < dt_ns <= self.max_gap_ns
-        dt = dt_ns / NS_PER_S
-        zeros = (0.0,) * len(q)
-        omega, omega_from = zeros, OMEGA_FROM_NONE
-        if dq is not None:
-            omega, omega_from = dq, OMEGA_FROM_MESSAGE
-        elif near:
-            assert prev is not None
-            omega = tuple(_wrap(a - b) / dt for a, b in zip(q, prev.q))
-            omega_from = OMEGA_FROM_POSITIONS
-        eps, eps_from = zeros, EPSILON_FROM_ZERO
-        if self.epsilon_rule == EPSILON_DIFFERENCE and near and dq is not None:
-            assert prev is not None
-            if prev.dq is not None:
-                eps = tuple((a - b) / dt for a, b in zip(dq, prev.dq))
-                eps_from = EPSILON_FROM_VELOCITIES
-        if prev is None or dt_ns > 0:  # an older (reordered) message does not replace a newer one
-            self._multi = _PreviousInputs(stamp_ns, q, dq)
-        return omega, omega_from, eps, eps_from
 
     # ------------------------------------------------------------------ outgoing joints
     def joint_states(self, frame: Frame) -> tuple[tuple[str, ...], tuple[float, ...], tuple[float, ...]]:
@@ -384,81 +330,3 @@ class Relay:
             q += [v for v, keep in zip(tree.position, self._tree_mask) if keep]
             dq += [v for v, keep in zip(tree.velocity, self._tree_mask) if keep]
         return self.published_joints, tuple(q), tuple(dq)
-
-    # ------------------------------------------------------------------ helpers
-    def _rates(self, stamp_ns: int, q: float, dq: float | None) -> tuple[float, str, float, str]:
-        """ω and ε in the driver joint's coordinate, and where each came from; remembers the
-        message for the next one."""
-        prev = self._previous
-        dt_ns = stamp_ns - prev.stamp_ns if prev is not None else 0
-        near = prev is not None and 0 < dt_ns <= self.max_gap_ns
-        dt = dt_ns / NS_PER_S
-        if dq is not None:
-            omega, omega_from = dq, OMEGA_FROM_MESSAGE
-        elif near:
-            assert prev is not None
-            omega, omega_from = _wrap(q - prev.q) / dt, OMEGA_FROM_POSITIONS
-        else:
-            omega, omega_from = 0.0, OMEGA_FROM_NONE
-        eps, eps_from = 0.0, EPSILON_FROM_ZERO
-        if self.epsilon_rule == EPSILON_DIFFERENCE and near and dq is not None:
-            assert prev is not None
-            if prev.dq is not None:
-                eps, eps_from = (dq - prev.dq) / dt, EPSILON_FROM_VELOCITIES
-        if prev is None:
-            self._previous = _Previous(stamp_ns, q, dq)
-        elif dt_ns > 0:  # an older (reordered) message does not replace a newer one
-            prev.stamp_ns, prev.q, prev.dq = stamp_ns, q, dq
-        return omega, omega_from, eps, eps_from
-
-
-def _input_map(scene: Any, input_joint: str | None) -> _InputMap:
-    """How φ follows from the joint the driver publishes (see :class:`Relay`)."""
-    own = str(scene.input_joint)
-    if not input_joint or input_joint == own:  # None or "" (a ROS parameter's empty default)
-        return _InputMap(own, 1.0, 0.0)
-    mapped = _revolute_input(scene, input_joint)
-    if mapped is not None:
-        return mapped
-    accepted = [own, *_revolute_inputs(scene)]
-    raise ValueError(
-        f"input_joint '{input_joint}' does not drive scene '{scene.name}': the driver's joint must be "
-        f"the scene's input joint or a revolute joint of the input crank against the frame; "
-        f"accepted: {', '.join(accepted)}"
-    )
-
-
-def _revolute_inputs(scene: Any) -> list[str]:
-    return [g.name for g in scene.ordered if _revolute_input(scene, g.name) is not None]
-
-
-def _revolute_input(scene: Any, name: str) -> _InputMap | None:
-    """The map of a URDF-style ``revolute`` scene joint whose child is the input crank (both its
-    points) and whose parent is fixed, else None."""
-    group = next((g for g in scene.ordered if g.name == name and getattr(g, "kind", "") == "joint"), None)
-    if group is None or getattr(group, "expression", "") != "revolute":
-        return None
-    crank = next((g for g in scene.ordered if getattr(g, "drives", False)), None)
-    center, point = getattr(crank, "center", None), getattr(crank, "point", None)
-    if center is None or point is None:
-        return None
-    parent, child = group.points[:2], group.points[2:4]
-    fixed = scene.fixed_points
-    if not all(p in fixed for p in parent):
-        return None
-    if tuple(child) == (center, point):
-        turn = 0.0
-    elif tuple(child) == (point, center):
-        turn = math.pi
-    else:
-        return None
-    d = fixed[parent[1]] - fixed[parent[0]]
-    theta_p = math.atan2(float(d[1]), float(d[0]))
-    sign = float(group.sign)
-    return _InputMap(name, sign, theta_p - turn - sign * float(group.offset))
-
-
-def _wrap(x: float) -> float:
-    """``x`` wrapped to (−π, π]."""
-    y = math.remainder(x, TWO_PI)
-    return math.pi if y == -math.pi else y

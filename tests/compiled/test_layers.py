@@ -26,6 +26,7 @@ LAYERS: dict[str, int] = {
     "solver._fields": 0,
     "solver.jet": 1,
     "solver._trace": 1,
+    "solver.tracing": 1,  # the tracer's public face (re-exports solver._trace)
     "solver._paths": 1,
     "solver.groups": 2,
     "solver.vectors.terms": 2,
