@@ -49,7 +49,7 @@ import struct
 import subprocess
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -76,13 +76,32 @@ def stamped(data: bytes, stamp_ns: int) -> bytes:
     return data[:4] + _STAMP.pack(*divmod(stamp_ns, NS)) + data[12:]
 
 
+def floor_callback(publishers: dict[str, Any], messages: tuple[list[tuple[str, bytes]], list[tuple[str, bytes]]],
+                   rate: float, count: list[int]) -> Callable[[], None]:
+    """The floor's timer callback: ``messages`` (:func:`floor_messages`) published on
+    ``publishers`` (by topic), the first once a second, joint_states stamped now; ``count[0]``
+    counts the ticks."""
+    from linkage_ros.messages import JOINT_STATES
+
+    rows = [[(publishers[t], t == JOINT_STATES, data) for t, data in tick] for tick in messages]
+    per_second = max(int(round(rate)), 1)
+
+    def on_timer() -> None:
+        row = rows[0] if count[0] % per_second == 0 else rows[1]
+        count[0] += 1
+        now = time.time_ns()
+        for publisher, stamp, data in row:
+            publisher.publish(stamped(data, now) if stamp else data)
+
+    return on_timer
+
+
 def floor_main(scene: str, rate: float, ros_args: Sequence[str], executor_kind: str) -> int:
     """A minimal rclpy node: pre-rendered bytes of the same topics, published from a timer."""
     import rclpy
     from rclpy.node import Node
     from rclpy.signals import SignalHandlerOptions
 
-    from linkage_ros.messages import JOINT_STATES
     from linkage_ros.node import make_executor, message_classes, qos_profile
 
     once_a_second, every_tick = floor_messages(scene, rate)
@@ -99,19 +118,7 @@ def floor_main(scene: str, rate: float, ros_args: Sequence[str], executor_kind: 
         node = Node("floor")
         classes = message_classes(sorted(set(types.values())))
         publishers = {t: node.create_publisher(classes[types[t]], t, qos_profile()) for t in types}
-        rows = [[(publishers[t], t == JOINT_STATES, data) for t, data in messages]
-                for messages in (once_a_second, every_tick)]
-        per_second = max(int(round(rate)), 1)
-        count = [0]
-
-        def on_timer() -> None:
-            row = rows[0] if count[0] % per_second == 0 else rows[1]
-            count[0] += 1
-            now = time.time_ns()
-            for publisher, stamp, data in row:
-                publisher.publish(stamped(data, now) if stamp else data)
-
-        node.create_timer(1.0 / rate, on_timer)
+        node.create_timer(1.0 / rate, floor_callback(publishers, (once_a_second, every_tick), rate, [0]))
         executor = make_executor(executor_kind)
         executor.add_node(node)
         while not stop[0] and executor.context.ok():

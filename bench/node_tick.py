@@ -125,10 +125,9 @@ def in_situ_child(scene: str, rate: float, seconds: float, warmup: float, floor:
     from rclpy.parameter import Parameter
     from rclpy.signals import SignalHandlerOptions
 
-    from linkage_ros.messages import JOINT_STATES
     from linkage_ros.node import MechanismNode, make_executor
 
-    from .node_floor import floor_messages, stamped
+    from .node_floor import floor_callback, floor_messages
 
     rclpy.init(args=[], signal_handler_options=SignalHandlerOptions.NO)
     try:
@@ -138,20 +137,7 @@ def in_situ_child(scene: str, rate: float, seconds: float, warmup: float, floor:
         whole = [0]
         clock = time.perf_counter_ns
         if floor:
-            once_a_second, every_tick = floor_messages(scene, rate)
-            publishers = node._topic_publishers
-            rows = [[(publishers[t], t == JOINT_STATES, data) for t, data in messages]
-                    for messages in (once_a_second, every_tick)]
-            per_second = max(int(round(rate)), 1)
-
-            def on_timer() -> None:
-                row = rows[0] if count[0] % per_second == 0 else rows[1]
-                count[0] += 1
-                now = time.time_ns()
-                for publisher, stamp, data in row:
-                    publisher.publish(stamped(data, now) if stamp else data)
-
-            node._tick_timer.callback = on_timer
+            node._tick_timer.callback = floor_callback(node._topic_publishers, floor_messages(scene, rate), rate, count)
         else:
             runtime = node.runtime
             tick = runtime.tick
