@@ -24,7 +24,7 @@ from collections.abc import Callable, Sequence
 from operator import itemgetter
 from typing import Any, NamedTuple
 
-from solver.tracing import TRACE, Guard, Recorder, TraceError
+from solver.tracing import TRACE, Guard, Recorder, TraceError, fold_single_use
 
 from .frame import JointState, PointState
 from .serialize import Slot
@@ -87,35 +87,10 @@ _DEPTH = 24
 
 
 def _inline(lines: list[tuple[str, str]], outputs: list[str]) -> tuple[list[tuple[str, str]], list[str]]:
-    """Each name read once written into the one expression that reads it, in parentheses: the
-    same operations on the same operands (every name is bound once and every operation is a
-    pure one), without a store and a load per temporary."""
-    uses: dict[str, int] = {}
-    for text in [expr for _, expr in lines] + outputs:
-        for m in _NAME.finditer(text):
-            uses[m.group(0)] = uses.get(m.group(0), 0) + 1
-    inlined: dict[str, tuple[str, int]] = {}
-
-    def fill(text: str) -> tuple[str, int]:
-        depth = [0]
-
-        def one(m: re.Match[str]) -> str:
-            found = inlined.pop(m.group(0), None)
-            if found is None:
-                return m.group(0)
-            depth[0] = max(depth[0], found[1] + 1)
-            return f"({found[0]})"
-
-        return _NAME.sub(one, text), depth[0]
-
-    kept: list[tuple[str, str]] = []
-    for name, expr in lines:
-        expr, depth = fill(expr)
-        if uses.get(name) == 1 and depth < _DEPTH:
-            inlined[name] = (expr, depth)
-        else:
-            kept.append((name, expr))
-    return kept, [fill(text)[0] for text in outputs]
+    """Each name read once written into the one expression that reads it, in parentheses
+    (:func:`solver.tracing.fold_single_use`, every name of the code counted)."""
+    kept, tail = fold_single_use(lines, outputs, names=_NAME, depth=_DEPTH)
+    return [(name, expr) for name, expr in kept if name is not None], tail
 
 
 class _TypedRecorder(Recorder):

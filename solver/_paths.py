@@ -11,11 +11,12 @@ from __future__ import annotations
 
 import re
 from collections import Counter
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 from ._trace import Guard, Let
 
-__all__ = ["Node", "merge", "prune", "copy_tree", "share", "emit", "INLINE_DEPTH", "TUPLE_CHUNK"]
+__all__ = ["Node", "merge", "prune", "copy_tree", "share", "emit", "fold_single_use", "INLINE_DEPTH", "TUPLE_CHUNK"]
 
 
 @dataclass
@@ -128,46 +129,68 @@ _NAME = re.compile(r"\bv\d+\b")
 INLINE_DEPTH = 6
 
 
-def _segment(items: list[Let | Guard], end: list[str], elsewhere: Counter[str]) -> tuple[list[str], list[str]]:
-    """Lines of one straight-line segment, and its ``end`` expressions (the return's atoms or the
-    branch's condition), with each temporary read once, and only here (``elsewhere``: the reads
-    of the code that runs after the segment), folded into its reader:
+def fold_single_use(
+    lines: Sequence[tuple[str | None, str]],
+    end: Sequence[str],
+    *,
+    names: re.Pattern[str] = _NAME,
+    depth: int = INLINE_DEPTH,
+    elsewhere: Mapping[str, int] | None = None,
+) -> tuple[list[tuple[str | None, str]], list[str]]:
+    """Straight-line ``lines`` (``(name, expression)``; a name of None: a line that binds nothing,
+    such as a guard's condition, kept in its place) and the ``end`` expressions that read them,
+    with each name read once, and only here (``elsewhere``: reads of the code that runs after),
+    folded in parentheses into the one expression that reads it, at most ``depth`` deep:
     ``v9 = (v7.real * v7.real)`` instead of a name stored and loaded again. The same operations
-    on the same operands in the same order (Python evaluates operands left to right)."""
+    on the same operands in the same order (Python evaluates operands left to right; every name
+    is bound once and every operation is pure). ``names`` matches the names to count."""
+    outside = elsewhere or {}
     local: dict[str, int] = {}
-    for text in [*(it.expr for it in items), *end]:
-        for u in _NAME.findall(text):
+    for text in [*(expr for _, expr in lines), *end]:
+        for u in names.findall(text):
             local[u] = local.get(u, 0) + 1
     pending: dict[str, tuple[str, int]] = {}
 
     def fold(expr: str) -> tuple[str, int]:
-        depth = 0
+        deepest = 0
 
         def one(m: re.Match[str]) -> str:
-            nonlocal depth
+            nonlocal deepest
             held = pending.pop(m.group(0), None)
             if held is None:
                 return m.group(0)
-            depth = max(depth, held[1] + 1)
+            deepest = max(deepest, held[1] + 1)
             return f"({held[0]})"
 
-        return _NAME.sub(one, expr), depth
+        return names.sub(one, expr), deepest
 
+    kept: list[tuple[str | None, str]] = []
+    for name, expr in lines:
+        text, level = fold(expr)
+        if name is not None and local.get(name, 0) == 1 and not outside.get(name) and level < depth:
+            pending[name] = (text, level)
+        else:
+            kept.append((name, text))
+    tail = [fold(text)[0] for text in end]
+    kept += [(n, t) for n, (t, _) in pending.items()]  # (none are left where each is read here)
+    return kept, tail
+
+
+def _segment(items: list[Let | Guard], end: list[str], elsewhere: Counter[str]) -> tuple[list[str], list[str]]:
+    """Lines of one straight-line segment, and its ``end`` expressions (the return's atoms or the
+    branch's condition), temporaries read once folded into their reader (:func:`fold_single_use`);
+    a guard is a line that binds nothing."""
+    pairs = [(it.name if isinstance(it, Let) else None, it.expr) for it in items]
+    kept, tail = fold_single_use(pairs, end, elsewhere=elsewhere)
+    guards = iter(it for it in items if isinstance(it, Guard))
     lines: list[str] = []
-    for it in items:
-        text, depth = fold(it.expr)
-        if isinstance(it, Let):
-            if local.get(it.name, 0) == 1 and not elsewhere[it.name] and depth < INLINE_DEPTH:
-                pending[it.name] = (text, depth)
-            else:
-                lines.append(f"{it.name} = {text}")
-        elif it.outcome:
+    for name, text in kept:
+        if name is not None:
+            lines.append(f"{name} = {text}")
+        elif next(guards).outcome:
             lines.append(f"if not ({text}): return {{miss}}")
         else:
             lines.append(f"if {text}: return {{miss}}")
-    tail = [fold(text)[0] for text in end]
-    for name, (text, _) in pending.items():  # (none are left: each was read in this segment)
-        lines.append(f"{name} = {text}")
     return lines, tail
 
 

@@ -6,12 +6,14 @@ the lines, run on other numbers, perform the same operations and give the same b
 is the backend whose elementary functions (``TRACE.atan2``, ``TRACE.sin``, ``TRACE.call``) record
 too; a comparison of a traced value leaves a :class:`Guard` (the outcome seen while tracing), and
 whatever cannot be recorded (a conversion to a plain number, a numpy call) raises
-:class:`TraceError`. The compiled instant (:meth:`solver.Scene.compiled`) is built this way;
+:class:`TraceError`. :func:`fold_single_use` writes each temporary read once into its reader.
+The compiled instant (:meth:`solver.Scene.compiled`) is built this way;
 :mod:`linkage_ros._derived` traces the numbers a message builder derives from a frame with it.
 """
 
 from __future__ import annotations
 
+from ._paths import fold_single_use
 from ._trace import TRACE, Guard, Recorder, TraceError, Tracer
 
-__all__ = ["TRACE", "Guard", "Recorder", "TraceError", "Tracer"]
+__all__ = ["TRACE", "Guard", "Recorder", "TraceError", "Tracer", "fold_single_use"]
