@@ -375,10 +375,8 @@ class InstantKinematics(Kinematics):
     def floats(self, name: str) -> tuple[Any, Any, Any]:
         try:
             return self._unit.readers[name](self._flat)  # type: ignore[no-any-return]
-        except KeyError:
-            if name in self._unit.index:  # (a unit of another order: no readers)
-                return self._floats[name]
-            raise SolverError(f"'{name}' was not requested; requested: {[*self.points, *self.joints]}") from None
+        except KeyError:  # a unit of another order (no readers), or a name not requested
+            return Kinematics.floats(self, name)
 
     floats.__doc__ = Kinematics.floats.__doc__
 

@@ -42,7 +42,7 @@ from .forces import ForceBuffers, ForceResult
 from .groups import Context
 from .groups.base import require_samples
 from .jet import Jet
-from .kinematics import Derivatives, Kinematics, empty_motion, fill_motion, motion_rows
+from .kinematics import Derivatives, InstantKinematics, Kinematics, empty_motion, fill_motion, motion_rows
 
 #: a :class:`solver.scene.Scene`; not imported, since the scene sits above this module (it
 #: calls this one): dependencies point one way, annotations included.
@@ -196,7 +196,7 @@ def _solve_instant(scene: Scene, q: tuple[float, ...], omega: list[Any], epsilon
     unit = scene.compiled()
     flat = unit.core(*q, *omega, *epsilon)
     if flat is not None:
-        return scene._from_flat(unit, flat, q, omega, epsilon, mask, derivatives)  # type: ignore[no-any-return]
+        return InstantKinematics.for_unit(unit, flat, (q, omega, epsilon), mask=mask, derivatives=derivatives)
     return solve_instant(scene, q, omega, epsilon, mask)
 
 

@@ -454,11 +454,6 @@ class Scene:
                                   f"{k} numbers, got {v!r:.60}")
         return f(*map(float, phi), *map(float, w), *map(float, e))  # type: ignore[no-any-return]
 
-    def _from_flat(self, unit: Compiled, flat: tuple[Any, ...], phi: Any, omega: Any, epsilon: Any,
-                   mask: bool, derivatives: Derivatives) -> Kinematics:
-        """The result of a compiled instant, read lazily from its flat tuple."""
-        return InstantKinematics.for_unit(unit, flat, (phi, omega, epsilon), mask=mask, derivatives=derivatives)
-
     _COMPILED_CACHE = ("_compiled_units", "_instant_unit", "instant")
 
     def __getstate__(self) -> dict[str, Any]:
