@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["SolverError", "SceneError", "AssemblyError", "SampleAssemblyError", "format_intervals"]
+__all__ = ["SolverError", "SceneError", "AssemblyError", "SampleAssemblyError", "DynamicsError", "format_intervals"]
 
 
 class SolverError(ValueError):
@@ -110,3 +110,28 @@ class SampleAssemblyError(AssemblyError):
             more = f" and {len(rows) - 5} more" if len(rows) > 5 else ""
             text += f" at {len(rows)} sample(s) of ({', '.join(inputs)}) = {shown}{more}"
         SolverError.__init__(self, text)
+
+
+class DynamicsError(SolverError):
+    """Forward dynamics cannot go on, or cannot start (solver.dynamics): the scene, and where the
+    run stands — the time (s), the inputs' coordinates (``at``, as text) and the group — when the motion reached
+    a position the inputs cannot drive through (a toggle, an assembly limit)."""
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        scene: str | None = None,
+        time: float | None = None,
+        at: str | None = None,
+        group: str | None = None,
+    ) -> None:
+        self.scene, self.time, self.at, self.group, self.reason = scene, time, at, group, message
+        parts = [scene] if scene else []
+        if time is not None:
+            parts.append(f"t = {time:.6g} s")
+        if at:
+            parts.append(at)
+        if group:
+            parts.append(f"group '{group}'")
+        super().__init__(f"{', '.join(parts)}: {message}" if parts else message)

@@ -98,6 +98,11 @@ def load_scene(name_or_path: str | os.PathLike[str]) -> Scene:
     return Scene(data)
 
 
+#: Doors into the packages built on the scene — ``simulate`` (solver.dynamics) and ``reduced``
+#: — filled when ``solver`` is imported: the scene never imports them (dependencies point one way).
+DOORS: dict[str, Callable[..., Any]] = {}
+
+
 class Scene:
     """A validated mechanism with a set of outputs and the plan that computes them."""
 
@@ -454,7 +459,22 @@ class Scene:
                                   f"{k} numbers, got {v!r:.60}")
         return f(*map(float, phi), *map(float, w), *map(float, e))  # type: ignore[no-any-return]
 
-    _COMPILED_CACHE = ("_compiled_units", "_instant_unit", "instant")
+    # -- dynamics (solver.dynamics, docs/dynamics.md) ---------------------------------------------
+    def simulate(self, t_end: float, **options: Any) -> Any:
+        """Forward dynamics from t = 0 to ``t_end`` (s): the inputs move under the scene's loads,
+        motors, flywheels and dampers (or ``drive=``); returns a ``solver.dynamics.Trajectory``
+        with ``t``, ``phi``, ``omega``, ``epsilon`` and ``.solve()``. Keywords: ``phi0``,
+        ``omega0``, ``drive``, ``rtol``, ``atol``, ``method``, ``dt``, ``until_phi``, ``events``,
+        ``on_singular``, ``max_step`` (solver.dynamics.simulate)."""
+        return DOORS["simulate"](self, t_end, **options)
+
+    def reduced(self) -> Any:
+        """The equation of motion in the inputs, Q = M(q)·q̈ + h(q, q̇): a
+        ``solver.dynamics.ReducedModel`` with ``mass(q)``, ``bias(q, qd)``,
+        ``generalized_forces(q, qd)`` (vectorised) and ``instant(q, qd)`` (one state)."""
+        return DOORS["reduced"](self)
+
+    _COMPILED_CACHE = ("_compiled_units", "_instant_unit", "instant", "_reduced")
 
     def __getstate__(self) -> dict[str, Any]:
         """A scene pickles and copies without its compiled functions (generated code, bound to

@@ -22,6 +22,7 @@ __all__ = [
     "LIMIT_NODE",
     "CLOSURE_ROUNDING",
     "ZERO_TO_ROUNDING",
+    "DYNAMICS_TOGGLE",
 ]
 
 #: Machine epsilon of float64.
@@ -90,3 +91,11 @@ CLOSURE_ROUNDING: float = 16 * EPS
 #: scale it is made of (the largest of its kind, or the products it sums) is printed as "zero to
 #: rounding": e.g. a fixed point's speed, or the input power Σ Q·ω of a sweep at rest.
 ZERO_TO_ROUNDING: float = 1e-12
+
+
+#: Forward dynamics stops where a group's conditioning falls below this: next to a toggle the
+#: reduced inertia grows like 1/conditioning², the motion reaches the toggle in finite time and
+#: the inputs cannot drive through it (solver.dynamics). At 1e-3 (NEAR_SINGULAR) the equation is
+#: still well resolved in double precision (M within about 1e6 of its typical size), so the
+#: integrator's event locates the stop to its tolerance instead of failing on a stiff step.
+DYNAMICS_TOGGLE: float = NEAR_SINGULAR

@@ -28,7 +28,7 @@ from .frames import accel, inertial_wrench, spring_force, table_force
 from .rrp import RRPForces
 from .rrr import RRRForces
 from .slotted import SlottedForces
-from .spec import Body, ForceSpec, PointForce, Spring, TableForce, Torque
+from .spec import Body, Damper, ForceSpec, PointForce, Spring, TableForce, Torque
 from .state import ForcePass
 from .structure import GROUND
 
@@ -86,7 +86,7 @@ class ForceModel:
                 names += [ld.ends[0][1], ld.ends[1][1]]
             elif isinstance(ld, (PointForce, TableForce)):
                 names.append(ld.point)
-            if isinstance(ld, TableForce):
+            if isinstance(ld, (TableForce, Damper)):
                 names.append(ld.joint)
         return tuple(dict.fromkeys(names))
 
@@ -169,6 +169,11 @@ class ForceModel:
                 (b0, p0), (b1, p1) = ld.ends
                 s.add(link.get(b0, GROUND), f, p0)
                 s.add(link.get(b1, GROUND), f, p1, subtract=True)
+            elif isinstance(ld, Damper):  # −c·s·q̇ on the body, the opposite on the other
+                torque = values[ld.joint].d1 * (-ld.coefficient * ld.sign * omega)
+                s.couple(link[ld.body], torque)
+                if ld.other != GROUND:
+                    s.couple(link[ld.other], -torque)
             else:
                 s.add(link[ld.body], table_force(ld, values, s.xp), ld.point)
 

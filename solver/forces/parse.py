@@ -14,13 +14,14 @@ from typing import Any
 from .._fields import Entry, Units, show
 from ..groups import Group
 from ..plan import order_groups
+from .parse_drive import DRIVE_KEYS, parse_drive
 from .spec import Body, ForceSpec, Load, PointForce, Spring, TableForce, Torque
 from .structure import GROUND, Link, StructureFault, derive_structure
 
 __all__ = ["FORCE_KEYS", "parse_forces", "MASS_MAX", "FORCE_MAX"]
 
-#: The top-level keys of the force layer.
-FORCE_KEYS = ("bodies", "gravity", "loads")
+#: The top-level keys of the force layer (with the drive's: motor, flywheel, damping).
+FORCE_KEYS = ("bodies", "gravity", "loads", *DRIVE_KEYS)
 
 #: Largest mass (kg), inertia (kg·m²), |force| (N), |torque| (N·m), stiffness (N/m), |gravity|
 #: (m/s²): far beyond any machine, small enough that products with lengths ≤ 1e9 m and their
@@ -45,9 +46,10 @@ def parse_forces(top: Entry, units: Units, fixed: Mapping[str, Any], groups: Seq
         raise top.error(str(exc), present[0]) from None
     bodies, names = _bodies(top, structure.links, units)
     gravity = _gravity(top)
+    motors, flywheels, bodies, dampers = parse_drive(top, groups, bodies)
     spec = ForceSpec(structure, bodies, gravity, (), names)
     loads = _loads(top, spec, units, joints)
-    return ForceSpec(structure, bodies, gravity, loads, names)
+    return ForceSpec(structure, bodies, gravity, (*loads, *dampers), names, motors, flywheels)
 
 
 def _nonnegative(e: Entry, key: str, limit: float) -> float:
@@ -219,7 +221,7 @@ def _table(e: Entry, spec: ForceSpec, units: Units, joints: Mapping[str, str]) -
     if direction == 0:
         raise e.error("must not be [0, 0]: the force's direction", "direction")
     t = e.child("table", e.raw("table"))
-    t.expect(("of", "at", "force"))
+    t.expect(("of", "at", "force", "period"))
     joint = t.name("of")
     if joint not in joints:
         raise t.error(f"unknown joint '{joint}'; joints: {', '.join(sorted(joints))}", "of")
@@ -237,8 +239,22 @@ def _table(e: Entry, spec: ForceSpec, units: Units, joints: Mapping[str, str]) -
         raise t.error("positions must increase strictly", "at")
     if any(abs(f) > FORCE_MAX for f in force):
         raise t.error(f"a force beyond ±{FORCE_MAX:g} N", "force")
+    period = _period(t, at, scale) if angle else None
     t.done()
-    return TableForce(body, point, direction / abs(direction), joint, at, force, 2.0 * math.pi if angle else None)
+    return TableForce(body, point, direction / abs(direction), joint, at, force, period)
+
+
+def _period(t: Entry, at: tuple[float, ...], scale: float) -> float:
+    """A table of an angle repeats every ``period`` (the scene's angle unit; one turn unless said:
+    a four-stroke engine's cycle is 720°); its entries must lie within one period."""
+    if "period" not in t.data:
+        return 2.0 * math.pi
+    period = t.number("period") * scale
+    if not period > 0.0 or not math.isfinite(period):
+        raise t.error(f"must be a positive angle, got {t.raw('period')!r}", "period")
+    if at[-1] - at[0] > period:
+        raise t.error(f"the table spans {(at[-1] - at[0]) / scale:g}, more than one period", "period")
+    return period
 
 
 _LOAD_READERS = {"force": _force, "torque": _torque, "spring": _spring, "table": _table}

@@ -13,7 +13,7 @@ from functools import cached_property
 
 from .structure import GROUND, Link, Pin, Slide, Structure
 
-__all__ = ["Body", "PointForce", "Torque", "Spring", "TableForce", "Load", "ForceSpec"]
+__all__ = ["Body", "PointForce", "Torque", "Spring", "TableForce", "Damper", "Load", "Motor", "ForceSpec"]
 
 
 @dataclass(frozen=True)
@@ -84,7 +84,38 @@ class TableForce:
     period: float | None = None
 
 
-Load = PointForce | Torque | Spring | TableForce
+@dataclass(frozen=True)
+class Damper:
+    """Viscous damping in the revolute joint ``joint``: a couple −c·s·q̇ on ``body`` and +c·s·q̇ on
+    ``other`` (``ground`` or a body), q̇ the joint's rate (rad/s), c ``coefficient`` (N·m·s/rad),
+    s ``sign`` (−1 where the joint measures the other body against this one)."""
+
+    joint: str
+    body: str
+    other: str
+    coefficient: float
+    sign: float = 1.0
+
+
+Load = PointForce | Torque | Spring | TableForce | Damper
+
+
+@dataclass(frozen=True)
+class Motor:
+    """The drive of one input: its torque (N·m; N for a length input) as a function of the
+    input's rate ω (rad/s; m/s). A linear characteristic T = T_stall·(1 − ω/ω₀) (``stall`` and
+    ``no_load`` given), or a table (``speeds`` increasing, ``torques``) linear between its entries
+    and constant beyond them."""
+
+    joint: str
+    stall: float | None = None
+    no_load: float | None = None
+    speeds: tuple[float, ...] = ()
+    torques: tuple[float, ...] = ()
+
+    @property
+    def linear(self) -> bool:
+        return self.stall is not None
 
 
 @dataclass(frozen=True)
@@ -96,6 +127,10 @@ class ForceSpec:
     gravity: complex
     loads: tuple[Load, ...]
     names: Mapping[str, str] = field(default_factory=dict)  # a link's default name → its body name
+    #: the drive of each input that has one (``motor:``; solver.dynamics), input joint → Motor
+    motors: Mapping[str, Motor] = field(default_factory=dict)
+    #: flywheels (``flywheel:``), input joint → inertia kg·m²; already added to its link's body
+    flywheels: Mapping[str, float] = field(default_factory=dict)
 
     @cached_property  # read on every k.reaction (the node: every pin, every tick)
     def pins(self) -> tuple[Pin, ...]:

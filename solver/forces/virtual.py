@@ -5,6 +5,7 @@ bodies' angles) and ∂P/∂q_k (of the load points), ideal pins doing no work:
 
     Q_k = Σ_bodies [ m·(a_G − g)·∂G/∂q_k + I·α·∂θ/∂q_k ]
           − Σ_forces F·∂P/∂q_k − Σ_torques T·∂θ_body/∂q_k − Σ_springs (f·∂P₁/∂q_k − f·∂P₂/∂q_k)
+          + Σ_dampers c·q̇_j·∂q_j/∂q_k
 
 (f the spring's force on its first end P₁). One input: the columns are the velocity analogs of
 the same pass that gives the accelerations a = a_q·ω² + v_q·ε; several inputs: one pass seeded
@@ -24,7 +25,7 @@ from ..errors import SolverError
 from ..groups import Context
 from ..jet import Jet
 from .frames import accel, body_motion, spring_force, table_force
-from .spec import PointForce, Spring, TableForce, Torque
+from .spec import Damper, PointForce, Spring, TableForce, Torque
 
 #: a :class:`solver.scene.Scene`; not imported, since the scene sits above this module (it
 #: calls this one): dependencies point one way, annotations included.
@@ -51,6 +52,7 @@ def virtual_efforts(scene: Scene, phi: Any, *, omega: Any = 1.0, epsilon: Any = 
         real = _run(scene, q, None)
         cols = [real]
         ww: Any = np.asarray(omega, float) ** 2
+        scale: Any = np.asarray(omega, float)  # a joint's rate = its analog·ω
         eps: Any = np.asarray(epsilon, float)
     else:
         q = np.atleast_2d(q)
@@ -64,6 +66,7 @@ def virtual_efforts(scene: Scene, phi: Any, *, omega: Any = 1.0, epsilon: Any = 
             for m in range(k)
         ]
         ww, eps = np.float64(1.0), np.float64(0.0)
+        scale = 1.0  # the jets are real motion
     spec = model.spec
     g = spec.gravity
     out = {}
@@ -90,5 +93,8 @@ def virtual_efforts(scene: Scene, phi: Any, *, omega: Any = 1.0, epsilon: Any = 
                 total = total - dot(f, col[ld.ends[0][1]].d1) + dot(f, col[ld.ends[1][1]].d1)
             elif isinstance(ld, TableForce):
                 total = total - dot(table_force(ld, real, NUMPY), col[ld.point].d1)
+            elif isinstance(ld, Damper):  # −c·q̇_j·∂q_j/∂q_m
+                rate = real[ld.joint].d1 * scale
+                total = total + ld.coefficient * rate * col[ld.joint].d1
         out[name] = np.broadcast_to(np.asarray(total, float), q.shape[:1]).copy()
     return out

@@ -1,0 +1,35 @@
+"""Forward dynamics in the input coordinates and machine dynamics (docs/dynamics.md).
+
+The effort of the kinetostatics is affine in the input accelerations, Q = M(q)·q̈ + h(q, q̇)
+(solver.dynamics.reduced); forward dynamics integrates q̈ = M⁻¹(Q_drive − h) with scipy
+(solver.dynamics.integrate); machine dynamics (one input) finds the steady periodic motion under
+a motor and a cyclic load, the coefficient of speed fluctuation, the flywheel for a requested one
+and the run-up time (solver.dynamics.machine). ``Scene.simulate`` is the door into ``simulate``.
+"""
+
+from __future__ import annotations
+
+from ..scene import DOORS
+from .drive import make_drive, motor_torque
+from .integrate import Equation, Stepper, Trajectory, simulate
+from .machine import RunUp, SteadyState, flywheel_for, run_up, steady_state
+from .reduced import ReducedModel, reduced_model
+
+__all__ = [
+    "Equation",
+    "ReducedModel",
+    "RunUp",
+    "SteadyState",
+    "Stepper",
+    "Trajectory",
+    "flywheel_for",
+    "make_drive",
+    "motor_torque",
+    "reduced_model",
+    "run_up",
+    "simulate",
+    "steady_state",
+]
+
+DOORS["simulate"] = simulate
+DOORS["reduced"] = reduced_model

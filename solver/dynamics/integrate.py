@@ -1,0 +1,353 @@
+"""Forward dynamics: q̈ = M(q)⁻¹·(Q_drive − h(q, q̇)) integrated by scipy (docs/dynamics.md).
+
+The state is (q, q̇) and two work integrals, W_drive = ∫Q_drive·q̇ dt and W_other = ∫Q_other·q̇ dt
+(the loads other than gravity and springs: dampers, forces, torques, tables), so that the energy
+balance T + V_gravity + V_springs − W_drive − W_other = const is checked on the run's own numbers.
+Positions always come from the closed form, so the loop cannot open: nothing is stabilised.
+
+``simulate`` hands the equation to :func:`scipy.integrate.solve_ivp` (DOP853 by default, dense
+output, events); :class:`Stepper` advances the same equation tick by tick with one of scipy's
+step-by-step solvers (the node: real time, efforts that change between ticks).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.integrate import DOP853, RK45, Radau, solve_ivp
+
+from ..errors import AssemblyError, DynamicsError
+from ..tolerances import DYNAMICS_TOGGLE
+from .drive import Drive, make_drive
+from .reduced import ReducedModel, reduced_model
+
+__all__ = ["Equation", "Stepper", "Trajectory", "simulate"]
+
+_METHODS = {"DOP853": DOP853, "RK45": RK45, "Radau": Radau}
+
+
+class Equation:
+    """The right-hand side of the first-order system y = (q, q̇, W_drive, W_other), per instant."""
+
+    def __init__(self, model: ReducedModel, drive: Drive) -> None:
+        self.model, self.drive, self.k = model, drive, model.k
+        self.fault: tuple[str, str] | None = None  # (group, reason) of the last unassemblable call
+        self._other = model.other is not None
+
+    def accelerations(
+        self, t: float, q: Sequence[float], qd: Sequence[float]
+    ) -> tuple[list[float], list[float], float]:
+        """(q̈, Q_drive, conditioning) at one state; raises AssemblyError where it cannot be assembled."""
+        m, h, cond = self.model.instant(q, qd)
+        qdrive = list(self.drive(t, q, qd))
+        if self.k == 1:
+            return [(qdrive[0] - h[0]) / m], qdrive, cond
+        rhs = np.subtract(qdrive, h)
+        return list(np.linalg.solve(np.asarray(m), rhs)), qdrive, cond
+
+    def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
+        k = self.k
+        q = [float(v) for v in y[:k]]
+        qd = [float(v) for v in y[k:2 * k]]
+        try:
+            qdd, qdrive, _ = self.accelerations(float(t), q, qd)
+        except AssemblyError as exc:  # a trial step beyond an assembly limit: rejected (NaN)
+            self.fault = (exc.group, exc.reason)
+            return np.full(y.shape, math.nan)
+        other = self.model.other_forces(q, qd) if self._other else (0.0,) * k
+        return np.array([*qd, *qdd, sum(a * b for a, b in zip(qdrive, qd)), sum(a * b for a, b in zip(other, qd))])
+
+    def conditioning(self, t: float, y: np.ndarray) -> float:
+        k = self.k
+        try:
+            return self.model.instant([float(v) for v in y[:k]], [float(v) for v in y[k:2 * k]])[2]
+        except AssemblyError:
+            return 0.0
+
+    def worst_group(self, y: np.ndarray) -> str:
+        """The group with the worst conditioning at state ``y`` (for the message)."""
+        scene = self.model.full
+        k = self.k
+        q = float(y[0]) if k == 1 else tuple(float(v) for v in y[:k])
+        try:
+            cond = scene.solve(q).conditioning
+        except AssemblyError as exc:
+            return exc.group
+        return min(cond, key=lambda g: float(np.min(cond[g]))) if cond else "?"
+
+
+@dataclass
+class Trajectory:
+    """A run of forward dynamics: samples of the time (s), the inputs' coordinates, rates and
+    accelerations ((N,) for one input, (N, k) for several), the drive's effort and the two work
+    integrals; ``status`` ``"done"`` (reached ``t_end``, its last sample), ``"until"`` (a
+    requested angle or event), ``"toggle"`` / ``"assembly"`` (a position the inputs cannot drive
+    through; ``message`` says when, where and which group)."""
+
+    scene: Any
+    t: np.ndarray
+    phi: np.ndarray
+    omega: np.ndarray
+    epsilon: np.ndarray
+    effort: np.ndarray
+    work_drive: np.ndarray
+    work_other: np.ndarray
+    status: str = "done"
+    message: str = ""
+    drive: str = "free"
+    method: str = "DOP853"
+    rtol: float = 0.0
+    atol: float = 0.0
+    evaluations: int = 0
+    _dense: Callable[[Any], np.ndarray] | None = field(default=None, repr=False)
+
+    def at(self, t: Any) -> tuple[np.ndarray, np.ndarray]:
+        """(φ, ω) at time(s) ``t`` within the run, from the integrator's dense output."""
+        if self._dense is None:
+            raise DynamicsError("this trajectory keeps no dense output", scene=self.scene.name)
+        y = self._dense(np.asarray(t, float))
+        k = len(self.scene.inputs)
+        if k == 1:
+            return y[0], y[1]
+        return np.moveaxis(y[:k], 0, -1), np.moveaxis(y[k:2 * k], 0, -1)
+
+    def solve(self, *, mask: bool = False) -> Any:
+        """Everything :meth:`Scene.solve` gives (points, joints, efforts, reactions) along the run."""
+        return self.scene.solve(self.phi, omega=self.omega, epsilon=self.epsilon, mask=mask)
+
+    def energy(self) -> dict[str, np.ndarray]:
+        """Per sample (J): ``kinetic`` ½q̇ᵀMq̇, ``gravity`` and ``springs`` potentials, ``work_drive``
+        and ``work_other`` done since the start, and ``balance`` = T + V − W_drive − W_other minus its
+        value at the start: zero up to the integrator's tolerance."""
+        model = reduced_model(self.scene)
+        kinetic = model.kinetic(self.phi, self.omega)
+        pot = model.potential(self.phi)
+        total = kinetic + pot["gravity"] + pot["springs"] - self.work_drive - self.work_other
+        return {
+            "kinetic": kinetic,
+            "gravity": pot["gravity"],
+            "springs": pot["springs"],
+            "work_drive": self.work_drive,
+            "work_other": self.work_other,
+            "balance": total - total[0],
+        }
+
+
+def _initial(value: Any, k: int, label: str, scene: str) -> list[float]:
+    arr = np.broadcast_to(np.asarray(0.0 if value is None else value, float), (k,)) if np.ndim(value) <= 1 else None
+    if arr is None or not np.all(np.isfinite(arr)):
+        raise DynamicsError(f"{label} must be {'a finite number' if k == 1 else f'{k} finite numbers'}, "
+                            f"got {value!r:.60}", scene=scene)
+    return [float(v) for v in arr]
+
+
+def _where(scene: Any, y: np.ndarray) -> str:
+    k = len(scene.inputs)
+    parts = []
+    for i, j in enumerate(scene.inputs):
+        unit = scene.joint_units.get(j, "rad")
+        v = float(y[i])
+        parts.append(f"{j} = {v:.6g} rad ({math.degrees(v):.6g}°)" if unit == "rad" else f"{j} = {v:.6g} {unit}")
+    return ", ".join(parts[:k])
+
+
+def simulate(
+    scene: Any,
+    t_end: float,
+    *,
+    phi0: Any = None,
+    omega0: Any = 0.0,
+    drive: Any = None,
+    rtol: float = 1e-9,
+    atol: float = 1e-9,
+    method: str = "DOP853",
+    dt: float | None = None,
+    until_phi: float | None = None,
+    events: Sequence[Callable[[float, Any, Any], float]] = (),
+    on_singular: str = "raise",
+    max_step: float = math.inf,
+) -> Trajectory:
+    """Integrate the inputs from (``phi0``, ``omega0``) at t = 0 to ``t_end`` (s) under ``drive``
+    (solver.dynamics.drive: the scene's motors by default) and the scene's loads.
+
+    Samples: the integrator's own steps, or every ``dt`` seconds; the last at exactly ``t_end``.
+    ``until_phi`` (one input) stops the run where φ reaches it; each of ``events``, a function
+    ``f(t, phi, omega)``, where it crosses zero. Where the motion reaches a toggle of a group
+    (its conditioning falls to tolerances.DYNAMICS_TOGGLE: M is unbounded there) or an assembly
+    limit, ``on_singular="raise"`` raises :class:`DynamicsError` naming the time, the angle and
+    the group (the partial run on its ``trajectory``); ``"stop"`` returns the partial run with
+    that ``status`` and ``message``."""
+    name = scene.name
+    if not (isinstance(t_end, (int, float)) and math.isfinite(t_end) and t_end > 0):
+        raise DynamicsError(f"t_end must be a positive number of seconds, got {t_end!r:.40}", scene=name)
+    if method not in _METHODS:
+        raise DynamicsError(f"method must be one of {', '.join(_METHODS)}, got {method!r}", scene=name)
+    if on_singular not in ("raise", "stop"):
+        raise DynamicsError(f"on_singular must be 'raise' or 'stop', got {on_singular!r}", scene=name)
+    model = reduced_model(scene)
+    k = model.k
+    q0 = _initial(phi0, k, "phi0", name)
+    w0 = _initial(omega0, k, "omega0", name)
+    fn, kind = make_drive(drive, scene.inputs, model.motors, scene=name)
+    eq = Equation(model, fn)
+    y0 = np.array([*q0, *w0, 0.0, 0.0])
+    try:
+        eq.accelerations(0.0, q0, w0)
+    except AssemblyError as exc:
+        raise DynamicsError(f"cannot be assembled at the initial state ({exc.reason})", scene=name, time=0.0,
+                            at=_where(scene, y0), group=exc.group) from None
+
+    def toggle(t: float, y: np.ndarray) -> float:
+        return eq.conditioning(t, y) - DYNAMICS_TOGGLE
+
+    toggle.terminal = True  # type: ignore[attr-defined]
+    all_events: list[Any] = [toggle]
+    if until_phi is not None:
+        if k != 1:
+            raise DynamicsError("until_phi is for one input; pass events=[f(t, q, qd)] with several", scene=name)
+        target = float(until_phi)
+
+        def reach(t: float, y: np.ndarray) -> float:
+            return float(y[0]) - target
+
+        reach.terminal = True  # type: ignore[attr-defined]
+        all_events.append(reach)
+    for f in events:
+        def user(t: float, y: np.ndarray, f: Callable[..., float] = f) -> float:
+            return float(f(t, y[0] if k == 1 else y[:k], y[1] if k == 1 else y[k:2 * k]))
+
+        user.terminal = True  # type: ignore[attr-defined]
+        all_events.append(user)
+    t_eval = None
+    if dt is not None:
+        if not (dt > 0 and math.isfinite(dt)):
+            raise DynamicsError(f"dt must be a positive number of seconds, got {dt!r}", scene=name)
+        t_eval = np.append(np.arange(0.0, t_end, dt), t_end)
+        if t_eval.size > 1 and t_eval[-2] >= t_end:
+            t_eval = t_eval[:-1]
+    sol = solve_ivp(eq, (0.0, float(t_end)), y0, method=method, rtol=rtol, atol=atol, dense_output=True,
+                    events=all_events, t_eval=t_eval, max_step=max_step)
+    ts, ys = sol.t, sol.y
+    status, message = "done", ""
+    if sol.status == 1:  # an event
+        hit = next(i for i, te in enumerate(sol.t_events) if len(te))
+        te, ye = sol.t_events[hit][0], sol.y_events[hit][0]
+        if ts.size == 0 or ts[-1] < te:
+            ts, ys = np.append(ts, te), np.column_stack([ys, ye])
+        if hit == 0:
+            status = "toggle"
+            message = (f"reaches a singular position of group '{eq.worst_group(ye)}' (a toggle: the inputs cannot "
+                       f"drive through it, the reduced inertia grows without bound)")
+        else:
+            status = "until"
+    elif sol.status == -1:
+        group, reason = eq.fault or ("?", sol.message)
+        status = "assembly"
+        message = f"stops at an assembly limit of group '{group}' ({reason})"
+    traj = _trajectory(scene, eq, ts, ys, sol.sol, status=status, message=message, kind=kind, method=method,
+                       rtol=rtol, atol=atol, nfev=sol.nfev)
+    if status in ("toggle", "assembly"):
+        text = DynamicsError(message, scene=name, time=float(ts[-1]), at=_where(scene, ys[:, -1]),
+                             group=None)
+        traj.message = str(text)
+        if on_singular == "raise":
+            text.trajectory = traj  # type: ignore[attr-defined]
+            raise text
+    return traj
+
+
+def _trajectory(
+    scene: Any, eq: Equation, ts: np.ndarray, ys: np.ndarray, dense: Any, *, status: str, message: str, kind: str,
+    method: str, rtol: float, atol: float, nfev: int,
+) -> Trajectory:
+    k = eq.k
+    n = ts.size
+    eps = np.empty((n, k))
+    eff = np.empty((n, k))
+    for i in range(n):
+        q = [float(v) for v in ys[:k, i]]
+        qd = [float(v) for v in ys[k:2 * k, i]]
+        try:
+            qdd, qdrive, _ = eq.accelerations(float(ts[i]), q, qd)
+        except AssemblyError:
+            qdd, qdrive = [math.nan] * k, [math.nan] * k
+        eps[i], eff[i] = qdd, qdrive
+
+    def shape(a: np.ndarray) -> np.ndarray:
+        return a[:, 0].copy() if k == 1 else a
+
+    return Trajectory(
+        scene=scene, t=ts, phi=shape(ys[:k].T), omega=shape(ys[k:2 * k].T), epsilon=shape(eps), effort=shape(eff),
+        work_drive=ys[2 * k].copy(), work_other=ys[2 * k + 1].copy(), status=status, message=message, drive=kind,
+        method=method, rtol=rtol, atol=atol, evaluations=nfev, _dense=dense,
+    )
+
+
+class Stepper:
+    """The equation advanced tick by tick (the node): ``advance(t)`` steps scipy's solver until it
+    passes ``t`` and returns the state there from its dense output; ``set_drive`` changes the
+    drive (an effort command), restarting the solver at the current time so that no step
+    straddles the change. Accuracy: each step's local error within ``rtol``/``atol`` as in
+    :func:`simulate`; the output at a tick is the step's dense interpolant (same order)."""
+
+    def __init__(
+        self, scene: Any, *, phi0: Any = None, omega0: Any = 0.0, drive: Any = None, rtol: float = 1e-9,
+        atol: float = 1e-9, method: str = "DOP853", t0: float = 0.0,
+    ) -> None:
+        self.scene = scene
+        self.model = reduced_model(scene)
+        k = self.k = self.model.k
+        q0 = _initial(phi0, k, "phi0", scene.name)
+        w0 = _initial(omega0, k, "omega0", scene.name)
+        fn, self.kind = make_drive(drive, scene.inputs, self.model.motors, scene=scene.name)
+        self.eq = Equation(self.model, fn)
+        self.rtol, self.atol, self._method = rtol, atol, _METHODS[method]
+        self.t = t0
+        self.y = np.array([*q0, *w0, 0.0, 0.0])
+        try:
+            self.eq.accelerations(t0, q0, w0)
+        except AssemblyError as exc:
+            raise DynamicsError(f"cannot be assembled at the initial state ({exc.reason})", scene=scene.name,
+                                time=t0, at=_where(scene, self.y), group=exc.group) from None
+        self._restart()
+
+    def _restart(self) -> None:
+        self._solver = self._method(self.eq, self.t, self.y, math.inf, rtol=self.rtol, atol=self.atol)
+
+    def set_drive(self, drive: Any) -> None:
+        fn, self.kind = make_drive(drive, self.scene.inputs, self.model.motors, scene=self.scene.name)
+        self.eq = Equation(self.model, fn)
+        self._restart()
+
+    def advance(self, t: float) -> np.ndarray:
+        """The state y = (q, q̇, W_drive, W_other) at time ``t`` ≥ the last one; DynamicsError where
+        the motion reaches a toggle or an assembly limit on the way."""
+        s = self._solver
+        while s.t < t:
+            msg = s.step()
+            if s.status == "failed" or msg is not None:
+                group, reason = self.eq.fault or ("?", str(msg))
+                raise DynamicsError(f"stops at an assembly limit ({reason})", scene=self.scene.name, time=s.t,
+                                    at=_where(self.scene, s.y), group=group)
+            if self.eq.conditioning(s.t, s.y) < DYNAMICS_TOGGLE:
+                raise DynamicsError("reaches a singular position (a toggle: the inputs cannot drive through it)",
+                                    scene=self.scene.name, time=s.t, at=_where(self.scene, s.y),
+                                    group=self.eq.worst_group(s.y))
+        if t == s.t:
+            y = s.y.copy()
+        else:
+            y = s.dense_output()(t)
+        self.t, self.y = t, y
+        return y
+
+    def accelerations(self) -> tuple[list[float], list[float]]:
+        """(q̈, Q_drive) at the last state returned."""
+        k = self.k
+        q = [float(v) for v in self.y[:k]]
+        qd = [float(v) for v in self.y[k:2 * k]]
+        qdd, qdrive, _ = self.eq.accelerations(self.t, q, qd)
+        return qdd, qdrive
