@@ -13,9 +13,9 @@ from pathlib import Path
 
 import pytest
 from mpmath import mpf
+from reference.dynamics_mp import epsilon
 
 import solver
-from reference.dynamics_mp import epsilon
 from solver.tolerances import EPS
 
 DATA = Path(__file__).resolve().parents[1] / "data"
