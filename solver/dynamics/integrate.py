@@ -36,29 +36,36 @@ class Equation:
     def __init__(self, model: ReducedModel, drive: Drive) -> None:
         self.model, self.drive, self.k = model, drive, model.k
         self.fault: tuple[str, str] | None = None  # (group, reason) of the last unassemblable call
-        self._other = model.other is not None
 
     def accelerations(
         self, t: float, q: Sequence[float], qd: Sequence[float]
     ) -> tuple[list[float], list[float], float]:
         """(q̈, Q_drive, conditioning) at one state; raises AssemblyError where it cannot be assembled."""
-        m, h, cond = self.model.instant(q, qd)
+        qdd, qdrive, _, cond = self._solve(t, q, qd)
+        return qdd, qdrive, cond
+
+    def _solve(self, t: float, q: Sequence[float], qd: Sequence[float]) -> tuple[list, list, list, float]:
+        m, h, other, cond = self.model.state(q, qd)
         qdrive = list(self.drive(t, q, qd))
         if self.k == 1:
-            return [(qdrive[0] - h[0]) / m], qdrive, cond
+            return [(qdrive[0] - h[0]) / m], qdrive, other, cond
         rhs = np.subtract(qdrive, h)
-        return list(np.linalg.solve(np.asarray(m), rhs)), qdrive, cond
+        return list(np.linalg.solve(np.asarray(m), rhs)), qdrive, other, cond
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
         k = self.k
-        q = [float(v) for v in y[:k]]
-        qd = [float(v) for v in y[k:2 * k]]
+        if k == 1:
+            q, qd = [float(y[0])], [float(y[1])]
+        else:
+            q, qd = [float(v) for v in y[:k]], [float(v) for v in y[k:2 * k]]
         try:
-            qdd, qdrive, _ = self.accelerations(float(t), q, qd)
+            qdd, qdrive, other, _ = self._solve(float(t), q, qd)
         except AssemblyError as exc:  # a trial step beyond an assembly limit: rejected (NaN)
             self.fault = (exc.group, exc.reason)
             return np.full(y.shape, math.nan)
-        other = self.model.other_forces(q, qd) if self._other else (0.0,) * k
+        if k == 1:
+            w = qd[0]
+            return np.array((w, qdd[0], qdrive[0] * w, other[0] * w))
         return np.array([*qd, *qdd, sum(a * b for a, b in zip(qdrive, qd)), sum(a * b for a, b in zip(other, qd))])
 
     def conditioning(self, t: float, y: np.ndarray) -> float:

@@ -33,7 +33,7 @@ from ..forces.frames import body_motion
 from ..forces.spec import Body, Damper, ForceSpec, Spring
 from ..groups import Context
 from ..jet import Jet
-from ..scene import Scene
+from ..scene import CHUNK, Scene
 from ..tolerances import SINGULAR
 
 __all__ = ["ReducedModel", "reduced_model"]
@@ -46,6 +46,29 @@ def _variant(scene: Scene, spec: ForceSpec) -> Scene:
 
 def _massless(bodies: Sequence[Body]) -> tuple[Body, ...]:
     return tuple(replace(b, mass=0.0, inertia=0.0) for b in bodies)
+
+
+class _Stacked:
+    """One input: the force layer of the one-pass (M, h) instant — the full scene's efforts at
+    (ω, ε = 0), the bodies' alone at (0, 1) and the other loads' at (ω, 0), all on the same jets,
+    so that the compiled instant runs the kinematics once for the three (``evaluate`` is what
+    the tracer records; the scalar path takes it too where a guard trips)."""
+
+    def __init__(self, full: Any, inertia: Any, other: Any) -> None:
+        self.full, self.inertia, self.other = full, inertia, other
+        self.targets = full.targets
+        self.inputs = full.inputs
+        parts = ("h", "M") if other is None else ("h", "M", "other")
+        #: what ``evaluate`` returns, in the force layer's (kind, key, complex?) form
+        self.layout = tuple(("effort", part, False) for part in parts)
+        self.index = {(kind, key): i for i, (kind, key, _) in enumerate(self.layout)}
+
+    def evaluate(self, values: Any, xp: Any, conditioning: Any, omega: Any, epsilon: Any) -> tuple:
+        out = [self.full.evaluate(values, xp, conditioning, omega, 0.0)[0],
+               self.inertia.evaluate(values, xp, conditioning, 0.0, 1.0)[0]]
+        if self.other is not None:
+            out.append(self.other.evaluate(values, xp, conditioning, omega, 0.0)[0])
+        return tuple(out)
 
 
 class ReducedModel:
@@ -76,6 +99,12 @@ class ReducedModel:
             _variant(scene, replace(spec, bodies=_massless(spec.bodies), gravity=0j, loads=other)) if other else None
         )
         self.motors = dict(spec.motors)
+        #: one input: the scene whose compiled instant gives (h, M, Q_other) in one pass
+        self.stacked: Scene | None = None
+        if self.k == 1:
+            self.stacked = _variant(scene, spec)
+            self.stacked.forces = _Stacked(  # type: ignore[assignment]
+                self.full.forces, self.inertia.forces, None if self.other is None else self.other.forces)
 
     # -- per instant -----------------------------------------------------------------------------
     @cached_property
@@ -88,16 +117,34 @@ class ReducedModel:
         cond = flat[unit.size:start]
         return list(flat[start:start + self.k]), min(cond) if cond else 1.0
 
+    @cached_property
+    def _stacked_unit(self) -> tuple[Any, int]:
+        assert self.stacked is not None
+        unit = self.stacked.compiled()
+        unit.function(0.0, 0.0, 0.0) if unit.conditioning is None else None
+        return unit, unit.size + len(unit.conditioning or ())
+
+    def state(self, q: Sequence[float], qd: Sequence[float]) -> tuple[Any, list[float], list[float], float]:
+        """(M, h, Q_other, conditioning) at one state (Q_other: the generalised forces of the loads
+        other than gravity and springs; zeros when there are none). One input: one compiled pass."""
+        if self.k != 1:
+            m, h, cond = self.instant(q, qd)
+            return m, h, self.other_forces(q, qd), cond
+        unit, start = self._stacked_unit
+        flat = unit.function(q[0], qd[0], 0.0)
+        cond = min(flat[unit.size:start]) if start > unit.size else 1.0
+        return flat[start + 1], [flat[start]], [-flat[start + 2]] if self.other is not None else [0.0], cond
+
     def instant(self, q: Sequence[float], qd: Sequence[float]) -> tuple[Any, list[float], float]:
         """(M, h, conditioning) at one state: M a float (one input) or a k×k list of rows, h a list
         of k floats, the worst conditioning of the groups (below tolerances.SINGULAR: singular)."""
-        full, inertia, _ = self._units
         k = self.k
+        if k == 1:
+            m, h, _, cond = self.state(q, qd)
+            return m, h, cond
+        full, inertia, _ = self._units
         zeros = (0.0,) * k
         h, cond = self._efforts(full, (*q, *qd, *zeros))
-        if k == 1:
-            m, _ = self._efforts(inertia, (q[0], 0.0, 1.0))
-            return m[0], h, cond
         cols = []
         for i in range(k):
             unit = tuple(1.0 if j == i else 0.0 for j in range(k))
@@ -163,6 +210,22 @@ class ReducedModel:
             values, cond = self._jets(q, None, unit)
             cols.append(self._pass(self.inertia, values, cond, 1.0, 0.0))
         return np.stack(cols, axis=-1)
+
+    def mass_bias(self, q: Any, qd: Any) -> tuple[np.ndarray, np.ndarray]:
+        """M(q) and h(q, q̇) together: one plan run for one input ((N,), (N,)); with k inputs
+        k + 1 runs ((N, k, k), (N, k))."""
+        q, qd = self._states(q, qd)
+        n, k = q.shape
+        m, h = (np.empty(n), np.empty(n)) if k == 1 else (np.empty((n, k, k)), np.empty((n, k)))
+        for lo in range(0, n, CHUNK):  # in blocks, as Scene.solve, so that the temporaries stay in cache
+            rows = slice(lo, min(lo + CHUNK, n))
+            if k != 1:
+                m[rows], h[rows] = self.mass(q[rows]), self.bias(q[rows], qd[rows])
+                continue
+            values, cond = self._jets(q[rows], None, None)
+            m[rows] = self._pass(self.inertia, values, cond, 0.0, 1.0)[:, 0]
+            h[rows] = self._pass(self.full, values, cond, qd[rows, 0], 0.0)[:, 0]
+        return m, h
 
     def bias(self, q: Any, qd: Any) -> np.ndarray:
         """h(q, q̇): (N,) for one input, (N, k) for several (N·m per input)."""
