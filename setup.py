@@ -35,7 +35,7 @@ setup(
         *_tree("config"),
     ],
     python_requires=">=3.10",
-    install_requires=["setuptools", "numpy>=1.26", "PyYAML>=6"],
+    install_requires=["setuptools", "numpy>=1.26", "PyYAML>=6", "scipy>=1.11"],
     extras_require={
         # MCAP recording works with numpy 1.26 (ROS 2 Jazzy's); the rerun view needs numpy >= 2
         "record": ["rosbags>=0.10", "mcap>=1.2", "mcap-ros2-support>=0.5"],
@@ -54,7 +54,7 @@ setup(
             "pillow",
             "colcon-common-extensions",
         ],
-        "bench": ["matplotlib>=3.8", "pylinkage==1.3.0", "numba>=0.60", "kinepy==0.1.7"],
+        "bench": ["matplotlib>=3.8", "pylinkage==1.3.0", "numba>=0.60", "kinepy==0.1.7", "mujoco>=3"],
     },
     zip_safe=True,
     maintainer="linkage_ros developers",

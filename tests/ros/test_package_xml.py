@@ -8,7 +8,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 EXEC = {"rclpy", "sensor_msgs", "geometry_msgs", "visualization_msgs", "trajectory_msgs",
         "diagnostic_msgs", "std_msgs", "builtin_interfaces", "rcl_interfaces", "python3-numpy",
-        "python3-yaml"}
+        "python3-yaml", "python3-scipy"}
 TEST = {"python3-pytest", "ament_copyright", "ament_flake8", "ament_pep257"}
 
 
