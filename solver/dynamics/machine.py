@@ -32,6 +32,18 @@ from .reduced import ReducedModel, reduced_model
 
 __all__ = ["SteadyState", "RunUp", "cycle_of", "steady_state", "flywheel_for", "run_up"]
 
+#: The periodic ω₀ is searched to this, relative (secant steps) — ten times finer than the cycle
+#: is accepted to (CYCLE_CLOSURE), both well above the runs' noise at rtol 1e-10 (≈ 1e-10·ω).
+ROOT_STEP = 1e-9
+#: A steady cycle closes when |ω(φ₀ + Φ) − ω₀| ≤ this, relative to ω₀.
+CYCLE_CLOSURE = 1e-8
+#: A table period is a whole number of turns within this, relative (degrees typed in a file).
+WHOLE_TURNS = 1e-9
+#: The flywheel found by brentq to this, relative to its bracket.
+FLYWHEEL_STEP = 1e-9
+#: The mean-balance speed is looked for over this range (rad/s), on a geometric grid.
+SPEED_RANGE = (1e-3, 1e5)
+
 
 @dataclass(frozen=True)
 class SteadyState:
@@ -76,7 +88,7 @@ def cycle_of(scene: Any) -> float:
     periods = [ld.period for ld in model.spec.loads if isinstance(ld, TableForce) and ld.period]
     cycle = max([2 * math.pi, *periods])
     turns = cycle / (2 * math.pi)
-    if abs(turns - round(turns)) > 1e-9 * turns:
+    if abs(turns - round(turns)) > WHOLE_TURNS * turns:
         raise DynamicsError(f"a table's period ({math.degrees(cycle):g}°) is not a whole number of turns: the "
                             "load has no cycle", scene=scene.name)
     return cycle
@@ -98,7 +110,7 @@ def _cycle(scene: Any, drive: Any, phi0: float, cycle: float, w0: float, rtol: f
     """One load cycle in time from (φ₀, ω₀): the run up to φ₀ + cycle, or None where it stalls."""
     traj = simulate(scene, 1e6, phi0=phi0, omega0=w0, drive=drive, rtol=rtol, atol=atol, until_phi=phi0 + cycle,
                     events=[lambda t, phi, omega: float(omega)], on_singular="stop")
-    if traj.status != "until" or not traj.phi[-1] >= phi0 + cycle * (1 - 1e-12):
+    if traj.status != "until" or not traj.phi[-1] >= phi0 + cycle * (1 - WHOLE_TURNS):
         return None
     return traj
 
@@ -128,10 +140,9 @@ def steady_state(
             return -w0
         return float(traj.omega[-1]) - w0
 
-    # the miss is smooth and nearly linear in ω₀; its noise is the integrator's (≈ rtol·ω), so the
-    # root is asked for to 1e-9 relative and accepted where the cycle closes to 1e-8 relative
-    root = root_scalar(miss, x0=guess, x1=guess * 1.01, method="secant", xtol=1e-9 * abs(guess), maxiter=100)
-    if not root.root > 0 or abs(miss(float(root.root))) > 1e-8 * abs(root.root):
+    # the miss is smooth and nearly linear in ω₀; its noise is the integrator's (≈ rtol·ω)
+    root = root_scalar(miss, x0=guess, x1=guess * 1.01, method="secant", xtol=ROOT_STEP * abs(guess), maxiter=100)
+    if not root.root > 0 or abs(miss(float(root.root))) > CYCLE_CLOSURE * abs(root.root):
         raise DynamicsError(f"no steady periodic motion found near ω = {guess:.6g} rad/s (the machine stalls or "
                             "runs away: is the drive able to carry the load?)", scene=scene.name)
     w0 = float(root.root)
@@ -171,12 +182,13 @@ def _mean_balance(model: ReducedModel, drive: Any, phi0: float, cycle: float, sc
         q = np.array([drive(0.0, (p,), (w,))[0] for p in phi])
         return float(np.mean(q) - np.mean(h))
 
-    ws = np.geomspace(1e-3, 1e5, 81)
+    ws = np.geomspace(*SPEED_RANGE, 81)
     vals = [excess(w) for w in ws]
     for a, b, fa, fb in zip(ws, ws[1:], vals, vals[1:]):
         if fa > 0 >= fb:
-            return float(brentq(excess, a, b, xtol=1e-12 * b))
-    raise DynamicsError("the drive's mean effort never balances the loads' over a cycle for 1e-3 ≤ ω ≤ 1e5 rad/s "
+            return float(brentq(excess, a, b, xtol=ROOT_STEP * b))
+    raise DynamicsError(f"the drive's mean effort never balances the loads' over a cycle for {SPEED_RANGE[0]:g} ≤ "
+                        f"ω ≤ {SPEED_RANGE[1]:g} rad/s "
                         "(no motor, or one too weak to run the machine)", scene=scene)
 
 
@@ -202,10 +214,10 @@ def flywheel_for(scene: Any, delta: float, *, drive: Any = None, phi0: float = 0
         return steady_state(scene, drive=drive, flywheel=jf, phi0=phi0, omega_guess=w, rtol=rtol,
                             atol=atol).delta - delta
 
-    hi = max(estimate, 1e-9) * 2
+    hi = 2 * estimate if estimate > 0 else 2 * float(np.max(model.mass(phi)))
     while miss(hi) > 0:
         hi *= 4
-    jf = float(brentq(miss, 0.0, hi, xtol=1e-9 * hi, rtol=1e-10))
+    jf = float(brentq(miss, 0.0, hi, xtol=FLYWHEEL_STEP * hi))
     return jf, steady_state(scene, drive=drive, flywheel=jf, phi0=phi0, omega_guess=w, rtol=rtol, atol=atol), estimate
 
 
