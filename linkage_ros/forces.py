@@ -36,6 +36,8 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from .arrows import ARROW_FRACTION, ARROW_PERCENTILE, nice_scale
+
 __all__ = [
     "KIND_PIN",
     "KIND_SLIDE",
@@ -110,8 +112,6 @@ def load_arrows(samples: Mapping[str, NDArray[np.float64]], extent: float) -> Lo
     (:data:`TYPICAL_RATIO`) at about a quarter of ``extent``; if the largest load would then be
     longer than :data:`MAX_FRACTION` of ``extent``, a knee where the proportional part reaches a
     quarter of ``extent``. Non-finite samples are left out; no load at all gives scale 1."""
-    from .record.rerun import ARROW_FRACTION, ARROW_PERCENTILE, nice_scale
-
     parts = [np.linalg.norm(np.asarray(v, dtype=np.float64)[:, :2], axis=1) for v in samples.values() if v.size]
     f = np.concatenate(parts) if parts else np.zeros(0)
     f = f[np.isfinite(f)]

@@ -31,29 +31,42 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 from solver.tracing import TRACE
 
 from .forces import KIND_PIN, LoadArrows, LoadPair, load_arrows
+from .msgtypes import MessageTypes
+from .topics import LOADS_NAMESPACE, WRENCH_STAMPED, load_topic_types
 from .urdf import BASE_LINK
-
-if TYPE_CHECKING:
-    from .messages import MessageBuilder, _Tick
 
 __all__ = ["LOADS_NAMESPACE", "WRENCH_STAMPED", "LoadMessages", "load_topic_types", "tree_effort_joints"]
 
-WRENCH_STAMPED = "geometry_msgs/msg/WrenchStamped"
-LOADS_NAMESPACE = "loads"
 _LOAD_COLOUR = (0.80, 0.25, 0.85, 1.0)
 #: Arrow shaft diameter, head diameter and head length, in line widths of the drawing.
 _ARROW_SHAPE = (1.5, 4.0, 5.0)
 _NAN = math.nan
 
 
-def load_topic_types(pairs: Sequence[LoadPair]) -> list[tuple[str, str]]:
-    """``(topic, type)`` of every load, in the order of ``pairs``."""
-    return [(p.topic, WRENCH_STAMPED) for p in pairs]
+class MessageBuilder(Protocol):
+    """What :class:`LoadMessages` reads of :class:`linkage_ros.messages.MessageBuilder` (named
+    here, not imported: the builder owns this module's class, so the import points one way)."""
+
+    engine: Any
+    types: MessageTypes
+    line_width: float
+
+    def _marker_style(self, ns: str, marker_id: int, kind: int, colour: tuple[float, float, float, float],
+                      scale: float) -> dict[str, Any]: ...
+
+
+class _Tick(Protocol):
+    """What :meth:`LoadMessages.arrows` reads of the builder's tick: the frame and its points'
+    Point messages."""
+
+    frame: Any
+
+    def point(self, name: str) -> Any: ...
 
 
 def tree_effort_joints(tree: Any, inputs: Iterable[str]) -> list[tuple[str, str]]:

@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..forces import KIND_PIN, TOPIC_PREFIX, LoadArrows, load_arrows
-from .rerun import ARROW_WIDTH, DRAW_ORDER, _plot, _position, _series
+from ._drawing import ARROW_WIDTH, DRAW_ORDER, log_series, plot_view, position_of
 from .rundata import RunData
 
 __all__ = [
@@ -87,12 +87,12 @@ def log_forces(rec: Any, data: RunData, times: Any, *, radius: float) -> LoadArr
                                            labels=[f"R_{key} {rule.describe()}"], show_labels=False,
                                            **order), static=True)
         rec.send_columns(entity, indexes=[times], columns=arrows.columns(
-            origins=_position(data, point), vectors=vectors))
+            origins=position_of(data, point), vectors=vectors))
     joints = list(data.joints)
     for i, (joint, values) in enumerate(data.efforts.items()):
         unit = data.effort_units.get(joint, "N·m")
         colour = joints.index(joint) if joint in joints else i  # the input joint's colour
-        _series(rec, f"{EFFORT_ORIGIN}/{joint}", f"Q {joint} ({unit})", times, values, colour)
+        log_series(rec, f"{EFFORT_ORIGIN}/{joint}", f"Q {joint} ({unit})", times, values, colour)
     return rule
 
 
@@ -102,7 +102,7 @@ def effort_views(data: RunData) -> list[Any]:
         return []
     units = sorted(set(data.effort_units.get(j, "N·m") for j in data.efforts))
     plural = "inputs'" if len(data.efforts) > 1 else "input"
-    return [_plot(EFFORT_ORIGIN, f"{plural} effort ({' | '.join(units)})", *data.efforts.values(),
+    return [plot_view(EFFORT_ORIGIN, f"{plural} effort ({' | '.join(units)})", *data.efforts.values(),
                   contents=[f"/{EFFORT_ORIGIN}/{q}" for q in data.efforts])]
 
 

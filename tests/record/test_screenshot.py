@@ -14,7 +14,7 @@ import pytest
 pytest.importorskip("rerun", reason="the view extra (rerun-sdk, needs numpy >= 2) is not installed")
 Image = pytest.importorskip("PIL.Image", reason="Pillow is needed to read the screenshot")
 
-from linkage_ros.record.rerun import FIXED_COLOR, LINK_COLOR, SERIES_PALETTE  # noqa: E402
+from linkage_ros.record._drawing import FIXED_COLOR, LINK_COLOR, SERIES_PALETTE  # noqa: E402
 from linkage_ros.record.run import RunOptions, run_standalone  # noqa: E402
 
 LAVAPIPE = Path("/usr/share/vulkan/icd.d/lvp_icd.x86_64.json")
