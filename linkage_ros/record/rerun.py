@@ -57,6 +57,7 @@ from ._drawing import (
 )
 from .forces import effort_views, forces_legend, load_rule, log_forces
 from .rundata import RunData
+from .viewer import viewer_environment, viewer_executable
 
 __all__ = [
     "APPLICATION_ID",
@@ -320,15 +321,6 @@ def _greek(name: str) -> str:
     return {"phi": "φ", "omega": "ω", "epsilon": "ε"}.get(name, name)
 
 
-def _viewer() -> str | None:
-    """The ``rerun`` viewer next to this Python (a venv's bin), else None: PATH is searched."""
-    import shutil
-    import sys
-
-    here = os.path.join(os.path.dirname(sys.executable), "rerun")
-    return here if os.access(here, os.X_OK) else shutil.which("rerun")
-
-
 def write_rrd(data: RunData, path: str | os.PathLike[str] | None = None, *,
               spawn: bool = False, recording_id: str | None = None) -> dict[str, float]:
     """Write the view of ``data`` to ``path`` (.rrd, with its blueprint) and/or show it in a
@@ -347,8 +339,12 @@ def write_rrd(data: RunData, path: str | os.PathLike[str] | None = None, *,
         sinks.append(rr.FileSink(str(path)))
     failure = ""
     if spawn:
+        # the spawned viewer inherits this process's environment: give it a runtime folder, so
+        # that it does not print "error: XDG_RUNTIME_DIR is invalid or not set" (.viewer)
+        if os.name == "posix":
+            os.environ["XDG_RUNTIME_DIR"] = viewer_environment()["XDG_RUNTIME_DIR"]
         try:
-            spawn_viewer(connect=False, executable_path=_viewer(), recording=rec)
+            spawn_viewer(connect=False, executable_path=viewer_executable(), recording=rec)
             sinks.append(rr.GrpcSink())
         except RuntimeError as exc:
             failure = str(exc).strip().splitlines()[0]

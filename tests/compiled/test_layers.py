@@ -143,6 +143,7 @@ ROS_LAYERS: dict[str, int] = {
     "linkage_ros.record.cdr": 0,
     "linkage_ros.record.rosbag2": 0,
     "linkage_ros.urdf.tree": 0,
+    "linkage_ros.record.viewer": 0,
     # the force layout, the tree joints' states, the drawings' helpers, reading an MCAP
     "linkage_ros.forces": 1,
     "linkage_ros.urdf.states": 1,
@@ -161,7 +162,6 @@ ROS_LAYERS: dict[str, int] = {
     "linkage_ros.record.rerun": 3,
     "linkage_ros.record.replay": 3,
     "linkage_ros.urdf": 4,
-    "linkage_ros.record.viewer": 4,
     "linkage_ros.load_messages": 5,
     "linkage_ros.relay": 5,
     "linkage_ros._cli_common": 5,
