@@ -41,7 +41,8 @@ def _parser() -> argparse.ArgumentParser:
                       help="N angles over one turn (default 360; --count N the same, as for several inputs)")
     grid.add_argument("--count", type=count, dest="phi_count", default=argparse.SUPPRESS, help=argparse.SUPPRESS)
     grid.add_argument("--phi", type=_floats, metavar="V1,V2,...", help="these input angles (rad, or deg with --deg)")
-    p.add_argument("--deg", action="store_true", help="--phi values are in degrees (the summary always shows degrees)")
+    p.add_argument("--deg", action="store_true", help="--phi values are in degrees (the summary always shows degrees; "
+                   "the CSV's phi column stays in rad, like every column SI)")
     p.add_argument(
         "--omega", type=_rate(OMEGA_MAX), default=None, metavar="W|Q=W",
         help="input angular velocity, rad/s (default 1: velocities and accelerations then equal the analogs "

@@ -63,7 +63,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--range", action="append", default=[], metavar="Q=LO:HI",
                    help="an input's range on the grid, both ends included (default one turn, end excluded)")
     p.add_argument("--samples", metavar="Q1,Q2;Q1,Q2;...", help="these rows of input values instead of a grid")
-    p.add_argument("--deg", action="store_true", help="--range and --samples values are in degrees")
+    p.add_argument("--deg", action="store_true", help="--range and --samples values are in degrees "
+                   "(the CSV's input columns stay in rad, like every column SI)")
     p.add_argument("--omega", action="append", default=[], metavar="W|Q=W",
                    help="angular velocity, rad/s: W for every input, Q=W for input Q (repeatable; default 1)")
     p.add_argument("--epsilon", action="append", default=[], metavar="E|Q=E",
