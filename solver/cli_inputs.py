@@ -229,12 +229,12 @@ def _table(scene: Scene, k: Kinematics, derivatives: bool) -> np.ndarray:
         cols += [m.position[:, None], m.velocity[:, None], m.acceleration[:, None]]
     if derivatives:
         for p in scene.output_points:
-            m = k.point(p)
+            jacobian, hessian = k.derivatives(p)
             for axis in range(scene.dim):
-                cols += [m.jacobian[:, axis, :], m.hessian[:, axis][:, upper[0], upper[1]]]
+                cols += [jacobian[:, axis, :], hessian[:, axis][:, upper[0], upper[1]]]
         for j in scene.output_joints:
-            m = k.joint(j)
-            cols += [m.jacobian, m.hessian[:, upper[0], upper[1]]]
+            jacobian, hessian = k.derivatives(j)
+            cols += [jacobian, hessian[:, upper[0], upper[1]]]
     return np.hstack(cols + force_table(scene, k))
 
 
