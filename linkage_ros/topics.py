@@ -29,6 +29,7 @@ __all__ = [
     "JOINT_KINEMATICS",
     "JOINT_STATES",
     "LOADS_NAMESPACE",
+    "LOAD_LABELS_NAMESPACE",
     "MARKERS",
     "MARKER_NAMESPACES",
     "NS_PER_S",
@@ -57,8 +58,10 @@ FIXED_TOPIC_TYPES: dict[str, str] = {
 
 #: Marker namespaces in the markers topic.
 MARKER_NAMESPACES = ("links", "joints", "fixed_pivots", "paths")
-#: The markers' namespace of the load arrows (scenes with forces, :mod:`.load_messages`).
+#: The markers' namespaces of the load arrows and of their labels (scenes with forces,
+#: :mod:`.load_messages`).
 LOADS_NAMESPACE = "loads"
+LOAD_LABELS_NAMESPACE = "load_labels"
 #: The type of every ``pin_loads/<K>`` and ``slide_loads/<K>`` topic.
 WRENCH_STAMPED = "geometry_msgs/msg/WrenchStamped"
 

@@ -106,8 +106,9 @@ def _fmt(x: float) -> str:
 
 def plot_columns(data: RunData) -> list[list[tuple[str, list[str]]]]:
     """The plots, column by column, as ``(title, [entity paths of its series])``: the inputs'
-    φ, ω, ε (one plot each), then the joints' positions, velocities, accelerations, one column
-    per unit of the joints (angles in rad, slides in m: :data:`UNIT_TITLES`), with at most
+    φ, ω, ε (one plot each), then the joints' positions (but the inputs', which are their φ),
+    velocities, accelerations, one column per unit of the joints (angles in rad, slides in m:
+    :data:`UNIT_TITLES`), with at most
     :data:`LEGEND_ROWS` joints a plot (more joints: more columns), so that each legend shows
     every series name and each axis one unit."""
     plural = "inputs" if data.phi.ndim == 2 else "input"
@@ -121,11 +122,15 @@ def plot_columns(data: RunData) -> list[list[tuple[str, list[str]]]]:
         by_unit.setdefault(data.joint_units.get(j, "rad"), []).append(j)
     columns = [inputs]
     order = list(UNIT_TITLES)
+    driven = set(data.inputs or (data.input_joint,))
     for unit, names in sorted(by_unit.items(), key=lambda kv: order.index(kv[0]) if kv[0] in order else len(order)):
         titles = UNIT_TITLES.get(unit) or tuple(f"joint {kind}s ({unit})" for kind in KINDS)
         for i in range(0, len(names), LEGEND_ROWS):
             chunk = names[i: i + LEGEND_ROWS]
-            columns.append([(title, [f"plots/joints/{kind}/{j}" for j in chunk])
+            # an input's position is its φ, plotted apart in the first column: beside the other
+            # joints its ever-growing angle would flatten their swings (issue 24)
+            columns.append([(title, [f"plots/joints/{kind}/{j}" for j in chunk
+                                     if not (kind == "position" and j in driven)])
                             for kind, title in zip(KINDS, titles)])
     return columns
 

@@ -195,7 +195,12 @@ def test_every_series_is_in_one_plot_whose_legend_shows_it(joints: list[str], in
     assert len(layout) == columns and all(len(column) == 3 for column in layout)
     paths = [p for column in layout for _, plot in column for p in plot]
     expected = {f"plots/joints/{kind}/{j}" for kind in ("position", "velocity", "acceleration") for j in joints}
+    # an input's position is its φ, plotted in the inputs' column only (issue 24: its growing
+    # angle beside the others' swings flattened them)
+    expected -= {f"plots/joints/position/{q}" for q in (inputs or (joints[0],))}
     expected |= ({f"plots/input/{kind}/{q}" for kind in ("phi", "omega", "epsilon") for q in inputs} if inputs
                  else {"plots/input/phi", "plots/input/omega", "plots/input/epsilon"})
     assert sorted(paths) == sorted(expected)  # each exactly once
+    angles = next(plot for column in layout[1:] for title, plot in column if title.startswith("joint angles"))
+    assert not {f"plots/joints/position/{q}" for q in (inputs or (joints[0],))} & set(angles)
     assert all(len(plot) <= LEGEND_ROWS for column in layout for _, plot in column)
