@@ -415,16 +415,16 @@ class InstantKinematics(Kinematics):
             return Kinematics.floats(self, name)
 
     def point(self, name: str) -> OutputMotion | InstantMotion:
-        reader = self._unit.point_readers.get(name)
-        if reader is None:  # several inputs (arrays), or a name not requested (the error)
+        try:
+            return _new_tuple(InstantMotion, self._unit.point_readers[name](self._flat))  # type: ignore[no-any-return]
+        except KeyError:  # several inputs (arrays), or a name not requested (the error)
             return Kinematics.point(self, name)
-        return _new_tuple(InstantMotion, reader(self._flat))  # type: ignore[no-any-return]
 
     def joint(self, name: str) -> OutputMotion | InstantMotion:
-        reader = self._unit.joint_readers.get(name)
-        if reader is None:
+        try:
+            return _new_tuple(InstantMotion, self._unit.joint_readers[name](self._flat))  # type: ignore[no-any-return]
+        except KeyError:
             return Kinematics.joint(self, name)
-        return _new_tuple(InstantMotion, reader(self._flat))  # type: ignore[no-any-return]
 
     point.__doc__, joint.__doc__ = Kinematics.point.__doc__, Kinematics.joint.__doc__
 
