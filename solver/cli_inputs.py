@@ -343,7 +343,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                 with open(args.csv, "w", encoding="utf-8", newline="") as fh:
                     write_csv(scene, k, fh, derivatives=args.derivatives)
         else:
-            forces = force_section(scene, k, sampling=f"read off {_sampling(axes)}")
+            forces = force_section(scene, k, sampling=f"read off {_sampling(axes)}",
+                                   default_speed=not args.omega and not args.epsilon)
             print(summary(scene, k, sampling=_sampling(axes), sections=[forces]))
     except (SolverError, ValueError) as exc:
         print(f"linkage-solve: error: {one_line(str(exc))}", file=sys.stderr)

@@ -62,13 +62,13 @@ def _g(x: float) -> str:
 
 
 def _rates(values: Any, ok: np.ndarray, inputs: tuple[str, ...]) -> str | None:
-    """``1`` or ``q1 1, q2 2`` when each input's rate is one value over the samples, else None."""
+    """``= 1`` or ``q1 = 1, q2 = 2`` when each input's rate is one value over the samples, else None."""
     v = np.asarray(values, float)
     columns = [np.broadcast_to(v if v.ndim <= 1 else v[:, i], ok.shape)[ok] for i in range(len(inputs))]
     if any(c.size and np.ptp(c) != 0.0 for c in columns):
         return None
     first = [float(c[0]) if c.size else 0.0 for c in columns]
-    return _g(first[0]) if len(inputs) == 1 else ", ".join(f"{q} {_g(x)}" for q, x in zip(inputs, first))
+    return f"= {_g(first[0])}" if len(inputs) == 1 else ", ".join(f"{q} = {_g(x)}" for q, x in zip(inputs, first))
 
 
 def _has_inertia(scene: Any) -> bool:
@@ -86,7 +86,7 @@ def motion_of_forces(scene: Any, k: Any, ok: np.ndarray) -> str:
     w, e = _rates(k.omega, ok, inputs), _rates(k.epsilon, ok, inputs)
     if w is None or e is None:
         return "at each sample's ω and ε, with the bodies' inertia"
-    return f"at ω = {w} rad/s, ε = {e} rad/s², with the bodies' inertia"
+    return f"at ω {w} rad/s, ε {e} rad/s², with the bodies' inertia"
 
 
 def _one_turn(k: Any) -> bool:
