@@ -61,7 +61,6 @@ setup(
     maintainer_email="linkage-ros@example.com",
     description="Exact closed-form kinematics of linkage mechanisms, published into ROS 2.",
     license="Apache-2.0",
-    tests_require=["pytest"],
     entry_points={
         "console_scripts": [
             "linkage-solve = solver.cli:main",

@@ -9,8 +9,11 @@ four_bar with every point and joint as an output (``scene.everything()``), φ in
 ε = 0.5, side by side in one process, round-robin (bench._common.median_times):
 
 * ours through the public API: ``scene.instant(φ, ω, ε)`` (the flat tuple; the attribute looked
-  up at every call), and
-  ``scene.solve(φ, omega=ω, epsilon=ε)`` with every output read by ``k.floats(name)``;
+  up at every call),
+  ``scene.solve(φ, omega=ω, epsilon=ε)`` with every output read by ``k.floats(name)``, and the
+  object path most users write: the same solve, then ``k.point(p).position / .velocity /
+  .acceleration`` for every output point and ``k.joint(j)...`` for every output joint (one
+  instant: :class:`solver.kinematics.InstantMotion`, plain floats);
 * the compiled function itself (``scene.compiled().function``, what the node calls);
 * today's scalar path before this change (``Scene._solve_scalar(..., compiled=False)``);
 * plain Python: the closed-form position of B alone (no derivatives), the floor;
@@ -51,6 +54,7 @@ HEADING = "## One instant"
 OMEGA, EPSILON = 2.0, 0.5
 STEPS = [math.radians(i) for i in range(360)]  # 1° steps, one turn
 TARGET_PLAIN = 8.0  # × plain-Python B position
+TARGET_OBJECTS = 12.0  # the object path (k.point(p).position …), × plain-Python B position
 VALUE_TOL = 1e-12  # m and rad, against Gauss–Newton
 
 
@@ -74,10 +78,12 @@ class Report:
     build_ms: dict[str, float] = field(default_factory=dict)
     paths: dict[str, int] = field(default_factory=dict)
     vectorised: dict[str, float] = field(default_factory=dict)
+    outputs: int = 0
 
 
 OURS_API = "ours: scene.instant(φ, ω, ε) → flat tuple"
 OURS_SOLVE = "ours: scene.solve(φ, …) + k.floats(every output)"
+OURS_OBJECTS = "ours: scene.solve(φ, …) + k.point(p) / k.joint(j) .position .velocity .acceleration (every output)"
 OURS_FN = "ours: the compiled function itself"
 OURS_OLD = "today's scalar path (before, uncompiled)"
 PLAIN = "plain Python: closed-form B position only"
@@ -102,6 +108,18 @@ def _loops(scene: solver.Scene, repeat: int) -> dict[str, Callable[[], object]]:
             for n in names:
                 k.floats(n)
 
+    points, joints = scene.output_points, scene.output_joints
+
+    def objects() -> None:
+        for p in steps:
+            k = scene.solve(p, omega=OMEGA, epsilon=EPSILON)
+            for n in points:
+                m = k.point(n)
+                m.position, m.velocity, m.acceleration  # noqa: B018
+            for n in joints:
+                m = k.joint(n)
+                m.position, m.velocity, m.acceleration  # noqa: B018
+
     def compiled() -> None:
         for p in steps:
             fn(p, OMEGA, EPSILON)
@@ -123,7 +141,8 @@ def _loops(scene: solver.Scene, repeat: int) -> dict[str, Callable[[], object]]:
             for p in STEPS:
                 gn.solve(p, OMEGA)
 
-    return {OURS_API: api, OURS_SOLVE: solve, OURS_FN: compiled, OURS_OLD: old, PLAIN: plain, GN: newton}
+    return {OURS_API: api, OURS_SOLVE: solve, OURS_OBJECTS: objects, OURS_FN: compiled, OURS_OLD: old,
+            PLAIN: plain, GN: newton}
 
 
 def _against_newton(scene: solver.Scene) -> tuple[float, float]:
@@ -172,6 +191,7 @@ def _build_times(repeat: int) -> tuple[dict[str, float], dict[str, int]]:
 def measure(quick: bool, log: Callable[[str], None] = print) -> Report:
     report = Report(quick, machine())
     scene = solver.load_scene("four_bar").everything()
+    report.outputs = len(scene.output_points) + len(scene.output_joints)
     scene.instant(0.1, OMEGA, EPSILON)  # built (and its first retraces done) before timing
     repeat = 2 if quick else 20
     times = median_times(_loops(scene, repeat), repeat=3 if quick else 9)
@@ -228,7 +248,11 @@ def section(r: Report) -> str:
         "",
         f"Targets (issue 18): the public API at ≤ {TARGET_PLAIN:g}× plain B — "
         f"{'met' if api <= TARGET_PLAIN * plain else 'NOT met'} ({api / plain:.1f}×); no slower than "
-        f"Gauss–Newton — {'met' if api <= gn else 'NOT met'} ({api / gn:.2f}×). Values against Gauss–Newton over "
+        f"Gauss–Newton — {'met' if api <= gn else 'NOT met'} ({api / gn:.2f}×). Target (issue 24): the "
+        f"object path (solve, then `k.point(p)` and `k.joint(j)` of all {r.outputs} outputs, each field read) "
+        f"at ≤ {TARGET_OBJECTS:g}× plain B — {'met' if us[OURS_OBJECTS] <= TARGET_OBJECTS * plain else 'NOT met'} "
+        f"({us[OURS_OBJECTS] / plain:.1f}×; 57× before, when each one-instant output was an OutputMotion of "
+        "three numpy arrays; now an InstantMotion of floats, made in two C calls). Values against Gauss–Newton over "
         f"the turn: B within {r.worst_b_m:.1e} m, joint angles and rates within {r.worst_joint_rad:.1e} "
         f"(bound {VALUE_TOL:g}). The compiled values equal the uncompiled scalar path's to the bit "
         "(tests/compiled). Gauss–Newton gives the two passive joints and their rates only; ours every "

@@ -264,7 +264,7 @@ def run_main(argv: Sequence[str] | None = None) -> int:
         return EXIT_ERROR
     data = result.data
     outputs = tuple(points or scene.output_points)
-    from linkage_ros.record.forces import force_sections  # scenes with forces: their lines (issue 17)
+    from linkage_ros.record.forces import force_sections  # scenes with forces: their lines
 
     for line in summary_lines(data, outputs, tuple(scene.output_joints), scene.joint_units,
                               descriptions=getattr(scene, "descriptions", {}), inputs=tuple(scene.inputs),

@@ -23,7 +23,9 @@ How long a load's arrow is drawn (the node's ``markers`` and the rerun view alik
 ``scale`` m per N, up to a ``knee``; beyond it each further tenfold of the load adds one knee
 length (ℓ = s·F_k·(1 + log10(F/F_k))), so that a peak far above the typical loads (the engine's
 gas force at top dead centre: 25 × the median) stays inside the drawing while the typical loads
-stay visible. Runs whose peak fits proportionally have no knee (``knee`` = inf).
+stay visible. Runs whose peak fits proportionally have no knee (``knee`` = inf). A load that is
+not zero is drawn at least :data:`FLOOR_FRACTION` of the drawing long, so that its direction
+shows.
 """
 
 from __future__ import annotations
@@ -35,6 +37,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
+
+from .arrows import ARROW_FRACTION, ARROW_PERCENTILE, nice_scale
 
 __all__ = [
     "KIND_PIN",
@@ -64,15 +68,21 @@ but at most this many times their median: a few large loads do not shrink every 
 MAX_FRACTION = 0.5
 """The peak load is drawn proportionally when it fits in this fraction of the drawing; else the
 arrows have a knee (:class:`LoadArrows`)."""
+FLOOR_FRACTION = 0.04
+"""The shortest arrow of a load that is not zero, as a fraction of the drawing (the engine's
+small loads near 140° were stubs of a few pixels: issue 24)."""
 
 
 class LoadArrows(NamedTuple):
     """How long a load's arrow is: ``scale`` m per N up to ``knee`` N (a length of
     ``scale · knee``), then each further tenfold of the load adds that length again:
-    ℓ(F) = s·F for F ≤ F_k, s·F_k·(1 + log10(F/F_k)) above (continuous, increasing)."""
+    ℓ(F) = s·F for F ≤ F_k, s·F_k·(1 + log10(F/F_k)) above (continuous, increasing); and never
+    shorter than ``floor`` m for a load that is not zero (a small load keeps a visible arrow that
+    shows its direction; a zero load has none)."""
 
     scale: float
     knee: float = math.inf
+    floor: float = 0.0
 
     def factor(self, force: Any) -> Any:
         """Arrow length per N of load at magnitude ``force`` (a float or an array): the arrow is
@@ -81,11 +91,15 @@ class LoadArrows(NamedTuple):
             fs = np.asarray(force, dtype=np.float64)
             with np.errstate(divide="ignore", invalid="ignore"):
                 bent = self.scale * self.knee * (1.0 + np.log10(fs / self.knee)) / fs
-            return np.where(fs > self.knee, bent, np.where(np.isnan(fs), np.nan, self.scale))
+                least = self.floor / fs
+            out = np.where(fs > self.knee, bent, np.where(np.isnan(fs), np.nan, self.scale))
+            return np.where((fs > 0.0) & (out * fs < self.floor), least, out)
         f = float(force)
         if f > self.knee:
             return self.scale * self.knee * (1.0 + math.log10(f / self.knee)) / f
-        return self.scale if f == f else math.nan
+        if f != f:
+            return math.nan
+        return self.floor / f if 0.0 < f and self.scale * f < self.floor else self.scale
 
     def planar_factor(self, fx: float, fy: float) -> float:
         """:meth:`factor` of the force (fx, fy) (Python floats: the node's per-tick path)."""
@@ -101,6 +115,8 @@ class LoadArrows(NamedTuple):
         text = f"× {self.scale:g} {per}"
         if math.isfinite(self.knee):
             text += f" up to {self.knee:.3g} N, then +{self.scale * self.knee:.3g} m per ×10"
+        if self.floor > 0.0:
+            text += f", at least {self.floor:.2g} m"
         return text
 
 
@@ -109,9 +125,8 @@ def load_arrows(samples: Mapping[str, NDArray[np.float64]], extent: float) -> Lo
     ``extent`` m: a round scale (1, 2 or 5 × 10^k m/N) that draws a long load
     (:data:`TYPICAL_RATIO`) at about a quarter of ``extent``; if the largest load would then be
     longer than :data:`MAX_FRACTION` of ``extent``, a knee where the proportional part reaches a
-    quarter of ``extent``. Non-finite samples are left out; no load at all gives scale 1."""
-    from .record.rerun import ARROW_FRACTION, ARROW_PERCENTILE, nice_scale
-
+    quarter of ``extent``. Every rule has a floor of :data:`FLOOR_FRACTION` of ``extent``.
+    Non-finite samples are left out; no load at all gives scale 1."""
     parts = [np.linalg.norm(np.asarray(v, dtype=np.float64)[:, :2], axis=1) for v in samples.values() if v.size]
     f = np.concatenate(parts) if parts else np.zeros(0)
     f = f[np.isfinite(f)]
@@ -123,9 +138,10 @@ def load_arrows(samples: Mapping[str, NDArray[np.float64]], extent: float) -> Lo
     if reference <= 0.0:
         reference = float(f.max())
     scale = nice_scale(ARROW_FRACTION * extent / reference)
+    floor = FLOOR_FRACTION * extent
     if scale * float(f.max()) <= MAX_FRACTION * extent:
-        return LoadArrows(scale)
-    return LoadArrows(scale, ARROW_FRACTION * extent / scale)
+        return LoadArrows(scale, floor=floor)
+    return LoadArrows(scale, ARROW_FRACTION * extent / scale, floor)
 
 
 class LoadPair(NamedTuple):

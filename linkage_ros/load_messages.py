@@ -16,8 +16,9 @@ it was, byte for byte). What it adds (docs/ros.md, "Forces")::
     markers           namespace ``loads``: one ARROW per load (id = its index), from the pair's
                       point along the force, length = |F| × ``scale`` (m/N), or above a knee
                       by the log rule of :class:`~linkage_ros.forces.LoadArrows` (the same
-                      rule as the rerun view); its ``text`` says which load and the rule
-                      (:meth:`LoadMessages.label`)
+                      rule as the rerun view, with its floor); its ``text`` says which load and
+                      the rule (:meth:`LoadMessages.label`); namespace ``load_labels``: one
+                      TEXT_VIEW_FACING per load at its arrow's tip, ``R_<key>``
 
 Every number comes from the frame (``frame.efforts``, ``frame.loads``), but the arrows' tips: the
 pair's point plus the force times the rule's factor (fixed when the scene is loaded), derived
@@ -31,29 +32,45 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 from solver.tracing import TRACE
 
 from .forces import KIND_PIN, LoadArrows, LoadPair, load_arrows
+from .msgtypes import MessageTypes
+from .topics import LOAD_LABELS_NAMESPACE, LOADS_NAMESPACE, WRENCH_STAMPED, load_topic_types
 from .urdf import BASE_LINK
 
-if TYPE_CHECKING:
-    from .messages import MessageBuilder, _Tick
+__all__ = ["LOADS_NAMESPACE", "LOAD_LABELS_NAMESPACE", "WRENCH_STAMPED", "LoadMessages", "load_topic_types",
+           "tree_effort_joints"]
 
-__all__ = ["LOADS_NAMESPACE", "WRENCH_STAMPED", "LoadMessages", "load_topic_types", "tree_effort_joints"]
-
-WRENCH_STAMPED = "geometry_msgs/msg/WrenchStamped"
-LOADS_NAMESPACE = "loads"
 _LOAD_COLOUR = (0.80, 0.25, 0.85, 1.0)
 #: Arrow shaft diameter, head diameter and head length, in line widths of the drawing.
 _ARROW_SHAPE = (1.5, 4.0, 5.0)
+#: Height of an arrow's label (``R_<key>``, at its tip), in line widths of the drawing.
+_LABEL_HEIGHT = 6.0
 _NAN = math.nan
 
 
-def load_topic_types(pairs: Sequence[LoadPair]) -> list[tuple[str, str]]:
-    """``(topic, type)`` of every load, in the order of ``pairs``."""
-    return [(p.topic, WRENCH_STAMPED) for p in pairs]
+class MessageBuilder(Protocol):
+    """What :class:`LoadMessages` reads of :class:`linkage_ros.messages.MessageBuilder` (named
+    here, not imported: the builder owns this module's class, so the import points one way)."""
+
+    engine: Any
+    types: MessageTypes
+    line_width: float
+
+    def _marker_style(self, ns: str, marker_id: int, kind: int, colour: tuple[float, float, float, float],
+                      scale: float) -> dict[str, Any]: ...
+
+
+class _Tick(Protocol):
+    """What :meth:`LoadMessages.arrows` reads of the builder's tick: the frame and its points'
+    Point messages."""
+
+    frame: Any
+
+    def point(self, name: str) -> Any: ...
 
 
 def tree_effort_joints(tree: Any, inputs: Iterable[str]) -> list[tuple[str, str]]:
@@ -86,7 +103,8 @@ class LoadMessages:
         #: the starting motion): ``scale`` m per N, above ``knee`` N one knee length per tenfold.
         self.rule: LoadArrows = load_arrows(engine.load_samples, size)
         self.scale: float = self.rule.scale
-        self._bent = self.rule.planar_factor if math.isfinite(self.rule.knee) else None
+        bent = math.isfinite(self.rule.knee) or self.rule.floor > 0.0
+        self._bent = self.rule.planar_factor if bent else None
         self._inputs = frozenset(engine.inputs)
         #: joint name → the input whose effort it carries (None: a passive joint, 0.0)
         self._carrier = {name: (name if name in self._inputs else None) for name in engine.joint_names}
@@ -96,6 +114,12 @@ class LoadMessages:
         shaft, head, length = (f * w for f in _ARROW_SHAPE)
         style["scale"] = self._Vector3(x=shaft, y=head, z=length)
         self._styles = [{**style, "id": i, "text": self.label(p)} for i, p in enumerate(self.pairs)]
+        label = builder._marker_style(LOAD_LABELS_NAMESPACE, 0, self._Marker.TEXT_VIEW_FACING, _LOAD_COLOUR,
+                                      _LABEL_HEIGHT * w)
+        del label["pose"]  # at the arrow's tip: set per tick
+        self._label_styles = [{**label, "id": i, "text": f"R_{p.key}"} for i, p in enumerate(self.pairs)]
+        self._Pose = c["geometry_msgs/msg/Pose"]
+        self._upright = c["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0)
         fixed = engine.scene.fixed_points
         self._fixed = [(float(fixed[p.point][0]), float(fixed[p.point][1])) if p.point in fixed else None
                        for p in self.pairs]
@@ -141,7 +165,9 @@ class LoadMessages:
         return tuple(out)
 
     def arrows(self, tick: _Tick, header: Any, tips: Sequence[float] | None = None) -> list[Any]:
-        """One ARROW marker per load, from its point to its tip (:meth:`tips`)."""
+        """One ARROW marker per load, from its point to its tip (:meth:`tips`), then one
+        TEXT_VIEW_FACING marker per load at its tip, ``R_<key>`` (namespace ``load_labels``): which
+        pin each arrow belongs to, in RViz and Foxglove alike."""
         if tips is None:
             tips = self.tips(tick.frame)
         out = []
@@ -149,4 +175,8 @@ class LoadMessages:
             start = tick.point(pair.point)
             end = self._Point(x=tips[2 * i], y=tips[2 * i + 1], z=0.0)
             out.append(self._Marker(header=header, points=[start, end], **style))
+        for i, style in enumerate(self._label_styles):
+            at = self._Point(x=tips[2 * i], y=tips[2 * i + 1], z=0.0)
+            out.append(self._Marker(header=header, pose=self._Pose(position=at, orientation=self._upright),
+                                    points=[], **style))
         return out

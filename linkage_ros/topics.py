@@ -19,18 +19,22 @@ from __future__ import annotations
 
 import re
 from collections.abc import Sequence
+from typing import Any
 
 from .engine import Engine
-from .load_messages import load_topic_types
 
 __all__ = [
     "DIAGNOSTICS",
     "FIXED_TOPIC_TYPES",
     "JOINT_KINEMATICS",
     "JOINT_STATES",
+    "LOADS_NAMESPACE",
+    "LOAD_LABELS_NAMESPACE",
     "MARKERS",
     "MARKER_NAMESPACES",
     "NS_PER_S",
+    "WRENCH_STAMPED",
+    "load_topic_types",
     "point_topics",
     "stamp_parts",
     "topic_types",
@@ -54,6 +58,12 @@ FIXED_TOPIC_TYPES: dict[str, str] = {
 
 #: Marker namespaces in the markers topic.
 MARKER_NAMESPACES = ("links", "joints", "fixed_pivots", "paths")
+#: The markers' namespaces of the load arrows and of their labels (scenes with forces,
+#: :mod:`.load_messages`).
+LOADS_NAMESPACE = "loads"
+LOAD_LABELS_NAMESPACE = "load_labels"
+#: The type of every ``pin_loads/<K>`` and ``slide_loads/<K>`` topic.
+WRENCH_STAMPED = "geometry_msgs/msg/WrenchStamped"
 
 _NAME_TOKEN = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 
@@ -67,6 +77,12 @@ def point_topics(point: str) -> tuple[str, str, str]:
         )
     base = f"points/{point}"
     return (f"{base}/position", f"{base}/velocity", f"{base}/acceleration")
+
+
+def load_topic_types(pairs: Sequence[Any]) -> list[tuple[str, str]]:
+    """``(topic, type)`` of every load (:class:`~linkage_ros.forces.LoadPair`), in the order of
+    ``pairs``."""
+    return [(p.topic, WRENCH_STAMPED) for p in pairs]
 
 
 def topic_types(engine_or_points: Engine | Sequence[str]) -> list[tuple[str, str]]:

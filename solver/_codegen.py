@@ -119,6 +119,10 @@ class Compiled:
                     itemgetter(i, i + 1, i + 2) if width == 0
                     else itemgetter(*(slice(i + a * width, i + (a + 1) * width) for a in range(3)))
                 )
+        #: one input: the readers of the output points and of the output joints apart, for
+        #: ``k.point(name)`` and ``k.joint(name)`` of one instant (solver.kinematics.InstantMotion)
+        self.point_readers = {n: self.readers[n] for n in scene.output_points if k == 1 and n in self.readers}
+        self.joint_readers = {n: self.readers[n] for n in scene.output_joints if k == 1 and n in self.readers}
         if self.derivatives:
             self.layout = tuple(
                 f"{name}.{part}" for name in (*scene.output_points, *scene.output_joints)

@@ -41,10 +41,13 @@ def _parser() -> argparse.ArgumentParser:
                       help="N angles over one turn (default 360; --count N the same, as for several inputs)")
     grid.add_argument("--count", type=count, dest="phi_count", default=argparse.SUPPRESS, help=argparse.SUPPRESS)
     grid.add_argument("--phi", type=_floats, metavar="V1,V2,...", help="these input angles (rad, or deg with --deg)")
-    p.add_argument("--deg", action="store_true", help="--phi values are in degrees (the summary always shows degrees)")
+    p.add_argument("--deg", action="store_true", help="--phi values are in degrees (the summary always shows degrees; "
+                   "the CSV's phi column stays in rad, like every column SI)")
     p.add_argument(
-        "--omega", type=_rate(OMEGA_MAX), default=1.0, metavar="W|Q=W",
-        help="input angular velocity, rad/s (default 1); Q=W names the input, as linkage-run reads it",
+        "--omega", type=_rate(OMEGA_MAX), default=None, metavar="W|Q=W",
+        help="input angular velocity, rad/s (default 1: velocities and accelerations then equal the analogs "
+        "d/dφ, d²/dφ²; forces include inertia at 1 rad/s, --omega 0 for statics); Q=W names the input, as "
+        "linkage-run reads it",
     )
     p.add_argument(
         "--epsilon",
@@ -281,7 +284,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             phi = np.radians(args.phi) if args.deg else np.asarray(args.phi, float)
         else:
             phi = np.linspace(0.0, 2 * math.pi, args.phi_count, endpoint=False)
-        omega = _one_rate(scene, args.omega, option="--omega", default=1.0, limit=OMEGA_MAX)
+        omega = _one_rate(scene, 1.0 if args.omega is None else args.omega, option="--omega", default=1.0,
+                          limit=OMEGA_MAX)
         epsilon = _one_rate(scene, args.epsilon, option="--epsilon", default=0.0, limit=EPSILON_MAX)
         k = scene.solve(phi, omega=omega, epsilon=epsilon, mask=args.mask)
         if args.csv:
@@ -307,7 +311,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         else:
             n = int(np.count_nonzero(k.valid))
             given = None if args.phi is None else "at the given angle" if n == 1 else f"read off the {n} given angles"
-            sections = [force_section(scene, k, sampling=given)]
+            sections = [force_section(scene, k, sampling=given,
+                                      default_speed=args.omega is None and args.epsilon == 0.0)]
             print(summary(scene, k, periodic=args.phi is None, given=args.phi is not None, sections=sections))
     except (SolverError, ValueError) as exc:
         print(f"linkage-solve: error: {one_line(str(exc))}", file=sys.stderr)

@@ -63,7 +63,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--range", action="append", default=[], metavar="Q=LO:HI",
                    help="an input's range on the grid, both ends included (default one turn, end excluded)")
     p.add_argument("--samples", metavar="Q1,Q2;Q1,Q2;...", help="these rows of input values instead of a grid")
-    p.add_argument("--deg", action="store_true", help="--range and --samples values are in degrees")
+    p.add_argument("--deg", action="store_true", help="--range and --samples values are in degrees "
+                   "(the CSV's input columns stay in rad, like every column SI)")
     p.add_argument("--omega", action="append", default=[], metavar="W|Q=W",
                    help="angular velocity, rad/s: W for every input, Q=W for input Q (repeatable; default 1)")
     p.add_argument("--epsilon", action="append", default=[], metavar="E|Q=E",
@@ -228,12 +229,12 @@ def _table(scene: Scene, k: Kinematics, derivatives: bool) -> np.ndarray:
         cols += [m.position[:, None], m.velocity[:, None], m.acceleration[:, None]]
     if derivatives:
         for p in scene.output_points:
-            m = k.point(p)
+            jacobian, hessian = k.derivatives(p)
             for axis in range(scene.dim):
-                cols += [m.jacobian[:, axis, :], m.hessian[:, axis][:, upper[0], upper[1]]]
+                cols += [jacobian[:, axis, :], hessian[:, axis][:, upper[0], upper[1]]]
         for j in scene.output_joints:
-            m = k.joint(j)
-            cols += [m.jacobian, m.hessian[:, upper[0], upper[1]]]
+            jacobian, hessian = k.derivatives(j)
+            cols += [jacobian, hessian[:, upper[0], upper[1]]]
     return np.hstack(cols + force_table(scene, k))
 
 
@@ -342,7 +343,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                 with open(args.csv, "w", encoding="utf-8", newline="") as fh:
                     write_csv(scene, k, fh, derivatives=args.derivatives)
         else:
-            forces = force_section(scene, k, sampling=f"read off {_sampling(axes)}")
+            forces = force_section(scene, k, sampling=f"read off {_sampling(axes)}",
+                                   default_speed=not args.omega and not args.epsilon)
             print(summary(scene, k, sampling=_sampling(axes), sections=[forces]))
     except (SolverError, ValueError) as exc:
         print(f"linkage-solve: error: {one_line(str(exc))}", file=sys.stderr)

@@ -22,6 +22,7 @@ __all__ = [
     "Derivatives",
     "FlatFloats",
     "InstantKinematics",
+    "InstantMotion",
     "Kinematics",
     "Motion",
     "OutputMotion",
@@ -41,6 +42,26 @@ class Motion(NamedTuple):
     position: np.ndarray
     velocity: np.ndarray
     acceleration: np.ndarray
+
+
+class InstantMotion(NamedTuple):
+    """Position, velocity and acceleration of one output at **one instant of a one-input scene**
+    (``scene.solve(φ)`` with a float φ), as plain Python numbers: a point's are tuples of its
+    ``dim`` floats (``(x, y)`` or ``(x, y, z)``, m, m/s, m/s²), a joint's are floats (rad or m).
+
+    The per-tick object path: made from the solve's floats in two C calls, no numpy (a
+    :class:`Motion` of (dim,) arrays costs a few µs a point). Wrap a field in ``np.asarray`` for
+    array arithmetic (a tuple's ``+`` concatenates). Sweeps, and instants of scenes with several
+    inputs, give :class:`OutputMotion` arrays with ``.jacobian`` and ``.hessian``; with one
+    input those are the analogs, which a solve at ω = 1, ε = 0 gives as velocity and
+    acceleration."""
+
+    position: Any
+    velocity: Any
+    acceleration: Any
+
+
+_new_tuple = tuple.__new__
 
 
 class Derivatives:
@@ -237,19 +258,34 @@ class Kinematics:
             self._epsilon = np.array(self._epsilon, float)
         return self._epsilon
 
-    def point(self, name: str) -> OutputMotion:
-        """Position, velocity and acceleration of point ``name``: (N, 2) or (N, 3) arrays."""
+    def point(self, name: str) -> OutputMotion | InstantMotion:
+        """Position, velocity and acceleration of point ``name``: (N, 2) or (N, 3) arrays
+        (:class:`OutputMotion`); at one instant of a one-input scene, tuples of floats
+        (:class:`InstantMotion`)."""
         if name not in self.points:
             raise SolverError(f"point '{name}' was not requested; requested points: {list(self.points)}")
         return self._output(name)
 
-    def joint(self, name: str) -> OutputMotion:
-        """Coordinate, velocity and acceleration of joint ``name`` (rad or m): (N,) arrays."""
+    def joint(self, name: str) -> OutputMotion | InstantMotion:
+        """Coordinate, velocity and acceleration of joint ``name`` (rad or m): (N,) arrays
+        (:class:`OutputMotion`); at one instant of a one-input scene, floats (:class:`InstantMotion`)."""
         if name not in self.joints:
             raise SolverError(f"joint '{name}' was not requested; requested joints: {list(self.joints)}")
         return self._output(name)
 
-    def _output(self, name: str) -> OutputMotion:
+    def derivatives(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        """``(jacobian, hessian)`` of output ``name`` in the inputs — what an :class:`OutputMotion`'s
+        ``.jacobian`` and ``.hessian`` give, also for one instant of a one-input scene (whose
+        :class:`InstantMotion` has floats only): (dim, 1) and (dim, 1, 1) there, the analogs."""
+        if name not in self.points and name not in self.joints:
+            raise SolverError(f"'{name}' was not requested; requested: {[*self.points, *self.joints]}")
+        if self._derivatives is None:
+            raise SolverError(f"'{name}': this result carries no derivatives in the inputs")
+        return self._derivatives.of(name)
+
+    def _output(self, name: str) -> OutputMotion | InstantMotion:
+        if self._floats is not None and (self.inputs is None or len(self.inputs) == 1) and not self._samples:
+            return _new_tuple(InstantMotion, self._floats[name])  # type: ignore[no-any-return]
         m = self._motions.get(name) or self._from_floats(name)
         if type(m) is not OutputMotion:
             m = self._motions[name] = OutputMotion(m, name, self._derivatives)
@@ -377,6 +413,20 @@ class InstantKinematics(Kinematics):
             return self._unit.readers[name](self._flat)  # type: ignore[no-any-return]
         except KeyError:  # a unit of another order (no readers), or a name not requested
             return Kinematics.floats(self, name)
+
+    def point(self, name: str) -> OutputMotion | InstantMotion:
+        try:
+            return _new_tuple(InstantMotion, self._unit.point_readers[name](self._flat))  # type: ignore[no-any-return]
+        except KeyError:  # several inputs (arrays), or a name not requested (the error)
+            return Kinematics.point(self, name)
+
+    def joint(self, name: str) -> OutputMotion | InstantMotion:
+        try:
+            return _new_tuple(InstantMotion, self._unit.joint_readers[name](self._flat))  # type: ignore[no-any-return]
+        except KeyError:
+            return Kinematics.joint(self, name)
+
+    point.__doc__, joint.__doc__ = Kinematics.point.__doc__, Kinematics.joint.__doc__
 
     floats.__doc__ = Kinematics.floats.__doc__
 

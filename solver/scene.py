@@ -343,7 +343,8 @@ class Scene:
         out = {}
         for name in (*self.output_points, *self.output_joints):
             m = k.point(name) if name in self.output_points else k.joint(name)
-            out[name] = (m.velocity[..., None], m.acceleration[..., None, None])
+            v, a = np.asarray(m.velocity, float), np.asarray(m.acceleration, float)  # (floats at one instant)
+            out[name] = (v[..., None], a[..., None, None])
         return out
 
     def _solve_scalar(

@@ -127,7 +127,8 @@ def motion_line(omega: float, epsilon: float) -> str:
     """What ω and ε mean for the numbers that follow."""
     text = f"ω = {omega:g} rad/s, ε = {epsilon:g} rad/s²"
     if omega == 1.0 and epsilon == 0.0:
-        text += " (velocities and accelerations are the analogs d/dφ, d²/dφ², per rad of the input)"
+        text += (" (at 1 rad/s the velocities and accelerations below, in m/s and m/s², are also the analogs "
+                 "d/dφ, d²/dφ² in m/rad and m/rad²)")
     elif omega != 0.0 and epsilon == 0.0:
         text += f" ({abs(omega) / TWO_PI:.4g} turn/s)"
     return text + "; angles in degrees, everything else SI"

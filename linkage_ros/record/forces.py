@@ -9,7 +9,8 @@ here; :func:`forces_from_mcap` reads the same arrays back from a recording.
 Entity layout (beside :mod:`.rerun`'s)::
 
     mechanism/loads/<K>      Arrows per tick at the point of pin load K: along the force, its
-                             length by the run's rule (label ``R_K × s m/N``, the rule in the legend)
+                             length by the run's rule (the rule in the legend), wider than the
+                             links, labelled ``R_K`` (:func:`load_label`)
     plots/effort/<Q>         Scalars: the effort of input Q (N·m for a crank, N for a slider)
 
 The rule is the node's (:func:`linkage_ros.forces.load_arrows`, docs/ros.md "Forces"): a round
@@ -29,7 +30,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..forces import KIND_PIN, TOPIC_PREFIX, LoadArrows, load_arrows
-from .rerun import ARROW_WIDTH, DRAW_ORDER, _plot, _position, _series
+from ._drawing import DRAW_ORDER, log_series, plot_view, position_of
 from .rundata import RunData
 
 __all__ = [
@@ -41,6 +42,7 @@ __all__ = [
     "forces_legend",
     "forces_metadata",
     "force_sections",
+    "load_label",
     "load_rule",
     "log_forces",
 ]
@@ -49,6 +51,15 @@ LOADS_ENTITY = "mechanism/loads"
 EFFORT_ORIGIN = "plots/effort"
 LOAD_COLOR = (200, 70, 210)
 """Magenta: apart from the links (blue), pivots (red), velocity (green), acceleration (orange)."""
+LOAD_ARROW_WIDTH = 1.4
+"""A load arrow's radius in link radii: wider than the links, so that an arrow along a link (a
+connecting rod's pin loads lie on the rod) covers it in its own colour instead of running
+inside it as a thin stripe (the velocity and acceleration arrows are 0.5)."""
+
+
+def load_label(key: str) -> str:
+    """The label drawn at a load's arrow: ``R_A`` for the pin A, ``R_B_slide`` for the slide at B."""
+    return f"R_{key}"
 
 Array = NDArray[np.float64]
 
@@ -83,16 +94,15 @@ def log_forces(rec: Any, data: RunData, times: Any, *, radius: float) -> LoadArr
         if point not in data.positions and point not in data.fixed:
             continue
         vectors = arrow_vectors(rule, values, data.dim)
-        rec.log(entity, arrows.from_fields(radii=ARROW_WIDTH * radius, colors=LOAD_COLOR,
-                                           labels=[f"R_{key} {rule.describe()}"], show_labels=False,
-                                           **order), static=True)
+        rec.log(entity, arrows.from_fields(radii=LOAD_ARROW_WIDTH * radius, colors=LOAD_COLOR,
+                                           labels=[load_label(key)], show_labels=True, **order), static=True)
         rec.send_columns(entity, indexes=[times], columns=arrows.columns(
-            origins=_position(data, point), vectors=vectors))
+            origins=position_of(data, point), vectors=vectors))
     joints = list(data.joints)
     for i, (joint, values) in enumerate(data.efforts.items()):
         unit = data.effort_units.get(joint, "N·m")
         colour = joints.index(joint) if joint in joints else i  # the input joint's colour
-        _series(rec, f"{EFFORT_ORIGIN}/{joint}", f"Q {joint} ({unit})", times, values, colour)
+        log_series(rec, f"{EFFORT_ORIGIN}/{joint}", f"Q {joint} ({unit})", times, values, colour)
     return rule
 
 
@@ -102,7 +112,7 @@ def effort_views(data: RunData) -> list[Any]:
         return []
     units = sorted(set(data.effort_units.get(j, "N·m") for j in data.efforts))
     plural = "inputs'" if len(data.efforts) > 1 else "input"
-    return [_plot(EFFORT_ORIGIN, f"{plural} effort ({' | '.join(units)})", *data.efforts.values(),
+    return [plot_view(EFFORT_ORIGIN, f"{plural} effort ({' | '.join(units)})", *data.efforts.values(),
                   contents=[f"/{EFFORT_ORIGIN}/{q}" for q in data.efforts])]
 
 

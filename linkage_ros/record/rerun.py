@@ -32,12 +32,32 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
-from .rundata import Array, RunData
+from ..arrows import arrow_scale, nice_scale
+from ._drawing import (
+    ACCELERATION_COLOR,
+    ARROW_WIDTH,
+    DRAW_ORDER,
+    FIXED_COLOR,
+    LINK_COLOR,
+    LINK_RADIUS,
+    PATH_COLOR,
+    PATH_WIDTH,
+    PIVOT_SIZE,
+    POINT_COLOR,
+    POINT_SIZE,
+    SERIES_COLOUR_NAMES,
+    VELOCITY_COLOR,
+    log_series,
+    plot_view,
+    position_of,
+)
+from .forces import effort_views, forces_legend, load_rule, log_forces
+from .rundata import RunData
+from .viewer import viewer_environment, viewer_executable
 
 __all__ = [
     "APPLICATION_ID",
@@ -52,21 +72,6 @@ __all__ = [
 
 APPLICATION_ID = "linkage_ros"
 TIMELINE = "sim_time"
-ARROW_FRACTION = 0.25
-"""A long velocity (acceleration) arrow is about this fraction of the mechanism's extent."""
-ARROW_PERCENTILE = 95.0
-NICE_STEPS = (1.0, 2.0, 5.0)
-PLOT_MARGIN = 0.05
-"""Fraction of the data range added above and below in each plot."""
-LABELLED_STEPS = 7
-"""Most grid steps of one power of ten in a plot's y range: the viewer numbers only grid lines
-at powers of ten far enough apart (at the default window, a plot three or four to a column
-numbers lines ~25 px apart, not always 20 px, never 8 px); a range of more steps is widened to
-the next power of ten, so that two numbered lines always show (a range of −70 … 88 is shown as
-−100 … 100, not with a lone "0")."""
-FLAT_SPAN = 1e-9
-"""A series whose range is below this fraction of its magnitude (or of 1) is rounding noise
-around a constant (five_bar's distal angles at equal inputs: 1e-15 rad/s²) and plotted as flat."""
 LEGEND_CHARS_PER_PX = 0.155
 """Characters of legend text per logical pixel of the mechanism column's width."""
 LEGEND_LINE_PX, LEGEND_HEAD_PX, WINDOW_PX = 16.0, 40.0, (1280.0, 740.0)
@@ -85,11 +90,6 @@ legend of this many names in full (rerun draws the legend inside the plot and cu
 fit); more joints go to more plots, side by side."""
 PLOTS_SHARE = (2, 1)
 """Width of the mechanism column : width of each column of plots."""
-# Sizes relative to the link radius, itself a fraction of the drawing's extent.
-LINK_RADIUS = 0.004
-POINT_SIZE, PIVOT_SIZE, PATH_WIDTH, ARROW_WIDTH = 1.4, 1.7, 0.35, 0.5
-DRAW_ORDER = {"paths": 5.0, "links": 10.0, "arrows": 20.0, "points": 30.0}
-"""2-D stacking: arrows above the links they start on, joints on top."""
 Y_UP = (1.0, -1.0, 1.0)
 """Scale of the mirror that shows a planar mechanism y up in rerun's y-down 2-D view."""
 DRAWN_2D = ("links", "points", "fixed", "paths", "velocity", "acceleration", "loads")
@@ -100,77 +100,15 @@ long one, a quarter of the extent, may reach past it)."""
 EYE_OFFSET = (0.5, -0.7, 0.45)
 """3-D camera position from the middle of the drawing, in units of its extent."""
 
-LINK_COLOR = (70, 130, 200)
-POINT_COLOR = (235, 235, 235)
-FIXED_COLOR = (230, 90, 60)
-PATH_COLOR = (150, 150, 150)
-VELOCITY_COLOR = (60, 200, 90)
-ACCELERATION_COLOR = (230, 170, 40)
-SERIES_PALETTE = (
-    (228, 26, 28), (55, 126, 184), (77, 175, 74), (152, 78, 163), (255, 127, 0),
-    (200, 200, 50), (166, 86, 40), (247, 129, 191), (120, 120, 120),
-)
-SERIES_COLOUR_NAMES = ("red", "blue", "green", "purple", "orange", "yellow", "brown", "pink", "grey")
-"""The palette's colours by name, for the legend's key: each joint's colour in every plot."""
-
-def nice_scale(raw: float) -> float:
-    """The round number (1, 2 or 5 × 10^k) at or below ``raw`` > 0."""
-    exp = math.floor(math.log10(raw))
-    mant = raw / 10.0**exp
-    step = max(s for s in NICE_STEPS if s <= mant * (1 + 1e-12))
-    return step * 10.0**exp
-
-
-def arrow_scale(vectors: Mapping[str, Array], extent: float) -> float:
-    """A round scale (1, 2 or 5 × 10^k, in s or s²) that draws a long vector — the
-    ``ARROW_PERCENTILE``-th percentile of the lengths, so that a few spikes near a singular
-    position do not shrink every other arrow — at about ``ARROW_FRACTION`` of ``extent``;
-    1 when every vector is zero."""
-    lengths = [np.linalg.norm(v, axis=1) for v in vectors.values() if v.size]
-    finite = np.concatenate(lengths) if lengths else np.zeros(0)
-    finite = finite[np.isfinite(finite)]
-    longest = float(np.percentile(finite, ARROW_PERCENTILE)) if finite.size else 0.0
-    if longest <= 0.0:
-        return 1.0
-    return nice_scale(ARROW_FRACTION * extent / longest)
-
-
 def _fmt(x: float) -> str:
     return f"{x:g}"
 
 
-def _range(*series: Array) -> tuple[float, float]:
-    """Y range of a plot (explicit, so the plots do not depend on how much data the viewer had
-    loaded when it fitted them): every finite value, widened to multiples of a power of ten
-    (:data:`LABELLED_STEPS`) so that at least two grid lines carry a number, then a 5 % margin.
-    A series constant up to rounding (:data:`FLAT_SPAN`) is shown as constant."""
-    parts = [np.asarray(s, dtype=float).reshape(-1) for s in series] or [np.zeros(1)]
-    values = np.concatenate(parts)
-    values = values[np.isfinite(values)]
-    lo, hi = (float(values.min()), float(values.max())) if values.size else (0.0, 0.0)
-    if hi - lo <= FLAT_SPAN * max(1.0, abs(lo), abs(hi)):
-        mid = 0.5 * (lo + hi)
-        lo, hi = mid - max(1.0, abs(mid)), mid + max(1.0, abs(mid))
-    step = 10.0 ** math.floor(math.log10(hi - lo))
-    if math.ceil(hi / step) - math.floor(lo / step) > LABELLED_STEPS:
-        step *= 10.0
-    lo, hi = math.floor(lo / step) * step, math.ceil(hi / step) * step
-    pad = PLOT_MARGIN * (hi - lo)
-    return lo - pad, hi + pad
-
-
-def _plot(origin: str, name: str, *series: Array, contents: Sequence[str] = ("$origin/**",)) -> Any:
-    import rerun.blueprint as rrb
-
-    return rrb.TimeSeriesView(origin=origin, name=name, contents=list(contents),
-                              axis_y=rrb.ScalarAxis(range=_range(*series)),
-                              plot_legend=rrb.PlotLegend(visible=True))
-
-
 def plot_columns(data: RunData) -> list[list[tuple[str, list[str]]]]:
     """The plots, column by column, as ``(title, [entity paths of its series])``: the inputs'
-    φ, ω, ε (one plot each), then the joints' positions, velocities, accelerations, one column
-    per unit of the joints (angles in rad, slides in m: :data:`UNIT_TITLES`), with at most
+    φ, ω, ε (one plot each), then the joints' positions (but the inputs', which are their φ),
+    velocities, accelerations, one column per unit of the joints (angles in rad, slides in m:
+    :data:`UNIT_TITLES`), with at most
     :data:`LEGEND_ROWS` joints a plot (more joints: more columns), so that each legend shows
     every series name and each axis one unit."""
     plural = "inputs" if data.phi.ndim == 2 else "input"
@@ -184,11 +122,15 @@ def plot_columns(data: RunData) -> list[list[tuple[str, list[str]]]]:
         by_unit.setdefault(data.joint_units.get(j, "rad"), []).append(j)
     columns = [inputs]
     order = list(UNIT_TITLES)
+    driven = set(data.inputs or (data.input_joint,))
     for unit, names in sorted(by_unit.items(), key=lambda kv: order.index(kv[0]) if kv[0] in order else len(order)):
         titles = UNIT_TITLES.get(unit) or tuple(f"joint {kind}s ({unit})" for kind in KINDS)
         for i in range(0, len(names), LEGEND_ROWS):
             chunk = names[i: i + LEGEND_ROWS]
-            columns.append([(title, [f"plots/joints/{kind}/{j}" for j in chunk])
+            # an input's position is its φ, plotted apart in the first column: beside the other
+            # joints its ever-growing angle would flatten their swings (issue 24)
+            columns.append([(title, [f"plots/joints/{kind}/{j}" for j in chunk
+                                     if not (kind == "position" and j in driven)])
                             for kind, title in zip(KINDS, titles)])
     return columns
 
@@ -222,25 +164,16 @@ def blueprint(data: RunData) -> Any:
         values.update({f"plots/joints/{kind}/{j}": data.plotted_joint(j)[i] for j in data.joints})
     columns = []
     for c, column in enumerate(layout):
-        views = [_plot(paths[0] if len(paths) == 1 else paths[0].rsplit("/", 1)[0], title,
+        views = [plot_view(paths[0] if len(paths) == 1 else paths[0].rsplit("/", 1)[0], title,
                        *(values[p] for p in paths), contents=[f"/{p}" for p in paths])
                  for title, paths in column if paths]
-        columns.append(rrb.Vertical(*views, *(_effort_views(data) if c == 0 else [])))
+        columns.append(rrb.Vertical(*views, *(effort_views(data) if c == 0 else [])))
     plots = rrb.Horizontal(*columns)
     return rrb.Blueprint(
         rrb.Horizontal(mechanism, plots, column_shares=[PLOTS_SHARE[0], PLOTS_SHARE[1] * len(columns)]),
         rrb.TimePanel(state="collapsed"),
         collapse_panels=True,
     )
-
-
-def _effort_views(data: RunData) -> list[Any]:
-    """The input effort plot of a scene with forces (:mod:`.forces`); none otherwise."""
-    if not data.efforts:
-        return []
-    from .forces import effort_views
-
-    return effort_views(data)
 
 
 def _bounds(data: RunData) -> Any:
@@ -319,7 +252,7 @@ def log_run(rec: Any, data: RunData) -> dict[str, float]:
 
     # -- per tick: links, moving points, arrows --------------------------------------------
     for link, names in data.links:
-        strip = np.stack([_position(data, p) for p in names], axis=1)  # (N, k, dim)
+        strip = np.stack([position_of(data, p) for p in names], axis=1)  # (N, k, dim)
         rec.log(f"mechanism/links/{link}", strips_t.from_fields(
             radii=radius, colors=LINK_COLOR, labels=[link], show_labels=False, **order("links")),
             static=True)
@@ -353,16 +286,14 @@ def log_run(rec: Any, data: RunData) -> dict[str, float]:
     for name, q, values in data.input_series():
         i = joints.index(q or data.input_joint) if (q or data.input_joint) in joints else 0  # the joint's colour
         if q:  # several inputs: one series per input, e.g. plots/input/phi/q1 "φ q1 (rad)"
-            _series(rec, f"plots/input/{name}/{q}", f"{_greek(name)} {q} ({units[name]})", times, values, i)
+            log_series(rec, f"plots/input/{name}/{q}", f"{_greek(name)} {q} ({units[name]})", times, values, i)
         else:
-            _series(rec, f"plots/input/{name}", f"{_greek(name)} ({units[name]})", times, values, i)
+            log_series(rec, f"plots/input/{name}", f"{_greek(name)} ({units[name]})", times, values, i)
     for i, joint in enumerate(data.joints):
         p, v, a = data.plotted_joint(joint)
         for kind, values in (("position", p), ("velocity", v), ("acceleration", a)):
-            _series(rec, f"plots/joints/{kind}/{joint}", joint, times, values, i)
+            log_series(rec, f"plots/joints/{kind}/{joint}", joint, times, values, i)
     if data.loads or data.efforts:  # scenes with forces: arrows at the pins, efforts (.forces)
-        from .forces import log_forces
-
         rule = log_forces(rec, data, times, radius=radius)
         knee = {"load_knee": rule.knee} if math.isfinite(rule.knee) else {}
         return {"velocity": v_scale, "acceleration": a_scale, "load": rule.scale, **knee}
@@ -385,8 +316,6 @@ def legend_text(data: RunData) -> str:
     key = ", ".join(f"{j} {SERIES_COLOUR_NAMES[i % len(SERIES_COLOUR_NAMES)]}" for i, j in enumerate(data.joints))
     legend += f"Plots: one colour per joint, the inputs and efforts in their joint's: {key}.\n"
     if data.loads:  # scenes with forces: the pin-load arrows (.forces)
-        from .forces import forces_legend, load_rule
-
         legend += forces_legend(data, load_rule(data)) + "\n"
     if data.note:
         legend += f"\n{data.note}\n"
@@ -395,29 +324,6 @@ def legend_text(data: RunData) -> str:
 
 def _greek(name: str) -> str:
     return {"phi": "φ", "omega": "ω", "epsilon": "ε"}.get(name, name)
-
-
-def _series(rec: Any, path: str, label: str, times: Any, values: Array, index: int) -> None:
-    import rerun as rr
-
-    color = SERIES_PALETTE[index % len(SERIES_PALETTE)]
-    rec.log(path, rr.SeriesLines(names=label, widths=1.5, colors=color), static=True)
-    rec.send_columns(path, indexes=[times], columns=rr.Scalars.columns(scalars=values))
-
-
-def _position(data: RunData, name: str) -> Array:
-    if name in data.positions:
-        return data.positions[name]
-    return np.broadcast_to(np.asarray(data.fixed[name], dtype=float), (data.n, data.dim))
-
-
-def _viewer() -> str | None:
-    """The ``rerun`` viewer next to this Python (a venv's bin), else None: PATH is searched."""
-    import shutil
-    import sys
-
-    here = os.path.join(os.path.dirname(sys.executable), "rerun")
-    return here if os.access(here, os.X_OK) else shutil.which("rerun")
 
 
 def write_rrd(data: RunData, path: str | os.PathLike[str] | None = None, *,
@@ -438,8 +344,12 @@ def write_rrd(data: RunData, path: str | os.PathLike[str] | None = None, *,
         sinks.append(rr.FileSink(str(path)))
     failure = ""
     if spawn:
+        # the spawned viewer inherits this process's environment: give it a runtime folder, so
+        # that it does not print "error: XDG_RUNTIME_DIR is invalid or not set" (.viewer)
+        if os.name == "posix":
+            os.environ["XDG_RUNTIME_DIR"] = viewer_environment()["XDG_RUNTIME_DIR"]
         try:
-            spawn_viewer(connect=False, executable_path=_viewer(), recording=rec)
+            spawn_viewer(connect=False, executable_path=viewer_executable(), recording=rec)
             sinks.append(rr.GrpcSink())
         except RuntimeError as exc:
             failure = str(exc).strip().splitlines()[0]

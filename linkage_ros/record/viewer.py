@@ -13,11 +13,18 @@ client that retries for seconds:
 
 Either way the caller prints one line that says how to view the file instead
 (:func:`how_to_view`).
+
+The viewer is started with ``XDG_RUNTIME_DIR`` set (:func:`viewer_environment`): without it the
+window system's client library prints ``error: XDG_RUNTIME_DIR is invalid or not set in the
+environment.`` twice (a harmless probe for Wayland that a user reads as an error); where the
+variable is missing or not a folder, a private one (``<tmp>/linkage-ros-runtime-<uid>``, mode 0700)
+takes its place.
 """
 
 from __future__ import annotations
 
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -25,7 +32,7 @@ import time
 from pathlib import Path
 
 __all__ = ["FAIL_FAST_S", "ViewerError", "display_problem", "how_to_view", "open_viewer", "show",
-           "temporary_rrd"]
+           "temporary_rrd", "viewer_environment", "viewer_executable"]
 
 #: Seconds the viewer is watched after its start: one that exits within them has failed.
 FAIL_FAST_S = 1.5
@@ -48,6 +55,36 @@ def display_problem(environ: dict[str, str] | None = None, platform: str | None 
     return "no display (none of DISPLAY, WAYLAND_DISPLAY is set)"
 
 
+def viewer_environment(environ: dict[str, str] | None = None) -> dict[str, str]:
+    """The environment to start the rerun viewer in: ``environ`` (default: this process's) with
+    ``XDG_RUNTIME_DIR`` set to a private folder when it is missing or not an absolute folder
+    (POSIX only), so that the viewer starts without printing an error."""
+    env = dict(os.environ if environ is None else environ)
+    if os.name != "posix":
+        return env
+    current = env.get("XDG_RUNTIME_DIR", "")
+    if not (current and os.path.isabs(current) and os.path.isdir(current)):
+        env["XDG_RUNTIME_DIR"] = _private_runtime_dir()
+    return env
+
+
+def _private_runtime_dir() -> str:
+    """``<tmp>/linkage-ros-runtime-<uid>``, made with mode 0700 (one per user, reused: the viewer
+    outlives the command that started it); a fresh temporary folder when that name is taken by a
+    folder of another user or with wider permissions."""
+    path = os.path.join(tempfile.gettempdir(), f"linkage-ros-runtime-{os.getuid()}")
+    try:
+        os.mkdir(path, 0o700)
+    except FileExistsError:
+        pass
+    except OSError:
+        return tempfile.mkdtemp(prefix="linkage-ros-runtime-")
+    info = os.lstat(path)
+    if not os.path.isdir(path) or os.path.islink(path) or info.st_uid != os.getuid() or info.st_mode & 0o077:
+        return tempfile.mkdtemp(prefix="linkage-ros-runtime-")
+    return path
+
+
 def how_to_view(rrd: str | os.PathLike[str]) -> str:
     """What to run instead, on a machine with a display."""
     return f"view it with `rerun {rrd}` where there is a display"
@@ -66,7 +103,7 @@ def open_viewer(rrd: str | os.PathLike[str], *, executable: str | None = None,
     log = tempfile.TemporaryFile()  # the viewer's logs: read only if it fails
     try:
         process = subprocess.Popen([executable, str(Path(rrd))], stdin=subprocess.DEVNULL,
-                                   stdout=log, stderr=log, start_new_session=True)
+                                   stdout=log, stderr=log, start_new_session=True, env=viewer_environment())
     except OSError as exc:
         log.close()
         raise ViewerError(f"cannot start {executable}: {exc.strerror or exc}") from None
@@ -89,13 +126,17 @@ def open_viewer(rrd: str | os.PathLike[str], *, executable: str | None = None,
 def show(rrd: str | os.PathLike[str]) -> str | None:
     """Open ``rrd`` in the viewer next to this Python (else on PATH); None when it started, else
     one line: why not, and how to view the file instead."""
-    from .rerun import _viewer
-
     try:
-        open_viewer(rrd, executable=_viewer())
+        open_viewer(rrd, executable=viewer_executable())
     except ViewerError as exc:
         return f"no viewer started: {exc}; {how_to_view(rrd)}"
     return None
+
+
+def viewer_executable() -> str | None:
+    """The ``rerun`` viewer next to this Python (a venv's bin), else the one on PATH, else None."""
+    here = os.path.join(os.path.dirname(sys.executable), "rerun")
+    return here if os.access(here, os.X_OK) else shutil.which("rerun")
 
 
 def temporary_rrd(stem: str) -> Path:

@@ -28,7 +28,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from .model import BASE_LINK, TreeModel
+from .tree import BASE_LINK, TreeModel
 
 __all__ = ["TreeJointStates", "evaluate_tree", "tree_inputs", "tree_joint_states", "frame_tree_joint_states",
            "kinematics_tree_joint_states"]

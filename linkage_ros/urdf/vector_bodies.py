@@ -15,7 +15,7 @@ import numpy as np
 
 from solver.errors import SceneError
 
-from .model import BASE_LINK
+from .tree import BASE_LINK
 
 __all__ = ["TOL_PLACE", "Comp", "UnionFind", "Vector", "VectorBodies"]
 

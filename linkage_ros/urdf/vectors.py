@@ -40,7 +40,8 @@ from typing import Any
 
 import numpy as np
 
-from .model import BASE_LINK, Body, Cut, TreeJoint, TreeModel, Vec3, _check_names
+from .states import kinematics_tree_joint_states
+from .tree import BASE_LINK, Body, Cut, TreeJoint, TreeModel, Vec3, check_names
 from .vector_bodies import TOL_PLACE, Comp, UnionFind, VectorBodies
 
 __all__ = ["build_vector_model", "TOL_PLACE", "TOL_CHECK"]
@@ -202,7 +203,7 @@ def build_vector_model(scene: Any) -> TreeModel:
         cuts=cuts,
         owner=owner,
     )
-    _check_names(model, tuple(scene.joint_names), b.error)
+    check_names(model, tuple(scene.joint_names), b.error)
     _check_places(b, scene, model)
     return model
 
@@ -263,8 +264,6 @@ def _locate(b: VectorBodies, bodies: dict[str, Body], joints: list[TreeJoint], c
 
 def _check_places(b: VectorBodies, scene: Any, model: TreeModel) -> None:
     """Place the tree by planar forward kinematics at a few φ; compare with the solver's points."""
-    from .states import kinematics_tree_joint_states
-
     k = scene.everything().solve(np.asarray(CHECK_PHI), mask=True)
     valid = np.flatnonzero(np.asarray(k.valid, bool))
     if valid.size == 0:

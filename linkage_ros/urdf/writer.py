@@ -18,8 +18,8 @@ import numpy as np
 
 from solver.errors import AssemblyError, SceneError
 
-from .model import BASE_LINK, Body, TreeModel
 from .states import kinematics_tree_joint_states
+from .tree import BASE_LINK, Body, TreeModel
 
 __all__ = ["urdf_xml", "travel", "CYCLE_SAMPLES", "BAR_RADIUS_PER_SIZE"]
 

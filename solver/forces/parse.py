@@ -11,7 +11,7 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from .._fields import Entry, Units, show
+from .._fields import Entry, Units, show, suggest
 from ..groups import Group
 from ..plan import order_groups
 from .parse_drive import DRIVE_KEYS, parse_drive
@@ -65,10 +65,18 @@ def _vector(e: Entry, key: str, limit: float) -> complex:
     raw = e.raw(key)
     if not isinstance(raw, (list, tuple)) or len(raw) != 2:
         raise e.error(f"must be [x, y] (a planar vector), got {show(raw)}", key)
-    x, y = (e.as_number(v, key) for v in raw)
+    xy = e.child(key, {"x": raw[0], "y": raw[1]})  # a bad component is named: force.x, center.y
+    x, y = xy.number("x"), xy.number("y")
     if abs(x) > limit or abs(y) > limit:
         raise e.error(f"{show(raw)} has a component beyond ±{limit:g}", key)
     return complex(x, y)
+
+
+def _unknown_body(body: str, known: Sequence[str]) -> str:
+    """``unknown body 'rockr' (did you mean 'rocker'?); bodies: …``."""
+    near = suggest(body, known)
+    hint = f" (did you mean '{near[0]}'?)" if near else ""
+    return f"unknown body '{body}'{hint}; bodies: {', '.join(known)}"
 
 
 def _links_text(links: Sequence[Link]) -> str:
@@ -168,7 +176,7 @@ def _body_point(e: Entry, spec: ForceSpec, body: str, point: str | None, key: st
         return
     b = spec.body(body)
     if b is None:
-        raise e.error(f"unknown body '{body}'; bodies: {', '.join(known)}", key)
+        raise e.error(_unknown_body(body, known), key)
     if point is not None and point not in b.points:
         raise e.error(f"'{point}' is not a point of body '{body}' ({', '.join(b.points)})", "point")
 
@@ -202,7 +210,7 @@ def _spring(e: Entry, spec: ForceSpec, units: Units, joints: Mapping[str, str]) 
     for body, point in ends:
         b = spec.body(body)
         if body != GROUND and b is None:
-            raise e.error(f"unknown body '{body}'; bodies: {', '.join(x.name for x in spec.bodies)}, ground", "spring")
+            raise e.error(_unknown_body(body, [*(x.name for x in spec.bodies), GROUND]), "spring")
         if not spec.carries(body, point):
             raise e.error(f"'{point}' is not a point of body '{body}'", "spring")
     if ends[0][0] == ends[1][0]:
@@ -224,7 +232,9 @@ def _table(e: Entry, spec: ForceSpec, units: Units, joints: Mapping[str, str]) -
     t.expect(("of", "at", "force", "period"))
     joint = t.name("of")
     if joint not in joints:
-        raise t.error(f"unknown joint '{joint}'; joints: {', '.join(sorted(joints))}", "of")
+        near = suggest(joint, sorted(joints))
+        hint = f" (did you mean '{near[0]}'?)" if near else ""
+        raise t.error(f"unknown joint '{joint}'{hint}; joints: {', '.join(sorted(joints))}", "of")
     at_raw, f_raw = t.raw("at"), t.raw("force")
     for key, value in (("at", at_raw), ("force", f_raw)):
         if not isinstance(value, (list, tuple)) or len(value) < 2:

@@ -12,7 +12,7 @@ import pytest
 from compiled_compare import bits, outcome
 
 import solver
-from solver.kinematics import InstantKinematics
+from solver.kinematics import InstantKinematics, InstantMotion
 
 
 def _angles(n: int, seed: int) -> list[tuple[float, float, float]]:
@@ -94,8 +94,14 @@ def test_a_solve_at_one_instant_reads_its_flat_tuple_lazily() -> None:
     assert k.conditioning == slow.conditioning
     assert [bits(k.effort(j)) for j in scene.inputs] == [bits(slow.effort(j)) for j in scene.inputs]
     p = scene.output_points[0]
-    np.testing.assert_array_equal(k.point(p).position, slow.point(p).position)
-    np.testing.assert_array_equal(k.point(p).jacobian, slow.point(p).jacobian)
+    assert k.point(p) == slow.point(p) and type(k.point(p)) is type(slow.point(p)) is InstantMotion
+    assert all(type(x) is tuple and all(type(c) is float for c in x) for x in k.point(p))
+    assert all(type(x) is float for x in k.joint(scene.output_joints[0]))
+    for a, b in zip(k.derivatives(p), slow.derivatives(p)):
+        np.testing.assert_array_equal(a, b)
+    assert k.derivatives(p)[0].shape == (2, 1) and k.derivatives(p)[1].shape == (2, 1, 1)
+    with pytest.raises(solver.SolverError, match="point 'nowhere' was not requested"):
+        k.point("nowhere")
     assert k.phi == 0.7 and k.omega == 2.0 and k.epsilon == 0.5 and k.valid
     with pytest.raises(solver.SolverError, match="'nowhere' was not requested"):
         k.floats("nowhere")

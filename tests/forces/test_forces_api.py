@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 import math
+import re
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
+import yaml
 from scene_builders import build
 
 import solver
@@ -225,7 +228,8 @@ def test_the_summary_gives_peaks_and_rms_read_off_the_samples_with_the_step() ->
     phi = np.linspace(0.0, 2 * math.pi, 360, endpoint=False)
     k = scene.solve(phi, omega=3.0)
     lines = force_lines(scene, k)
-    assert lines[0] == "forces (SI; each sample exact, peaks and RMS read off 360 samples, step 1°)"
+    assert lines[0] == ("forces (SI), at ω = 3 rad/s, ε = 0 rad/s², with the bodies' inertia "
+                        "(each sample exact, peaks and RMS read off 360 samples, step 1°)")
     effort = k.effort("crank")
     j = int(np.argmax(np.abs(effort)))
     at = f"{math.degrees(phi[j]):.2f}°"
@@ -236,6 +240,42 @@ def test_the_summary_gives_peaks_and_rms_read_off_the_samples_with_the_step() ->
     text = summary_lines(Sweep(phi=phi, inputs=scene.inputs), sections=[force_section(scene, k)])
     assert lines[0] in text
     assert force_lines(solver.load_scene("four_bar"), solver.load_scene("four_bar").solve(phi)) == []
+
+
+def test_the_force_block_says_at_which_motion_and_leaves_out_the_power_at_the_default_speed() -> None:
+    """linkage-solve without --omega solves at 1 rad/s: the block says so, says how to ask for
+    statics or an operating speed, and does not repeat the effort as a power in W (issue 24)."""
+    scene = solver.load_scene("four_bar_loaded")
+    phi = np.linspace(0.0, 2 * math.pi, 36, endpoint=False)
+    lines = force_lines(scene, scene.solve(phi), default_speed=True)
+    assert lines[0].startswith("forces (SI), at ω = 1 rad/s, ε = 0 rad/s², with the bodies' inertia (")
+    assert "--omega 0 for statics" in lines[1]
+    assert not any("input power" in line for line in lines)
+    ramp = scene.solve(phi, omega=np.linspace(1.0, 2.0, 36), epsilon=0.5)
+    assert force_lines(scene, ramp)[0].startswith("forces (SI), at each sample's ω and ε, with the bodies' inertia")
+    data = yaml.safe_load((Path(solver.__file__).parents[1] / "config/scenes/four_bar_loaded.yaml").read_text())
+    data["bodies"] = {name: {"points": body["points"]} for name, body in data["bodies"].items()}  # no mass
+    massless = build(data)
+    assert force_lines(massless, massless.solve(phi), default_speed=True)[:2] == [
+        "forces (SI), the same at every speed: no body has mass or inertia (each sample exact, peaks and RMS "
+        "read off 36 samples, step 10°)",
+        massless_effort_line(massless, phi)]
+
+
+def massless_effort_line(scene: solver.Scene, phi: np.ndarray) -> str:
+    return next(x for x in force_lines(scene, scene.solve(phi, omega=7.0)) if x.startswith("  effort "))
+
+
+def test_a_slide_line_says_how_often_the_block_changes_side_and_leaves_out_a_couple_that_is_zero() -> None:
+    scene = solver.load_scene("engine")
+    phi = np.linspace(0.0, 2 * math.pi, 360, endpoint=False)
+    line = next(x for x in force_lines(scene, scene.solve(phi, omega=100.0)) if x.startswith("  slide "))
+    assert "couple" not in line  # the piston's load acts at its pin: the couple is 0 at every sample
+    assert re.search(r"peak normal force [\d.]+ N at φ = [\d.]+°, RMS [\d.]+ N; changes the side of the guide "
+                     r"it presses on 2 times a turn$", line), line
+    part = scene.solve(np.radians([10.0, 20.0, 30.0]), omega=100.0)
+    line = next(x for x in force_lines(scene, part) if x.startswith("  slide "))
+    assert line.endswith("; presses on one side of the guide throughout")
 
 
 def test_the_input_power_at_rest_is_said_to_be_zero_and_a_tiny_one_is_not() -> None:

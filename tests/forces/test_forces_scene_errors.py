@@ -82,6 +82,14 @@ CASES = [
     ("gravity", "down", r"gravity: must be \[gx, gy\] in m/s² \(planar scenes\), got 'down'$"),
     ("gravity", [0.0, ".inf"], r"gravity\.y: must be a number"),
     ("loads/0/body", "rotor", r"loads\[0\]\.body: unknown body 'rotor'; bodies: crank, coupler, rocker$"),
+    ("loads/0/body", "rockr",
+     r"loads\[0\]\.body: unknown body 'rockr' \(did you mean 'rocker'\?\); bodies: crank, coupler, rocker$"),
+    ("loads/0/force", ["zero", 0.0], r"bad\.yaml:\d+: loads\[0\]\.force\.x: must be a number, got 'zero'$"),
+    ("loads/0/force", [0.0, "-20 N"], r"loads\[0\]\.force\.y: must be a number, got '-20 N'$"),
+    ("bodies/coupler/center", [0.1, "up"], r"bodies\.coupler\.center\.y: must be a number, got 'up'$"),
+    ("loads/1", {"spring": [["rockr", "B"], ["ground", "O"]], "stiffness": 10.0},
+     r"loads\[1\]\.spring: unknown body 'rockr' \(did you mean 'rocker'\?\); bodies: crank, coupler, rocker, "
+     r"ground$"),
     ("loads/0/point", "A", r"loads\[0\]\.point: 'A' is not a point of body 'rocker' \(C, B\)$"),
     ("loads/0/forse", [1.0, 0.0], r"loads\[0\]: unknown field 'forse' \(did you mean 'force'\?\)"),
     ("loads/0/force", [1.0, 2.0, 3.0], r"loads\[0\]\.force: must be \[x, y\] \(a planar vector\)"),
@@ -110,7 +118,7 @@ CASES = [
             "direction": [1.0, 0.0],
             "table": {"of": "rockr", "at": [0.0, 1.0], "force": [0.0, 1.0]},
         },
-        r"loads\[1\]\.table\.of: unknown joint 'rockr'; joints: crank, rocker$",
+        r"loads\[1\]\.table\.of: unknown joint 'rockr' \(did you mean 'rocker'\?\); joints: crank, rocker$",
     ),
     (
         "loads/1",

@@ -25,7 +25,7 @@ from linkage_ros.record.mcap import Recorder
 from linkage_ros.record.replay import METADATA_NAME, scene_metadata
 from linkage_ros.record.rerun import LEGEND_ROWS, plot_columns
 from linkage_ros.record.rundata import RunData
-from linkage_ros.record.viewer import ViewerError, display_problem, open_viewer
+from linkage_ros.record.viewer import ViewerError, display_problem, open_viewer, viewer_environment
 from linkage_ros.runtime import Runtime
 
 STORE = get_typestore(Stores.ROS2_JAZZY)
@@ -135,6 +135,27 @@ def test_a_viewer_that_fails_at_once_gives_its_reason_in_one_line(tmp_path: Path
         open_viewer(tmp_path / "x.rrd", executable=str(fake))
 
 
+@pytest.mark.skipif(os.name != "posix", reason="XDG_RUNTIME_DIR is a POSIX desktop variable")
+def test_the_viewer_gets_a_runtime_folder_so_it_prints_no_xdg_error(tmp_path: Path,
+                                                                    monkeypatch: pytest.MonkeyPatch) -> None:
+    """Without XDG_RUNTIME_DIR the viewer printed "error: XDG_RUNTIME_DIR is invalid or not set"
+    twice (issue 24): it is started with a private folder instead; a valid one is kept."""
+    for unset in ({}, {"XDG_RUNTIME_DIR": ""}, {"XDG_RUNTIME_DIR": str(tmp_path / "missing")}):
+        folder = Path(viewer_environment(unset)["XDG_RUNTIME_DIR"])
+        assert folder.is_absolute() and folder.is_dir() and folder.stat().st_uid == os.getuid()
+        assert folder.stat().st_mode & 0o077 == 0
+    assert viewer_environment({"XDG_RUNTIME_DIR": str(tmp_path), "X": "1"}) == {
+        "XDG_RUNTIME_DIR": str(tmp_path), "X": "1"}
+    seen = tmp_path / "seen"  # what a started viewer finds in its environment
+    fake = tmp_path / "rerun"
+    fake.write_text(f"#!/bin/sh\nprintf '%s' \"$XDG_RUNTIME_DIR\" > {seen}\n")
+    fake.chmod(fake.stat().st_mode | stat.S_IXUSR)
+    monkeypatch.setenv("DISPLAY", ":987")
+    monkeypatch.delenv("XDG_RUNTIME_DIR", raising=False)
+    open_viewer(tmp_path / "x.rrd", executable=str(fake))
+    assert Path(seen.read_text()).is_dir()
+
+
 @pytest.mark.skipif(not HAVE_RERUN, reason="the view extra (rerun-sdk) is not installed")
 def test_linkage_run_spawn_without_a_display_says_in_one_line_how_to_view(tmp_path: Path) -> None:
     rrd = tmp_path / "run.rrd"
@@ -174,7 +195,12 @@ def test_every_series_is_in_one_plot_whose_legend_shows_it(joints: list[str], in
     assert len(layout) == columns and all(len(column) == 3 for column in layout)
     paths = [p for column in layout for _, plot in column for p in plot]
     expected = {f"plots/joints/{kind}/{j}" for kind in ("position", "velocity", "acceleration") for j in joints}
+    # an input's position is its φ, plotted in the inputs' column only (issue 24: its growing
+    # angle beside the others' swings flattened them)
+    expected -= {f"plots/joints/position/{q}" for q in (inputs or (joints[0],))}
     expected |= ({f"plots/input/{kind}/{q}" for kind in ("phi", "omega", "epsilon") for q in inputs} if inputs
                  else {"plots/input/phi", "plots/input/omega", "plots/input/epsilon"})
     assert sorted(paths) == sorted(expected)  # each exactly once
+    angles = next(plot for column in layout[1:] for title, plot in column if title.startswith("joint angles"))
+    assert not {f"plots/joints/position/{q}" for q in (inputs or (joints[0],))} & set(angles)
     assert all(len(plot) <= LEGEND_ROWS for column in layout for _, plot in column)

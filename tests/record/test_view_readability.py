@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 from linkage_ros.forces import LoadArrows
+from linkage_ros.record._drawing import plot_range as _range
 from linkage_ros.record.forces import arrow_vectors, load_rule
-from linkage_ros.record.rerun import WINDOW_PX, _range, legend_share, legend_text, plot_columns
+from linkage_ros.record.rerun import WINDOW_PX, legend_share, legend_text, plot_columns
 from linkage_ros.record.run import RunOptions, run_standalone
 
 MIN_FRACTION, MAX_FRACTION = 0.03, 0.6
@@ -27,6 +28,8 @@ def test_angles_and_lengths_are_never_on_one_axis(engine) -> None:  # type: igno
     assert engine.joint_units["piston_x"] == "m" and engine.joint_units["crankshaft"] == "rad"
     for column in plot_columns(engine)[1:]:
         for title, paths in column:
+            if not paths:  # the crank's angle alone: its φ, plotted apart (the plot is left out)
+                continue
             units = {engine.joint_units[p.rsplit("/", 1)[1]] for p in paths}
             assert len(units) == 1, title
             assert f"({next(iter(units))}" in title
@@ -69,7 +72,7 @@ def test_the_legend_panel_is_tall_enough_for_five_bars_list_of_loads() -> None:
     text = legend_text(data)
     assert "P on left_distal_link from right_distal_link" in text
     # every plotted series is identifiable from the legend alone: each joint and its colour
-    from linkage_ros.record.rerun import SERIES_COLOUR_NAMES, SERIES_PALETTE
+    from linkage_ros.record._drawing import SERIES_COLOUR_NAMES, SERIES_PALETTE
 
     assert len(SERIES_COLOUR_NAMES) == len(SERIES_PALETTE)
     key = ", ".join(f"{j} {SERIES_COLOUR_NAMES[i]}" for i, j in enumerate(data.joints))

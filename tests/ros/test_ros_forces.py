@@ -5,6 +5,7 @@ forces publishes exactly what it did before."""
 
 from __future__ import annotations
 
+import math
 import signal
 import struct
 from collections import defaultdict
@@ -116,14 +117,19 @@ def test_markers_draw_an_arrow_per_load_from_its_pin_along_the_force(loaded: Any
     assert [m.id for m in arrows] == list(range(len(PAIRS)))
     assert arrows[3].text.startswith("pin_loads/B: force on coupler from rocker; arrow ")
     scale = float(arrows[0].text.split("arrow ")[1].split(" m per N")[0])
-    assert scale > 0.0
+    floor = float(arrows[0].text.split("at least ")[1].split(" m")[0])  # a small load's shortest arrow
+    assert scale > 0.0 and floor > 0.0
+    labels = [m for m in decode(tick["markers"], TOPICS["markers"]).markers if m.ns == "load_labels"]
+    assert [m.text for m in labels] == [f"R_{pair.key}" for pair in PAIRS]  # each arrow names its pin
     for marker, pair in zip(arrows, PAIRS):
         assert marker.type == marker.ARROW and len(marker.points) == 2
-        assert marker.text == f"{pair.topic}: force on {pair.body} from {pair.other}; arrow {scale:g} m per N"
+        assert marker.text.startswith(f"{pair.topic}: force on {pair.body} from {pair.other}; arrow {scale:g} m per N")
         wrench = decode(tick[pair.topic], TOPICS[pair.topic]).wrench
         start, end = marker.points
+        f = math.hypot(wrench.force.x, wrench.force.y)
+        s = max(scale * f, floor) / f  # the rule: proportional, never shorter than the floor
         assert (end.x - start.x, end.y - start.y) == pytest.approx(
-            (scale * wrench.force.x, scale * wrench.force.y), rel=1e-12, abs=1e-15)
+            (s * wrench.force.x, s * wrench.force.y), rel=1e-2, abs=1e-15)
 
 
 def test_the_recording_holds_the_load_topics_tick_for_tick(loaded: Any, client: Client) -> None:

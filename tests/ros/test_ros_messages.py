@@ -108,7 +108,11 @@ def test_markers_draw_links_joints_fixed_pivots_and_paths(harvester: Engine) -> 
     M = STORE.types["visualization_msgs/msg/Marker"]
     markers = {(m.ns, m.id): m for m in back["markers"].markers}  # type: ignore[attr-defined]
     assert set(markers) == {("links", 0), ("joints", 0), ("fixed_pivots", 0), *(("paths", i) for i in range(3)),
-                            *(("loads", i) for i in range(len(harvester.load_pairs)))}
+                            *((ns, i) for ns in ("loads", "load_labels") for i in range(len(harvester.load_pairs)))}
+    for i, pair in enumerate(harvester.load_pairs):  # each arrow labelled with its pin, at its tip (issue 24)
+        arrow, label = markers[("loads", i)], markers[("load_labels", i)]
+        assert label.type == M.TEXT_VIEW_FACING and label.text == f"R_{pair.key}"
+        assert (label.pose.position.x, label.pose.position.y) == (arrow.points[1].x, arrow.points[1].y)
     links = markers[("links", 0)]
     assert links.type == M.LINE_LIST and len(links.points) % 2 == 0
     segments = sum(len(link.points) - 1 for link in harvester.scene.links)

@@ -138,3 +138,13 @@ def test_a_closed_pipe_ends_quietly() -> None:
     err = child.stderr.read()
     assert child.wait(timeout=120) == 141
     assert err == b""
+
+
+def test_deg_reads_the_given_angles_and_the_csv_keeps_phi_in_rad(capsys: pytest.CaptureFixture[str]) -> None:
+    """(issue 24) --help says the CSV's phi stays in rad with --deg, and it does."""
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    assert "the CSV's phi column stays in rad" in " ".join(capsys.readouterr().out.split())
+    assert main(["four_bar", "--phi", "90", "--deg", "--csv", "-"]) == 0
+    row = capsys.readouterr().out.splitlines()[1]
+    assert float(row.split(",")[0]) == pytest.approx(np.pi / 2, rel=1e-15)

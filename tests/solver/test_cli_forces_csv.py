@@ -83,4 +83,4 @@ def test_the_force_summary_of_given_angles_says_they_were_given(
     phi: str, said: str, capsys: pytest.CaptureFixture[str]
 ) -> None:
     assert main(["four_bar_loaded", "--phi", phi, "--deg"]) == 0
-    assert f"forces (SI; each sample exact, {said}" in capsys.readouterr().out
+    assert f"(each sample exact, {said}" in capsys.readouterr().out

@@ -22,7 +22,7 @@ CLOSE = 1e-11
 
 
 def _miss(k: solver.Kinematics, l1: float, l2: float, c: tuple[float, float]) -> float:
-    a, b = k.point("A").position.reshape(-1, 2), k.point("B").position.reshape(-1, 2)
+    a, b = (np.asarray(k.point(p).position, float).reshape(-1, 2) for p in ("A", "B"))  # (tuples at one instant)
     return float(max(np.abs(np.hypot(*(b - a).T) - l1).max(), np.abs(np.hypot(*(b - np.array(c)).T) - l2).max()))
 
 
