@@ -66,6 +66,7 @@ __all__ = [
     "bisect_roots",
     "sign_changes",
     "turn_grid",
+    "input_grid",
     "branch_sign",
     "GRID",
 ]
@@ -83,6 +84,16 @@ _CHANGE_POINTS: dict[Any, tuple[float, ...]] = {}
 def turn_grid(n: int = GRID) -> np.ndarray:
     """``n + 1`` angles from 0 to 2π inclusive."""
     return np.linspace(0.0, 2.0 * math.pi, n + 1)
+
+
+def input_grid(owner: Any, n: int = GRID) -> tuple[np.ndarray, bool]:
+    """The grid a single-input analysis brackets roots on, and whether it is periodic: one turn
+    (:func:`turn_grid`) for a crank, the stroke [s_min, s_max] (m) for an actuator."""
+    ranges = getattr(owner, "input_ranges", (None,))
+    span = ranges[0] if ranges else None
+    if span is None:
+        return turn_grid(n), True
+    return np.linspace(span[0], span[1], n + 1), False
 
 
 def upstream_plan(owner: Any, names: Sequence[str]) -> Plan:
