@@ -19,8 +19,9 @@ joints     none (read-outs)                             —
 =========  ==========================================  =========================================
 
 The *owner* of a point is the body a later group's pin at that point attaches to: ground for a
-fixed point, the crank for its point, an actuator's pushed link for its eye C, the first link (A–B) of an RRR for B, the slider block of
-an RRP for B, the slotted link for its points, the carrying link for an attached point. A point
+fixed point, the crank for its point, an actuator's pushed link for its eye C, the first link
+(A–B) of an RRR for B, the slider block of an RRP for B, the slotted link for its points, the
+carrying link for an attached point (never a cylinder: it carries no other point). A point
 that several bodies carry (B of an RRR is on both links) is "on" each of them for loads.
 
 Spherical groups (seed 001) and vector-loop scenes (seed 004) have no planar body structure
