@@ -275,7 +275,8 @@ def bisect_roots(f: Callable[[np.ndarray], np.ndarray], lo: np.ndarray, hi: np.n
 
 # -- change points ------------------------------------------------------------------------------
 def change_points(owner: Any, group: Any) -> tuple[float, ...]:
-    """The φ in [0, 2π) where the RRR dyad ``group`` of ``owner`` passes a change point."""
+    """The φ in [0, 2π) where the RRR dyad ``group`` of ``owner`` passes a change point (the
+    strokes in [s_min, s_max] for a scene driven by an actuator)."""
     plan = upstream_plan(owner, group.ends)
     key = (group, plan.groups, tuple(sorted((k, complex(v)) for k, v in plan.fixed.items())))
     if key in _CHANGE_POINTS:
@@ -292,7 +293,7 @@ def change_points(owner: Any, group: Any) -> tuple[float, ...]:
         dd = d.real * d.real + d.imag * d.imag
         return dd, 2.0 * dot(d, d1), valid
 
-    grid = turn_grid()
+    grid, periodic = input_grid(owner)
     _, slope, valid = dd_and_slope(grid)
     slope = np.where(valid, slope, np.nan)
     idx = sign_changes(slope)
@@ -302,8 +303,10 @@ def change_points(owner: Any, group: Any) -> tuple[float, ...]:
     touch = ok & (
         (np.abs((l1 + l2) ** 2 - dd) <= tol) | (np.abs(dd - (l1 - l2) ** 2) <= tol)
     )
-    found = np.mod(roots[touch], 2.0 * math.pi)
-    found = np.where(np.abs(found - 2.0 * math.pi) < 4 * np.spacing(2.0 * math.pi), 0.0, found)
+    found = roots[touch]
+    if periodic:
+        found = np.mod(found, 2.0 * math.pi)
+        found = np.where(np.abs(found - 2.0 * math.pi) < 4 * np.spacing(2.0 * math.pi), 0.0, found)
     result = tuple(sorted(set(float(x) for x in found)))
     _CHANGE_POINTS[key] = result
     return result

@@ -1,0 +1,58 @@
+"""linkage-solve on scenes driven by actuators: strokes in m in the grid, the CSV and the summary."""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+import pytest
+
+import solver
+from solver.cli import main
+
+
+def _out(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    code = main(list(argv))
+    cap = capsys.readouterr()
+    return code, cap.out, cap.err
+
+
+def test_the_default_sweep_is_the_whole_stroke_in_metres(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, err = _out(capsys, "tipper", "--phi-count", "8", "--omega", "0.05", "--csv", "-")
+    assert code == 0 and err == ""
+    rows = np.loadtxt(io.StringIO(out), delimiter=",", skiprows=1)
+    assert out.splitlines()[0].startswith("stroke,C.x,C.y,")
+    np.testing.assert_array_equal(rows[:, 0], np.linspace(0.74, 1.30, 8))
+    k = solver.load_scene("tipper").solve(np.linspace(0.74, 1.30, 8), omega=0.05)
+    np.testing.assert_array_equal(rows[:, 1:3], k.point("C").position)
+
+
+def test_range_narrows_the_stroke_in_metres(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = _out(capsys, "tipper", "--range", "0.8:0.9", "--phi-count", "3", "--csv", "-")
+    assert code == 0
+    np.testing.assert_array_equal(np.loadtxt(io.StringIO(out), delimiter=",", skiprows=1)[:, 0], np.linspace(0.8, 0.9, 3))
+    code, _, err = _out(capsys, "tipper", "--range", "stroke=0.8:1.4", "--phi-count", "3")
+    assert code == 2 and err.startswith("linkage-solve: error: ") and "requested s = 1.1 m, 1.4 m" in err
+    code, _, err = _out(capsys, "tipper", "--range", "lift=0.8:0.9")
+    assert code == 2 and err == "linkage-solve: error: --range 'lift=0.8:0.9': give LO:HI (m) or stroke=LO:HI\n"
+    code, _, err = _out(capsys, "tipper", "--deg", "--phi", "0.9")
+    assert code == 2 and "--deg: the input 'stroke' of tipper is an actuator's stroke, in m" in err
+
+
+def test_the_summary_speaks_of_strokes_in_metres(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = _out(capsys, "tipper", "--phi-count", "12", "--omega", "0.05")
+    lines = out.splitlines()
+    assert code == 0
+    assert lines[0].startswith("scene tipper: 12 positions over its stroke of the input 'stroke'; ṡ = 0.05 m/s, "
+                               "s̈ = 0 m/s²")
+    assert "  singular positions over the stroke, a group's conditioning 0 (0 of the samples singular):" in lines
+    assert any(line.startswith("  effort stroke: peak |Q| = 55708.7 N at s = 0.7400 m") for line in lines)
+    assert "°" not in "".join(line for line in lines if "at s =" in line and "floor" not in line)
+
+
+def test_a_grid_of_strokes_spans_each_cylinder(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = _out(capsys, "excavator", "--count", "2", "--deg", "--range", "arm_stroke=1.4:1.5", "--csv", "-")
+    assert code == 0
+    rows = np.loadtxt(io.StringIO(out), delimiter=",", skiprows=1)
+    assert out.splitlines()[0].startswith("boom_stroke,arm_stroke,bucket_stroke,")
+    assert sorted(set(rows[:, 0])) == [1.05, 1.6] and sorted(set(rows[:, 1])) == [1.4, 1.5]
