@@ -114,3 +114,16 @@ def test_a_mass_on_the_cylinder_is_refused() -> None:
     with pytest.raises(solver.SceneError, match=r"bodies\.cyl\.mass: .* is an actuator's cylinder, a massless "
                                                  r"two-force member"):
         build(heavy)
+
+
+def test_the_cylinder_aligned_with_the_pushed_link_is_a_singular_position() -> None:
+    """At s = D − l the cylinder pushes through the pivot: conditioning 0, flagged, analogs NaN
+    (no limit at a range edge), and the summary names it in metres."""
+    scene = build(stroke=[0.5, 1.3])
+    edge = abs(complex(-1.4, -0.55)) - 0.8
+    k = scene.solve(np.array([edge, edge + 1e-3]), mask=True)
+    assert k.singular.tolist() == [True, False] and k.valid.all()
+    assert np.isnan(k.point("C").velocity[0]).all() and np.isfinite(k.point("C").velocity[1]).all()
+    assert solver.classify.toggles(scene, scene.plan.groups[0]) == {"range edges": (pytest.approx(edge, abs=1e-15),)}
+    lines = solver.cli.stability_lines(scene, k)
+    assert "    lift: toggles at the edges of the unassemblable range (conditioning 0) at s = 0.7042 m" in lines
