@@ -7,6 +7,10 @@ closes a loop leaves one joint out of the tree (the *cut*) and records a point o
 group                      bodies (tree joint from the parent)    cut (side a / side b)
 =========================  =====================================  ==============================
 crank O→A                  ``<g>`` (revolute about O)             none (no loop)
+actuator A–C, pivot O      ``<g>`` link OC (revolute about O),    pin C: rod / link
+                           ``<g>_barrel`` (revolute about A),
+                           ``<g>_rod`` (prismatic along the
+                           barrel: its coordinate is the stroke)
 attached P                 none: P is fixed on the body that      none
                            carries its base and direction
 rrr A–B–C                  ``<g>_AB`` (revolute about A),         pin B: ``<g>_AB`` / ``<g>_CB``
@@ -39,7 +43,7 @@ from functools import cached_property
 from typing import Any
 
 from solver.errors import SceneError
-from solver.groups import RRP, RRR, Attached, Crank, JointExpression, Slotted, SphericalCrankSlider
+from solver.groups import RRP, RRR, Actuator, Attached, Crank, JointExpression, Slotted, SphericalCrankSlider
 
 __all__ = [
     "BASE_LINK",
@@ -55,7 +59,7 @@ __all__ = [
 BASE_LINK = "base_link"
 
 #: Group kinds the URDF export understands.
-SUPPORTED_GROUPS = ("crank", "attached", "rrr", "rrp", "slotted", "spherical_crank_slider", "joint")
+SUPPORTED_GROUPS = ("crank", "actuator", "attached", "rrr", "rrp", "slotted", "spherical_crank_slider", "joint")
 
 Vec3 = tuple[float, float, float]
 
@@ -67,7 +71,8 @@ class Body:
     absolute angle) turned by ``turn`` rad; ``local`` maps its points to frame coordinates.
     ``anchor``: a named point of ``local`` from which the origin is located when the origin is not
     itself a point the solver reports (vector scenes). ``role`` names the drawing: ``base``,
-    ``bar``, ``drum``, ``slider``, ``eyelet``, ``shaft``, ``ring``, ``cage``."""
+    ``bar``, ``drum``, ``slider``, ``eyelet``, ``shaft``, ``ring``, ``cage``, ``barrel``, ``rod``
+    (an actuator's, ``size["length"]`` long: its closed length)."""
 
     name: str
     role: str
@@ -92,7 +97,7 @@ class TreeJoint:
     """A joint of the tree. ``type`` is the URDF type (``continuous`` for a pin, ``prismatic``);
     ``xyz``/``rpy`` the joint frame in the parent's frame, ``axis`` in the joint frame.
     ``rule`` says how its coordinate is computed (see :mod:`.states`); ``data`` holds the names
-    and constants the rule reads."""
+    and constants the rule reads (an actuator's rod slide adds the input joint it follows)."""
 
     name: str
     type: str
@@ -206,6 +211,40 @@ class _Builder:
             body.size["radius"] = g.length
         self.pin(self.holder(g.center, g), body, g.center, unwrap=g.joint)
         self.owner[g.point] = body.name
+
+    def actuator(self, g: Actuator) -> None:
+        """The pushed link about O, and the cylinder: the barrel pinned at A, the rod sliding in
+        it (a prismatic joint whose coordinate is the stroke s = |AC|), cut at the eye C."""
+        a, c, o = g.base, g.point, g.pivot
+        link = self.add_body(Body(g.name, "bar", o, (o, c), {o: (0.0, 0.0, 0.0), c: (g.length, 0.0, 0.0)}), g)
+        link.bars.append((o, c))
+        self.pin(self.holder(o, g), link, o)
+        closed = g.stroke[0]
+        barrel = self.add_body(Body(f"{g.name}_barrel", "barrel", a, (a, c), {a: (0.0, 0.0, 0.0)},
+                                    size={"length": closed}), g)
+        self.pin(self.holder(a, g), barrel, a)
+        rod = self.add_body(Body(f"{g.name}_rod", "rod", c, (a, c), {c: (0.0, 0.0, 0.0)},
+                                 size={"length": closed, "open": g.stroke[1]}), g)
+        self.joints.append(
+            TreeJoint(
+                name=f"{rod.name}_joint",
+                type="prismatic",
+                parent=barrel.name,
+                child=rod.name,
+                xyz=(0.0, 0.0, 0.0),
+                rpy=(0.0, 0.0, 0.0),
+                axis=(1.0, 0.0, 0.0),
+                rule="planar_slide",
+                data=((0.0, 0.0, 0.0), 0.0, g.joint),  # (the input it follows: its effort is the cylinder's)
+            )
+        )
+        self.owner[c] = link.name
+        rod.pins.append(c)
+        self.cuts.append(
+            Cut(f"{g.name}_{c}", "pin", c, rod.name, (0.0, 0.0, 0.0), link.name, link.local[c],
+                f"the eye {c} joins the rod of actuator '{g.name}' to the link it pushes; cutting it keeps "
+                "barrel, rod and link on the tree")
+        )
 
     def rrr(self, g: RRR) -> None:
         (a, c), b = g.ends, g.point
@@ -343,6 +382,7 @@ def build_model(scene: object) -> TreeModel:
     b = _Builder(scene)
     handlers: dict[type, Callable[[Any], None]] = {
         Crank: b.crank,
+        Actuator: b.actuator,
         RRR: b.rrr,
         RRP: b.rrp,
         Slotted: b.slotted,

@@ -57,3 +57,23 @@ def test_a_grid_of_strokes_spans_each_cylinder(capsys: pytest.CaptureFixture[str
     rows = np.loadtxt(io.StringIO(out), delimiter=",", skiprows=1)
     assert out.splitlines()[0].startswith("boom_stroke,arm_stroke,bucket_stroke,")
     assert sorted(set(rows[:, 0])) == [1.05, 1.6] and sorted(set(rows[:, 1])) == [1.4, 1.5]
+
+
+def test_the_urdf_opens_the_cylinder_into_barrel_and_rod_with_the_stroke_as_a_prismatic_joint() -> None:
+    from linkage_ros.load_messages import tree_effort_joints
+    from linkage_ros.urdf import build_model, generate_urdf, tree_joint_states
+
+    scene = solver.load_scene("excavator").everything()
+    model = build_model(scene)
+    rods = [j for j in model.joints if j.type == "prismatic"]
+    assert [(j.name, j.parent, j.child) for j in rods] == [
+        (f"{a}_rod_joint", f"{a}_barrel", f"{a}_rod") for a in ("boom_cylinder", "arm_cylinder", "bucket_cylinder")]
+    q = np.array([[1.3, 1.6, 1.2], [1.1, 1.85, 1.4]])
+    states = tree_joint_states(model, scene.solve(q, omega=(0.1, -0.2, 0.3)))
+    cols = [states.names.index(j.name) for j in rods]
+    np.testing.assert_allclose(states.position[:, cols], q, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(states.velocity[:, cols], [[0.1, -0.2, 0.3]] * 2, rtol=0, atol=1e-15)
+    assert tree_effort_joints(model, scene.inputs) == [(j.name, q_) for j, q_ in zip(rods, scene.inputs)]
+    text = generate_urdf(scene)
+    assert '<joint name="arm_cylinder_rod_joint" type="prismatic">' in text
+    assert '<limit lower="1.3" upper="1.9" effort="0" velocity="0" />' in text
