@@ -166,8 +166,8 @@ class Scene:
     @cached_property
     def input_ranges(self) -> tuple[tuple[float, float] | None, ...]:
         """Each input's range where it has one (an actuator's stroke, m), else None (an angle)."""
-        by = {g.input_joint(): getattr(g, "input_range", None) for g in self.ordered if g.drives}
-        return tuple(None if by.get(j) is None else by[j]() for j in self.inputs)
+        by = {g.input_joint(): g.input_range() for g in self.ordered if g.drives}
+        return tuple(by.get(j) for j in self.inputs)
 
     @cached_property
     def point_names(self) -> tuple[str, ...]:

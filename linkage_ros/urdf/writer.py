@@ -60,7 +60,8 @@ def travel(scene: object, model: TreeModel, *, samples: int = CYCLE_SAMPLES) -> 
     if not slides:
         return rods
     span = getattr(scene, "input_ranges", (None,))[0]
-    phi = np.linspace(0.0, 2.0 * math.pi, samples, endpoint=False) if span is None else np.linspace(*span, samples)
+    phi = (np.linspace(0.0, 2.0 * math.pi, samples, endpoint=False) if span is None
+           else np.linspace(float(span[0]), float(span[1]), samples))
     k = scene.everything().solve(phi, mask=True)  # type: ignore[attr-defined]
     valid = np.asarray(k.valid, dtype=bool)
     if not valid.any():

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 from .._fields import Entry, Units
@@ -91,9 +92,12 @@ class Actuator(Group):
             stroke = Jet(ctx.phi, 1.0, 0.0)
         s, u, acc = stroke
         lo, hi = self.stroke
-        outside = f"is outside its stroke [{lo:g}, {hi:g}] m (closed and open lengths)"
-        ctx.require(self, s >= lo, reason=outside)
-        ctx.require(self, s <= hi, reason=outside)
+        if ctx.xp.vectorised:
+            inside = s >= lo
+            inside &= s <= hi
+        else:  # (per tick, traced: two guards)
+            inside = lo <= s <= hi
+        ctx.require(self, inside, reason=self._outside)
         ja, jo = vals[self.base], vals[self.pivot]
         c, p, q, jdet, cond = circle_point(ctx, self, ja.value, jo.value, (s, self.length), self._mode)
         grow: tuple[Any, Any] | None
@@ -114,6 +118,11 @@ class Actuator(Group):
 
     def _mode(self, ctx: Context) -> int:
         return self.mode
+
+    @cached_property
+    def _outside(self) -> str:
+        """The reason a stroke outside [s_min, s_max] cannot be assembled (made once)."""
+        return f"is outside its stroke [{self.stroke[0]:g}, {self.stroke[1]:g}] m (closed and open lengths)"
 
     @classmethod
     def from_entry(cls, e: Entry, units: Units, fixed: Mapping[str, Any]) -> Actuator:

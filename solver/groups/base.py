@@ -128,6 +128,11 @@ class Group:
         """The joint whose coordinate is φ, for the driving group."""
         return None
 
+    def input_range(self) -> tuple[float, float] | None:
+        """The range of a driving group's input where it has one (an actuator's stroke, m);
+        None for an angle, which turns."""
+        return None
+
     def requires(self) -> tuple[str, ...]:
         raise NotImplementedError
 
