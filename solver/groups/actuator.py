@@ -36,6 +36,8 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
 
+import numpy as np
+
 from .._fields import Entry, Units
 from ..jet import Jet
 from .base import Context, Group
@@ -92,9 +94,11 @@ class Actuator(Group):
             stroke = Jet(ctx.phi, 1.0, 0.0)
         s, u, acc = stroke
         lo, hi = self.stroke
-        if ctx.xp.vectorised:
-            inside = s >= lo
-            inside &= s <= hi
+        if ctx.xp.vectorised:  # two reductions when every stroke is inside; per sample otherwise
+            inside = not np.size(s) or (bool(np.min(s) >= lo) and bool(np.max(s) <= hi))
+            if not inside:
+                inside = s >= lo
+                inside &= s <= hi
         else:  # (per tick, traced: two guards)
             inside = lo <= s <= hi
         ctx.require(self, inside, reason=self._outside)
