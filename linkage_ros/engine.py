@@ -354,9 +354,9 @@ class Engine:
             span = TWO_PI / fastest if fastest > 0.0 else 0.0
             return self.motion.states(t0 + np.linspace(0.0, span, samples))
         start = self.motion.segments[0]
-        span = self.scene.input_ranges[0] if hasattr(self.scene, "input_ranges") else None
-        if span is not None:  # an actuator: its whole stroke, closed to open
-            return np.linspace(span[0], span[1], samples), start.omega0, start.epsilon
+        stroke = getattr(self.scene, "input_ranges", (None,))[0]
+        if stroke is not None:  # an actuator: its whole stroke, closed to open
+            return np.linspace(stroke[0], stroke[1], samples), start.omega0, start.epsilon
         return phi0 + np.linspace(0.0, TWO_PI, samples), start.omega0, start.epsilon
 
     def _load_samples(self, phi0: Any, samples: int) -> dict[str, NDArray[np.float64]]:
