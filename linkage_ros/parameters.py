@@ -213,13 +213,15 @@ def for_scene(spec: ParameterSpec, units: Sequence[str]) -> ParameterSpec:
 def scene_defaults(scene: Any) -> dict[str, Any]:
     """Start values for a scene driven by actuators, for the parameters not given: the stroke
     starts at its closed length (``phi0``; ``input_phi0s`` with several inputs) and extends at
-    :data:`STROKE_RATE` m/s (``omega`` of a single actuator); empty for a scene of cranks."""
+    :data:`STROKE_RATE` m/s (``omega``; with several inputs ``input_phi0s`` and ``input_omegas``,
+    a crank's entries the scalar defaults); empty for a scene of cranks."""
     ranges = tuple(getattr(scene, "input_ranges", ()))
     if not any(r is not None for r in ranges):
         return {}
     if len(ranges) == 1:
         return {"phi0": float(ranges[0][0]), "omega": STROKE_RATE}
-    return {"input_phi0s": [0.0 if r is None else float(r[0]) for r in ranges]}
+    return {"input_phi0s": [0.0 if r is None else float(r[0]) for r in ranges],
+            "input_omegas": [SPECS["omega"].default if r is None else STROKE_RATE for r in ranges]}
 
 
 def _finite_number(value: Any) -> bool:

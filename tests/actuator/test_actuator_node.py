@@ -33,7 +33,8 @@ def test_the_input_parameters_are_described_in_metres_for_a_stroke() -> None:
     assert for_scene(SPECS["omega"], ("rad",)) is SPECS["omega"]
     mixed = for_scene(SPECS["input_omegas"], ("rad", "m")).description
     assert mixed.endswith("(rad, rad/s, rad/s^2 for a crank's angle; m, m/s, m/s^2 for an actuator's stroke)")
-    assert scene_defaults(solver.load_scene("excavator")) == {"input_phi0s": [1.05, 1.3, 1.0]}
+    assert scene_defaults(solver.load_scene("excavator")) == {"input_phi0s": [1.05, 1.3, 1.0],
+                                                              "input_omegas": [STROKE_RATE] * 3}
     assert scene_defaults(solver.load_scene("five_bar")) == {}
 
 

@@ -39,3 +39,23 @@ def test_the_tipper_node_publishes_its_stroke_and_rejects_one_outside_the_cylind
         assert [v for _, v in client.get_parameters("/mechanism_node", "phi0")] == [0.74]
     finally:
         process.stop()
+
+
+def test_the_excavator_node_starts_its_three_cylinders_closed_and_publishes_their_forces(
+        start_node: Any, client: Client) -> None:
+    types = dict(topic_types(["B", "D", "T"]))
+    listener = client.listen({"/joint_states": types["joint_states"]})
+    process = start_node("-p", "scene:=excavator", "-p", "rate_hz:=50.0")
+    try:
+        if not client.spin_until(lambda: len(listener.by_topic["/joint_states"]) >= 3, WAIT_S):
+            pytest.fail("no joint_states from mechanism_node:\n" + process.output())
+        js = decode(listener.by_topic["/joint_states"][-1], types["joint_states"])
+        strokes = (("boom_stroke", 1.05, 1.6), ("arm_stroke", 1.3, 1.9), ("bucket_stroke", 1.0, 1.45))
+        for name, closed, extended in strokes:
+            i = js.name.index(name)
+            assert closed < js.position[i] < extended and js.velocity[i] == 0.1  # m, m/s: extending from closed
+            assert abs(js.effort[i]) > 0.0  # N
+        values = [v for _, v in client.get_parameters("/mechanism_node", "input_phi0s", "input_omegas")]
+        assert [list(v) for v in values] == [[1.05, 1.3, 1.0], [0.1, 0.1, 0.1]]
+    finally:
+        process.stop()
