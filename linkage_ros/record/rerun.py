@@ -327,7 +327,7 @@ def log_run(rec: Any, data: RunData) -> dict[str, float]:
         return {"velocity": v_scale, "acceleration": a_scale}
 
     # -- per tick: links, cylinders, moving points, arrows -----------------------------------
-    drawn = {(a, c) for _, a, c, _ in data.cylinders}  # a cylinder's line is its barrel and rod
+    drawn = {(a, c) for _, a, c, _ in _drawable(data)}  # a cylinder's line is its barrel and rod
     for link, names in data.links:
         if tuple(names) in drawn:
             continue
@@ -434,13 +434,19 @@ def cylinder_strips(data: RunData) -> list[tuple[str, str, Array, float]]:
     """Each actuator's barrel (from its base A along A→C, its closed length long, thick) and rod
     (from the eye C back the same length, thin) per tick: ``(name, part, (N, 2, dim), width)``."""
     out = []
-    for name, base, eye, closed in data.cylinders:
+    for name, base, eye, closed in _drawable(data):
         a, c = _position(data, base), _position(data, eye)
         d = c - a
         unit = d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), np.finfo(float).tiny)
         out.append((name, "barrel", np.stack([a, a + closed * unit], axis=1), BARREL_WIDTH))
         out.append((name, "rod", np.stack([c - closed * unit, c], axis=1), 1.0))
     return out
+
+
+def _drawable(data: RunData) -> list[tuple[str, str, str, float]]:
+    """The cylinders whose base and eye the run knows (a replay knows the points its markers drew)."""
+    known = set(data.positions) | set(data.fixed)
+    return [c for c in data.cylinders if c[1] in known and c[2] in known]
 
 
 def _position(data: RunData, name: str) -> Array:

@@ -36,3 +36,14 @@ def test_a_tipper_run_draws_its_cylinder_as_barrel_and_rod(tmp_path: Path) -> No
     assert "/mechanism/links/lift.0" not in paths  # the cylinder's line is its barrel and rod
     titles = [title for title, _ in plot_columns(data)[0]]
     assert titles == ["input s (m)", "input ṡ (m/s)", "input s̈ (m/s²)"]
+
+
+def test_the_view_replayed_from_the_mcap_draws_the_cylinder_too(tmp_path: Path) -> None:
+    from linkage_ros.record.replay import run_data_from_mcap
+
+    mcap = tmp_path / "tipper.mcap"
+    result = run_standalone(RunOptions(scene="tipper", duration=0.5, rate=20.0, omega=0.2, epsilon=0.0, phi0=0.8,
+                                       mcap=mcap, rrd=None))
+    replayed, _ = run_data_from_mcap(mcap)
+    assert replayed.cylinders == result.data.cylinders == [("lift", "A", "C", 0.74)]
+    np.testing.assert_array_equal(cylinder_strips(replayed)[1][2], cylinder_strips(result.data)[1][2])
