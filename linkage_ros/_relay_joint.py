@@ -3,7 +3,9 @@
 The driver publishes either the scene's input joint (φ = q) or a URDF-style ``revolute`` joint of
 the scene (``docs/scenes.md``) whose child link is the input crank and whose parent link is fixed:
 then φ = θ_parent + sign·(q − offset), minus π when the child line runs point → centre, and
-ω = sign·q̇, ε = sign·q̈. Any other name is a ValueError that lists the accepted ones.
+ω = sign·q̇, ε = sign·q̈. A scene driven by an actuator also reads the prismatic joint that
+``linkage-urdf`` writes for its cylinder (``<name>_rod_joint``): its coordinate is the stroke,
+s = q (m). Any other name is a ValueError that lists the accepted ones.
 """
 
 from __future__ import annotations
@@ -32,12 +34,21 @@ def input_map(scene: Any, input_joint: str | None) -> InputMap:
     mapped = _revolute_input(scene, input_joint)
     if mapped is not None:
         return mapped
-    accepted = [own, *_revolute_inputs(scene)]
+    rods = _rod_inputs(scene)
+    if input_joint in rods:  # the prismatic joint of the URDF tree: its coordinate is the stroke
+        return InputMap(input_joint, 1.0, 0.0)
+    accepted = [own, *_revolute_inputs(scene), *rods]
     raise ValueError(
         f"input_joint '{input_joint}' does not drive scene '{scene.name}': the driver's joint must be "
-        f"the scene's input joint or a revolute joint of the input crank against the frame; "
-        f"accepted: {', '.join(accepted)}"
+        f"the scene's input joint, a revolute joint of the input crank against the frame or the "
+        f"prismatic joint of the input actuator (linkage-urdf); accepted: {', '.join(accepted)}"
     )
+
+
+def _rod_inputs(scene: Any) -> list[str]:
+    """The URDF tree's prismatic joint of the driving actuator (``<name>_rod_joint``, linkage-urdf)."""
+    return [f"{g.name}_rod_joint" for g in scene.ordered
+            if getattr(g, "kind", "") == "actuator" and g.input_joint() == scene.input_joint]
 
 
 def _revolute_inputs(scene: Any) -> list[str]:

@@ -73,9 +73,11 @@ class Rates:
     """ω and ε of successive messages under ε rule ``rule``; messages further apart than
     ``max_gap_ns`` are not differenced (see the module docstring)."""
 
-    def __init__(self, *, rule: str, max_gap_ns: int) -> None:
+    def __init__(self, *, rule: str, max_gap_ns: int, strokes: tuple[bool, ...] = ()) -> None:
         self.rule = rule
         self.max_gap_ns = max_gap_ns
+        #: per input, whether it is an actuator's stroke (m): its positions are differenced unwrapped
+        self.strokes = strokes
         self._previous: _Previous | None = None
         self._multi: _PreviousInputs | None = None
 
@@ -95,7 +97,8 @@ class Rates:
             omega, omega_from = dq, OMEGA_FROM_MESSAGE
         elif near:
             assert prev is not None
-            omega, omega_from = _wrap(q - prev.q) / dt, OMEGA_FROM_POSITIONS
+            step = q - prev.q if self.strokes[:1] == (True,) else _wrap(q - prev.q)
+            omega, omega_from = step / dt, OMEGA_FROM_POSITIONS
         else:
             omega, omega_from = 0.0, OMEGA_FROM_NONE
         eps, eps_from = 0.0, EPSILON_FROM_ZERO
@@ -123,7 +126,8 @@ class Rates:
             omega, omega_from = dq, OMEGA_FROM_MESSAGE
         elif near:
             assert prev is not None
-            omega = tuple(_wrap(a - b) / dt for a, b in zip(q, prev.q))
+            strokes = self.strokes or (False,) * len(q)
+            omega = tuple((a - b if m else _wrap(a - b)) / dt for a, b, m in zip(q, prev.q, strokes))
             omega_from = OMEGA_FROM_POSITIONS
         eps, eps_from = zeros, EPSILON_FROM_ZERO
         if self.rule == EPSILON_DIFFERENCE and near and dq is not None:

@@ -24,7 +24,7 @@ import os
 import shutil
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -68,6 +68,10 @@ def _law(limit: float) -> Any:
 
 #: linkage-run's defaults of the motion law (every input of a several-input scene alike).
 LAW_DEFAULTS = {"--omega": (2 * math.pi, OMEGA_MAX), "--epsilon": (0.0, EPSILON_MAX), "--phi0": (0.0, PHI_MAX)}
+#: An actuator's stroke extends from its closed length at this rate (m/s) unless told otherwise.
+STROKE_RATE = 0.1
+STROKE_DEFAULTS: dict[str, Callable[[tuple[float, float]], float]] = {
+    "--omega": lambda r: STROKE_RATE, "--epsilon": lambda r: 0.0, "--phi0": lambda r: r[0]}
 
 
 def _laws(scene: Any, args: argparse.Namespace) -> dict[str, tuple[float, ...]]:
@@ -77,18 +81,21 @@ def _laws(scene: Any, args: argparse.Namespace) -> dict[str, tuple[float, ...]]:
     from solver.cli_inputs import per_input_values
 
     out: dict[str, tuple[float, ...]] = {}
+    inputs = tuple(getattr(scene, "inputs", (scene.input_joint,)))
+    ranges = tuple(getattr(scene, "input_ranges", ())) or (None,) * len(inputs)
     for option, attr in (("--phi0", "phi0"), ("--omega", "omega"), ("--epsilon", "epsilon")):
         default, limit = LAW_DEFAULTS[option]
         items = getattr(args, attr)
         plain = [v for v in items if isinstance(v, float)]
         named = [v for v in items if isinstance(v, str)]
-        base = plain[-1] if plain else default
-        inputs = tuple(getattr(scene, "inputs", (scene.input_joint,)))
+        # each input's own default: an actuator starts closed and extends at STROKE_RATE
+        own = [default if r is None else STROKE_DEFAULTS[option](r) for r in ranges]
+        base = (plain[-1],) * len(inputs) if plain else tuple(own)
         if not named:
-            out[attr] = (base,) * len(inputs)
+            out[attr] = base
         else:
-            values = per_input_values(scene, named, option=option, default=base, limit=limit)
-            out[attr] = tuple(float(x) for x in values)
+            values = per_input_values(scene, named, option=option, default=math.nan, limit=limit)
+            out[attr] = tuple(b if math.isnan(v) else float(v) for v, b in zip(values, base))
     return out
 
 
@@ -101,15 +108,17 @@ def _run_parser() -> argparse.ArgumentParser:
     span = p.add_mutually_exclusive_group()
     span.add_argument("--duration", type=positive, metavar="S", help="simulated seconds (> 0)")
     span.add_argument("--cycles", type=positive, metavar="N",
-                      help="turns of the input (> 0; default 1 when --duration is not given)")
+                      help="turns of the input, or full strokes of an actuator (> 0; default 1 when --duration "
+                           "is not given)")
     p.add_argument("--rate", type=positive, default=100.0, metavar="HZ", help="ticks per second (100)")
     p.add_argument("--omega", type=_law(OMEGA_MAX), action="append", default=[], metavar="W|Q=W",
-                   help="input angular velocity, rad/s (2π: one turn per second); with several inputs "
-                        "repeat Q=W per input (a plain W applies to every input)")
+                   help="input angular velocity, rad/s (2π: one turn per second; an actuator's stroke: m/s, "
+                        "0.1); with several inputs repeat Q=W per input (a plain W applies to every input)")
     p.add_argument("--epsilon", type=_law(EPSILON_MAX), action="append", default=[], metavar="E|Q=E",
                    help="input angular acceleration, rad/s² (0); Q=E per input as for --omega")
     p.add_argument("--phi0", type=_law(PHI_MAX), action="append", default=[], metavar="RAD|Q=RAD",
-                   help="input angle at t = 0 (0); Q=RAD per input as for --omega")
+                   help="input angle at t = 0 (0; an actuator's stroke: m, its closed length); Q=RAD per "
+                        "input as for --omega")
     p.add_argument("--points", metavar="P,Q", help="published points (default: the scene's outputs)")
     p.add_argument("--on-unassemblable", choices=("stop", "reverse"), default="stop")
     p.add_argument("--mcap", type=Path, metavar="FILE",
@@ -149,9 +158,10 @@ def _run_outputs(args: argparse.Namespace, stem: str) -> tuple[Path | None, Path
 
 
 def _duration(args: argparse.Namespace, laws: dict[str, tuple[float, ...]], duration_for_cycles: Any,
-              inputs: Sequence[str] = ()) -> float:
-    """``--duration``, else the time of ``--cycles`` turns (default 1); with several inputs, of
-    the input that completes them first (the fastest; docs/recording.md)."""
+              inputs: Sequence[str] = (), ranges: Sequence[Any] = ()) -> float:
+    """``--duration``, else the time of ``--cycles`` turns (default 1; an actuator's cycle is its
+    whole stroke, ``ranges``); with several inputs, of the input that completes them first (the
+    fastest; docs/recording.md)."""
     if args.duration is not None:
         return float(args.duration)
     cycles = args.cycles if args.cycles is not None else 1.0
@@ -163,7 +173,9 @@ def _duration(args: argparse.Namespace, laws: dict[str, tuple[float, ...]], dura
                              f"{what} never ends: give --duration S (or a non-zero --omega / --epsilon)")
         raise ValueError(f"with --omega 0 and --epsilon 0 the input never turns, so {what} never ends: "
                          "give --duration S (or a non-zero --omega / --epsilon)")
-    return min(float(duration_for_cycles(cycles, w, e)) for w, e in turning)
+    spans = {i: r[1] - r[0] for i, r in enumerate(ranges) if r is not None}  # a cycle of a stroke: the stroke
+    return min(float(duration_for_cycles(cycles, w, e, span=spans.get(i, 2 * math.pi)))
+               for i, (w, e) in enumerate(zip(laws["omega"], laws["epsilon"])) if w != 0.0 or e != 0.0)
 
 
 def _check_ticks(duration: float, rate: float) -> int:
@@ -180,12 +192,17 @@ def _start_line(scene: Any, duration: float, rate: float, ticks: int, laws: dict
     from solver.summary import motion_line
 
     head = f"scene {scene.name}: {duration:g} s of simulated time at {rate:g} Hz ({ticks} ticks), "
+    units = tuple(getattr(scene, "input_units", ())) or ("rad",) * len(laws["omega"])
+
+    def start(p: float, unit: str) -> str:  # an angle in degrees, an actuator's stroke in m
+        return f"s0 = {p:g} m" if unit == "m" else f"φ0 = {math.degrees(p):g}°"
+
     if len(laws["omega"]) == 1:
-        return head + (f"input '{scene.input_joint}' from φ0 = {math.degrees(laws['phi0'][0]):g}°; "
-                       f"{motion_line(laws['omega'][0], laws['epsilon'][0])}")
+        return head + (f"input '{scene.input_joint}' from {start(laws['phi0'][0], units[0])}; "
+                       f"{motion_line(laws['omega'][0], laws['epsilon'][0], units[0])}")
     each = "; ".join(
-        f"'{q}' from φ0 = {math.degrees(p):g}°, {motion_line(w, e).split('; angles')[0]}"
-        for q, p, w, e in zip(scene.inputs, laws["phi0"], laws["omega"], laws["epsilon"]))
+        f"'{q}' from {start(p, u)}, {motion_line(w, e, u).split('; angles')[0]}"
+        for q, p, w, e, u in zip(scene.inputs, laws["phi0"], laws["omega"], laws["epsilon"], units))
     return head + f"{len(scene.inputs)} inputs: {each}; angles in degrees, everything else SI"
 
 
@@ -217,7 +234,8 @@ def run_main(argv: Sequence[str] | None = None) -> int:
             _check_ticks(args.duration, args.rate)
         scene = solver.load_scene(args.scene)
         laws = _laws(scene, args)
-        duration = _duration(args, laws, duration_for_cycles, tuple(getattr(scene, "inputs", ())))
+        duration = _duration(args, laws, duration_for_cycles, tuple(getattr(scene, "inputs", ())),
+                             tuple(getattr(scene, "input_ranges", ())))
         ticks = _check_ticks(duration, args.rate)
         for p in points or ():
             if p not in scene.point_names:

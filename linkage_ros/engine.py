@@ -345,14 +345,18 @@ class Engine:
 
 
     def _cycle(self, phi0: Any, samples: int) -> tuple[Any, Any, Any]:
-        """(φ, ω, ε) over one turn of the input from ``phi0`` at its starting ω, ε; with several
-        inputs along the motion laws, over one turn of the fastest input at its initial speed."""
+        """(φ, ω, ε) over one turn of the input from ``phi0`` at its starting ω, ε (an actuator's
+        whole stroke); with several inputs along the motion laws, over one turn of the fastest
+        input at its initial speed."""
         if isinstance(self.motion, Motions):
             t0, _, omega0, _ = self.motion.start()
             fastest = max(abs(w) for w in omega0)
             span = TWO_PI / fastest if fastest > 0.0 else 0.0
             return self.motion.states(t0 + np.linspace(0.0, span, samples))
         start = self.motion.segments[0]
+        stroke = getattr(self.scene, "input_ranges", (None,))[0]
+        if stroke is not None:  # an actuator: its whole stroke, closed to open
+            return np.linspace(stroke[0], stroke[1], samples), start.omega0, start.epsilon
         return phi0 + np.linspace(0.0, TWO_PI, samples), start.omega0, start.epsilon
 
     def _load_samples(self, phi0: Any, samples: int) -> dict[str, NDArray[np.float64]]:

@@ -76,12 +76,15 @@ class _Tick(Protocol):
 def tree_effort_joints(tree: Any, inputs: Iterable[str]) -> list[tuple[str, str]]:
     """``(tree joint, input)`` for each URDF tree joint (``linkage-urdf``) that turns an input
     crank against the frame: its coordinate is the input angle plus a constant, so its effort is
-    the input's."""
+    the input's; and each actuator's rod slide, whose coordinate is the stroke (effort: the
+    cylinder's force, N)."""
     if tree is None:
         return []
     inputs = set(inputs)
     return [(j.name, str(j.data[0])) for j in tree.joints
-            if j.rule == "planar_pin" and j.parent == BASE_LINK and j.data and j.data[0] in inputs]
+            if j.rule == "planar_pin" and j.parent == BASE_LINK and j.data and j.data[0] in inputs] + [
+        (j.name, str(j.data[2])) for j in tree.joints
+        if j.rule == "planar_slide" and len(j.data) > 2 and j.data[2] in inputs]
 
 
 class LoadMessages:

@@ -59,7 +59,7 @@ from rclpy.signals import SignalHandlerOptions
 from solver.errors import SolverError
 
 from .messages import TYPE_NAMES
-from .parameters import PARAMETERS, SPECS, ParameterSpec, validate_parameter
+from .parameters import PARAMETERS, SPECS, ParameterSpec, for_scene, start_scene, validate_parameter
 from .runtime import Recorder, Runtime
 from .serialize import read_joint_state
 
@@ -185,9 +185,11 @@ class MechanismNode(Node):
         # rclpy's parsed start values (-p, --params-file, parameter_overrides); read, not changed
         overrides: dict[str, Parameter] = dict(getattr(self, "_parameter_overrides", {}))
         values: dict[str, Any] = {}
-        for spec in PARAMETERS:
+        scene = overrides.get("scene")
+        units, defaults = start_scene(None if scene is None else scene.value)  # an actuator's: m, m/s, m/s²
+        for spec in (for_scene(spec, units) for spec in PARAMETERS):
             given = overrides.get(spec.name)
-            value = spec.default if given is None else coerce_parameter(spec.name, given.value)
+            value = defaults.get(spec.name, spec.default) if given is None else coerce_parameter(spec.name, given.value)
             if spec.name == "points":
                 values["points"] = value
                 continue

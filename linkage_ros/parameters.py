@@ -11,6 +11,12 @@ Several inputs (a scene with ``scene.inputs`` = (q1, …, qk), docs/inputs.md): 
 ``input_epsilons``, ``input_phi0s`` (:data:`PER_INPUT`) give one value per input, in the order of
 ``scene.inputs`` (empty: the scalar; another length is rejected by :func:`per_input_reason` with
 a reason naming the inputs); :func:`per_input` reads the value that applies.
+
+A scene driven by an actuator (a stroke input, docs/inputs.md): ``omega``, ``epsilon`` and
+``phi0`` are then m/s, m/s² and m — :func:`for_scene` gives the parameters' descriptions as the
+node declares them for its start scene, and :func:`scene_defaults` the start values a stroke
+needs (its closed length, STROKE_RATE) where none is given. A ``phi0`` outside the stroke cannot
+be assembled: the change is rejected with the reason and the node keeps its state.
 """
 
 from __future__ import annotations
@@ -39,12 +45,16 @@ __all__ = [
     "PER_INPUT",
     "SPECS",
     "ParameterSpec",
+    "STROKE_RATE",
     "checked_changes",
+    "for_scene",
     "initial_settings",
     "inputs_of",
     "per_input",
     "per_input_reason",
     "points_of",
+    "scene_defaults",
+    "start_scene",
     "validate_parameter",
 ]
 
@@ -175,6 +185,44 @@ SPECS: Mapping[str, ParameterSpec] = {spec.name: spec for spec in PARAMETERS}
 #: The per-input double arrays and the scalar each one stands in for when empty.
 PER_INPUT = {"input_omegas": "omega", "input_epsilons": "epsilon", "input_phi0s": "phi0"}
 
+#: The start rate of an actuator's stroke (m/s) when ``omega`` is not given.
+STROKE_RATE = 0.1
+
+#: The words of the input parameters that name a unit, for an angle and for a stroke.
+_ANGLE_WORDS = (("Angular velocity", "Velocity"), ("Angular acceleration", "Acceleration"), ("rad/s^2", "m/s^2"),
+                ("rad/s", "m/s"), ("Input angle", "Input stroke (length of the actuator)"),
+                ("angular velocity", "velocity"), ("angular acceleration", "acceleration"),
+                ("angle of each input", "stroke of each input"), (", rad.", ", m."), (", rad,", ", m,"))
+
+
+def for_scene(spec: ParameterSpec, units: Sequence[str]) -> ParameterSpec:
+    """``spec`` as declared for a scene whose inputs have ``units`` ("rad" or "m" each): the
+    descriptions of ``omega``, ``epsilon``, ``phi0`` and their arrays in m/s, m/s² and m when
+    every input is an actuator's stroke, in both units when they are mixed."""
+    if spec.name not in ("omega", "epsilon", "phi0", *PER_INPUT) or "m" not in units:
+        return spec
+    text = spec.description
+    if "rad" in units:  # cranks and actuators: each input in its own unit
+        text += " (rad, rad/s, rad/s^2 for a crank's angle; m, m/s, m/s^2 for an actuator's stroke)"
+    else:
+        for angle, stroke in _ANGLE_WORDS:
+            text = text.replace(angle, stroke)
+    return ParameterSpec(spec.name, spec.kind, spec.default, text, spec.float_range, spec.constraints)
+
+
+def scene_defaults(scene: Any) -> dict[str, Any]:
+    """Start values for a scene driven by actuators, for the parameters not given: the stroke
+    starts at its closed length (``phi0``; ``input_phi0s`` with several inputs) and extends at
+    :data:`STROKE_RATE` m/s (``omega``; with several inputs ``input_phi0s`` and ``input_omegas``,
+    a crank's entries the scalar defaults); empty for a scene of cranks."""
+    ranges = tuple(getattr(scene, "input_ranges", ()))
+    if not any(r is not None for r in ranges):
+        return {}
+    if len(ranges) == 1:
+        return {"phi0": float(ranges[0][0]), "omega": STROKE_RATE}
+    return {"input_phi0s": [0.0 if r is None else float(r[0]) for r in ranges],
+            "input_omegas": [SPECS["omega"].default if r is None else STROKE_RATE for r in ranges]}
+
 
 def _finite_number(value: Any) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
@@ -303,3 +351,14 @@ def checked_changes(changes: Mapping[str, Any]) -> tuple[dict[str, Any], str | N
         if reason:
             return {}, reason
     return {k: tuple(float(x) for x in v) if k in PER_INPUT else v for k, v in ours.items()}, None
+
+
+def start_scene(name: Any) -> tuple[tuple[str, ...], dict[str, Any]]:
+    """The start scene's input units and start values (:func:`scene_defaults`) for the scene
+    parameter's value ``name`` (None: the default); ``("rad",)`` and none where it cannot be
+    loaded (the node's Runtime then says why)."""
+    try:
+        scene = solver.load_scene(SPECS["scene"].default if name is None else name)
+    except (SolverError, OSError, TypeError):
+        return ("rad",), {}
+    return tuple(scene.input_units), scene_defaults(scene)

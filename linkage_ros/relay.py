@@ -200,7 +200,10 @@ class Relay:
             *(n for n, keep in zip(tree_names, self._tree_mask) if keep),
         )
         self._own = frozenset(self.published_joints)
-        self._rates = Rates(rule=epsilon, max_gap_ns=self.max_gap_ns)
+        units = dict(getattr(self.scene, "joint_units", {}))
+        strokes = tuple(units.get(n, "rad") == "m" for n in (inputs if len(inputs) > 1 else (self.scene.input_joint,)))
+        self._units = tuple("m" if m else "rad" for m in strokes)
+        self._rates = Rates(rule=epsilon, max_gap_ns=self.max_gap_ns, strokes=strokes)
 
     # ------------------------------------------------------------------ one message
     def answer(
@@ -267,8 +270,13 @@ class Relay:
         if isinstance(result, AssemblyError):
             if isinstance(phi, tuple):  # several inputs: the failing sample, no φ interval
                 sample = ", ".join(f"{v:.6g}" for v in phi)
+                unit = "rad" if "m" not in self._units else "m" if "rad" not in self._units else "rad or m"
                 reason = (f"group '{result.group}' {result.reason} at ({', '.join(self.input_joints)}) = "
-                          f"({sample}) rad")
+                          f"({sample}) {unit}")
+                return Answer(ANSWER_UNASSEMBLABLE, stamp_ns, reason=reason, **common)
+            if self._units == ("m",):  # a stroke: the reason names its range; no wrap
+                reason = (f"group '{result.group}' {result.reason} for s = {phi:.6g} m "
+                          f"({self.input_joint} = {reading.q:.6g})")
                 return Answer(ANSWER_UNASSEMBLABLE, stamp_ns, reason=reason, **common)
             interval = interval_containing(result.intervals, phi)
             where = f"φ in {format_intervals([interval])}" if interval is not None else f"φ = {phi:.6g} rad"

@@ -41,7 +41,8 @@ __all__ = ["Compiled", "FlatFloats", "MAX_PATHS", "MAX_TRACES", "EAGER_SAMPLES",
 #: Paths kept in one compiled function, and traces tried (failed ones included) per function.
 MAX_PATHS = 16
 MAX_TRACES = 48
-#: Single input: the angles traced when the function is first built (one turn, off the round angles).
+#: Single input: the angles traced when the function is first built (one turn, off the round angles;
+#: an actuator's strokes across its range).
 EAGER_SAMPLES = 12
 
 _MATH = {"sqrt": math.sqrt, "cos": math.cos, "sin": math.sin, "atan2": math.atan2, "tan": math.tan}
@@ -148,8 +149,10 @@ class Compiled:
         self._entry = entry if k == 1 and not self.derivatives else None
         self._bind = bind
         if k == 1 and not self.derivatives:
+            # one turn, or an actuator's stroke [s_min, s_max] (m)
+            span = getattr(scene, "input_ranges", (None,))[0] or (0.0, 2.0 * math.pi)
             for i in range(EAGER_SAMPLES):
-                self._trace((2.0 * math.pi * (i + 0.3819660112501051) / EAGER_SAMPLES, 1.3, 0.7))
+                self._trace((span[0] + (span[1] - span[0]) * (i + 0.3819660112501051) / EAGER_SAMPLES, 1.3, 0.7))
         self._build()
 
     # -- the scalar path ------------------------------------------------------------------------

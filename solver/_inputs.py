@@ -14,9 +14,12 @@ determine it in exactly three ways, each reported with the groups concerned:
   declared output depends adds a dimension that nothing reads (a zero column of every Jacobian).
   Checked for the scene's declared outputs; ``Scene.with_outputs`` may ask for fewer.
 
-Several inputs are supported for ``crank`` groups; the spherical converter's shaft and the
-vector-loop input (seed 004) stay single-input drivers. An RRR dyad with
-``through_change_points: continuous`` follows change points in φ and is single-input too.
+Several inputs are supported for ``crank`` and ``actuator`` groups (a driven length, whose
+input is its stroke in m), in any mix; the spherical converter's shaft and the vector-loop input
+(seed 004) stay single-input drivers. An RRR dyad with ``through_change_points: continuous``
+follows change points in one input angle: it is single-input, and driven by a crank.
+An actuator pushes a link about a pivot: the pivot and the cylinder's base must be points of
+the mechanism's links (fixed points or points a group places), not joints.
 """
 
 from __future__ import annotations
@@ -25,9 +28,9 @@ from collections.abc import Iterable, Sequence
 from typing import Any
 
 from ._fields import Entry
-from .groups import Crank, Group
+from .groups import Actuator, Crank, Group
 
-__all__ = ["check_drivers", "check_outputs_move", "input_joints"]
+__all__ = ["check_actuators", "check_drivers", "check_outputs_move", "input_joints"]
 
 
 def input_joints(groups: Iterable[Group]) -> tuple[str, ...]:
@@ -40,16 +43,17 @@ def _label(g: Group) -> str:
 
 
 def check_drivers(top: Entry, groups: Sequence[Group]) -> None:
-    """With several inputs: every driver is a crank, no input over-determines a point, no group
-    follows change points in φ. A single-input scene is left to the checks that follow."""
+    """With several inputs: every driver is a crank or an actuator, no input over-determines a
+    point, no group follows change points in φ. A single-input scene is left to the checks that
+    follow."""
     drivers = [g for g in groups if g.drives]
     if len(drivers) < 2:
         return
     names = ", ".join(f"{_label(g)} (input '{g.input_joint()}')" for g in drivers)
     for g in drivers:
-        if not isinstance(g, Crank):
+        if not isinstance(g, (Crank, Actuator)):
             raise top.error(
-                f"several inputs are cranks only, found {names}: {_label(g)} drives a single-input scene",
+                f"several inputs are cranks and actuators only, found {names}: {_label(g)} drives a single-input scene",
                 "groups",
             )
     by: dict[str, Group] = {}
@@ -108,3 +112,30 @@ def check_outputs_move(
             file=file,
             entry="outputs",
         )
+
+
+def check_actuators(top: Entry, fixed: Iterable[str], groups: Sequence[Group]) -> None:
+    """Every actuator's base and pivot are points of links (fixed, or placed by a group), and a
+    scene driven by an actuator has no branch followed through change points (an angle's)."""
+    actuators = [g for g in groups if isinstance(g, Actuator)]
+    if not actuators:
+        return
+    joints = {n for g in groups for n in (*g.joints(), *g.hidden())}
+    points = set(fixed) | {n for g in groups for n in g.provides() if n not in joints}
+    for a in actuators:
+        for role, name in (("pivot", a.pivot), ("base", a.base)):
+            if name not in points:
+                what = "a joint" if name in joints else "no fixed point nor a point any group places"
+                shown = ", ".join(sorted(points)[:12])
+                raise top.error(
+                    f"{_label(a)}: {role} '{name}' is not on a link ({what}); give a fixed point or a "
+                    f"point of a link: {shown}",
+                    "groups",
+                )
+    for g in groups:
+        if getattr(g, "continuous", False):
+            raise top.error(
+                f"{_label(g)}: through_change_points: continuous follows change points in a crank "
+                f"angle; a scene driven by {_label(actuators[0])} uses 'keep'",
+                "groups",
+            )

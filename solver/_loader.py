@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from ._fields import ANGLE_UNITS, LENGTH_UNITS, Entry, Units, show, suggest
-from ._inputs import check_drivers
+from ._inputs import check_actuators, check_drivers
 from ._yaml import load_yaml
 from .errors import SceneError
 from .forces.parse import FORCE_KEYS, parse_forces
@@ -53,6 +53,7 @@ TOP_FIELDS = [
 #: (a group's ``from_entry`` reads them; its ``done()`` stays the exact check).
 GROUP_FIELDS: dict[str, tuple[str, ...]] = {
     "crank": ("type", "name", "center", "point", "length", "joint"),
+    "actuator": ("type", "name", "base", "point", "pivot", "length", "M", "joint", "stroke"),
     "attached": ("type", "name", "point", "base", "along", "distance", "angle"),
     "slotted": ("type", "name", "pivot", "through", "points"),
     "rrr": ("type", "name", "ends", "point", "lengths", "M", "through_change_points"),
@@ -105,6 +106,7 @@ def _parse_scene(data: Any, *, file: str | None, default_name: str = "scene") ->
     groups = _feed_dyads(groups, fixed)
     groups.extend(_joints(top, _rigid_pairs(groups), units, dim))
     check_drivers(top, groups)  # several inputs: over-determined points, drivers (solver._inputs)
+    check_actuators(top, fixed, groups)  # driven lengths: pivots on links, single-input limits
     _check_names(top, fixed, groups, dim)
     _check_fixed_joints(top, fixed, groups)
     inputs = [g for g in groups if g.drives]

@@ -13,9 +13,12 @@ by sampling which angles fail.
   every extreme of R (zeros of dR/dφ, bisected to the last bit), so a dip narrower than the grid
   is still seen; each sign change of R is then bisected to the last bit.
 
+* An actuator between fixed points (solver.groups.actuator): closed form, |s − l| ≤ D ≤ s + l.
+
 An interval is ``(lo, hi)`` with ``0 ≤ lo < 2π`` and ``lo < hi < lo + 2π``: one that contains
 φ = 0 has ``hi > 2π`` (e.g. ``(5.8, 6.9)``). Only the group's own failures are reported, at the
-angles where the groups before it can be assembled.
+angles where the groups before it can be assembled. A scene driven by an actuator has strokes
+(m) instead: the grid spans its stroke [s_min, s_max], which bounds every interval (no wrap).
 """
 
 from __future__ import annotations
@@ -25,7 +28,8 @@ from typing import Any, TypeAlias
 
 import numpy as np
 
-from .singular import bisect_roots, probe, sign_changes, turn_grid, upstream_plan
+from .groups.actuator import stroke_intervals
+from .singular import bisect_roots, input_grid, probe, sign_changes, upstream_plan
 from .tolerances import ASSEMBLY_SLACK
 
 #: a :class:`solver.scene.Scene`; not imported, since the scene sits above this module (it
@@ -41,6 +45,11 @@ _CACHE: dict[Any, list[tuple[float, float]]] = {}
 def unassemblable_intervals(scene: Scene, group: str) -> list[tuple[float, float]]:
     """Open intervals of φ (one turn) where ``group`` cannot be assembled."""
     g = _group(scene, group)
+    if getattr(g, "kind", "") == "actuator":
+        fixed = scene.plan.fixed
+        if g.base in fixed and g.pivot in fixed:
+            return stroke_intervals(g, complex(fixed[g.base]), complex(fixed[g.pivot]))
+        return []
     if g is None or not hasattr(g, "assembly_residual"):
         return []
     key = (g, scene.plan.groups, tuple(sorted((k, str(v)) for k, v in scene.plan.fixed.items())))
@@ -129,7 +138,7 @@ def _residual_intervals(scene: Scene, group: Any) -> list[tuple[float, float]]:
         out[np.broadcast_to(np.asarray(ctx.invalid, bool), phi.shape)] = np.nan
         return out
 
-    grid = turn_grid()
+    grid, periodic = input_grid(scene)
     slope = residual(grid, slope=True)
     idx = sign_changes(slope)
     extremes = bisect_roots(lambda p: residual(p, slope=True), grid[idx], grid[idx + 1])
@@ -139,14 +148,18 @@ def _residual_intervals(scene: Scene, group: Any) -> list[tuple[float, float]]:
     if not bad.any():
         return []
     if bad.all():
-        return [(0.0, TWO_PI)]
+        return [(float(grid[0]), float(grid[-1]))]
     # ends: between consecutive candidates where the verdict changes, bisect R's sign
     change = np.flatnonzero(bad[:-1] != bad[1:])
     ends = bisect_roots(residual, phi[change], phi[change + 1])
     where = change.tolist()  # Python ints, to index with
     starts = [float(e) for e, i in zip(ends, where) if bad[i + 1]]
     stops = [float(e) for e, i in zip(ends, where) if bad[i]]
-    if bad[0]:  # wraps through φ = 0 (grid[0] = 0 and grid[-1] = 2π are the same position)
+    if not periodic:  # a stroke: an interval at either end of the stroke ends there
+        starts = ([float(grid[0])] if bad[0] else []) + starts
+        stops = stops + ([float(grid[-1])] if bad[-1] else [])
+        out = list(zip(starts, stops))
+    elif bad[0]:  # wraps through φ = 0 (grid[0] = 0 and grid[-1] = 2π are the same position)
         out = list(zip(starts[:-1], stops[1:]))
         out.append((starts[-1], stops[0] + TWO_PI))
     else:

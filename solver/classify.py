@@ -14,6 +14,9 @@ never read off a sampled sweep:
   points, where the closure's discriminant has a double zero (solver.singular).
 * Dead centres of an output joint: zeros of its velocity analog dq/dφ, bracketed on a grid of
   one turn and bisected to the last bit (e.g. a rocker's extreme positions).
+
+A scene driven by an actuator is analysed over its stroke [s_min, s_max] (m) instead of a turn
+(solver.singular.input_grid); the stroke's ends are limits, not singular positions.
 """
 
 from __future__ import annotations
@@ -25,7 +28,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .assembly import crank_and_pivot, unassemblable_intervals
-from .singular import bisect_roots, change_points, probe, sign_changes, turn_grid, upstream_plan
+from .singular import bisect_roots, change_points, input_grid, probe, sign_changes, upstream_plan
 from .tolerances import GRASHOF_EQUAL, STATIONARY
 
 if TYPE_CHECKING:
@@ -86,7 +89,7 @@ def transmission_range(scene: Scene, group: Any) -> tuple[float, float] | None:
     if getattr(group, "kind", "") != "rrr":
         return None
     plan = upstream_plan(scene, group.ends)
-    grid = turn_grid()
+    grid, _ = input_grid(scene)
     _, slope = _dd(scene, group, grid, plan)
     idx = sign_changes(slope)
     extremes = bisect_roots(lambda p: _dd(scene, group, p, plan)[1], grid[idx], grid[idx + 1])
@@ -114,7 +117,12 @@ def toggles(scene: Scene, group: Any) -> dict[str, tuple[float, ...]]:
         cps = change_points(scene, group)
         if cps:
             out["change points"] = cps
-    edges = sorted({round(x % (2 * math.pi), 15) for iv in unassemblable_intervals(scene, group.name) for x in iv})
+    grid, periodic = input_grid(scene, 1)
+    if periodic:
+        edges = sorted({round(x % (2 * math.pi), 15) for iv in unassemblable_intervals(scene, group.name) for x in iv})
+    else:  # a stroke: the ends of its range are limits, not singular positions
+        ends = (float(grid[0]), float(grid[-1]))
+        edges = sorted({x for iv in unassemblable_intervals(scene, group.name) for x in iv if x not in ends})
     if edges:
         out["range edges"] = tuple(edges)
     return out
@@ -130,13 +138,14 @@ def dead_centres(scene: Scene, joint: str) -> tuple[float, ...]:
         v[~np.asarray(k.valid, bool) | k.singular] = np.nan
         return v
 
-    grid = turn_grid()
+    grid, periodic = input_grid(scene)
     values = dq(grid)
     top = np.nanmax(np.abs(values)) if np.isfinite(values).any() else 0.0
     if top <= STATIONARY:  # the joint does not move (a parallelogram's coupler): no dead centres
         return ()
     idx = sign_changes(values)
     roots = bisect_roots(dq, grid[idx], grid[idx + 1])
-    roots = np.mod(roots, 2.0 * math.pi)
-    roots = np.where(np.abs(roots - 2.0 * math.pi) < 8 * np.spacing(2.0 * math.pi), 0.0, roots)
+    if periodic:
+        roots = np.mod(roots, 2.0 * math.pi)
+        roots = np.where(np.abs(roots - 2.0 * math.pi) < 8 * np.spacing(2.0 * math.pi), 0.0, roots)
     return tuple(sorted({float(r) for r in roots}))

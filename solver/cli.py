@@ -1,4 +1,9 @@
-"""``linkage-solve``: sweep a scene over the crank angle and print a summary or write a CSV."""
+"""``linkage-solve``: sweep a scene over the crank angle and print a summary or write a CSV.
+
+A scene driven by an actuator is swept over its stroke instead (both ends included, in m;
+``--range LO:HI`` narrows it, ``--phi`` gives strokes in m, ``--omega``/``--epsilon`` are m/s and
+m/s²); its CSV's first column is named by the input (m), and every stroke in the summary is in m.
+"""
 
 from __future__ import annotations
 
@@ -25,7 +30,7 @@ __all__ = ["main", "csv_header", "write_csv", "summary", "stability_lines"]
 
 AXES = "xyz"
 #: Options of the several-input form only (solver/cli_inputs.py): named as such for a one-input scene.
-SEVERAL_INPUTS_ONLY = ("--range", "--samples", "--region", "--derivatives")
+SEVERAL_INPUTS_ONLY = ("--samples", "--region", "--derivatives")
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -40,13 +45,18 @@ def _parser() -> argparse.ArgumentParser:
     grid.add_argument("--phi-count", type=count, default=360, metavar="N",
                       help="N angles over one turn (default 360; --count N the same, as for several inputs)")
     grid.add_argument("--count", type=count, dest="phi_count", default=argparse.SUPPRESS, help=argparse.SUPPRESS)
-    grid.add_argument("--phi", type=_floats, metavar="V1,V2,...", help="these input angles (rad, or deg with --deg)")
+    grid.add_argument("--phi", type=_floats, metavar="V1,V2,...",
+                      help="these input angles (rad, or deg with --deg); an actuator's strokes in m")
     p.add_argument("--deg", action="store_true", help="--phi values are in degrees (the summary always shows degrees; "
                    "the CSV's phi column stays in rad, like every column SI)")
+    p.add_argument("--range", action="append", default=[], metavar="LO:HI",
+                   help="an actuator's strokes to sweep, m, both ends included (default its whole stroke); "
+                   "for several inputs Q=LO:HI, see below")
     p.add_argument(
         "--omega", type=_rate(OMEGA_MAX), default=None, metavar="W|Q=W",
-        help="input angular velocity, rad/s (default 1: velocities and accelerations then equal the analogs "
-        "d/dφ, d²/dφ²; forces include inertia at 1 rad/s, --omega 0 for statics); Q=W names the input, as "
+        help="input angular velocity, rad/s (an actuator's stroke: m/s) (default 1: velocities and accelerations "
+        "then equal the analogs d/dφ, d²/dφ²; forces include inertia at 1 rad/s, --omega 0 for statics); Q=W names "
+        "the input, as "
         "linkage-run reads it",
     )
     p.add_argument(
@@ -54,7 +64,7 @@ def _parser() -> argparse.ArgumentParser:
         type=_rate(EPSILON_MAX),
         default=0.0,
         metavar="E|Q=E",
-        help="input angular acceleration, rad/s² (default 0); Q=E names the input",
+        help="input angular acceleration, rad/s² (an actuator's stroke: m/s²) (default 0); Q=E names the input",
     )
     p.add_argument("--csv", metavar="FILE|-", help="write the table as CSV (SI units, phi in rad) to FILE or stdout; "
                    "a scene with forces adds each input's effort and every pin's load")
@@ -93,7 +103,7 @@ def _floats(text: str) -> list[float]:
 
 
 def csv_header(scene: Scene) -> list[str]:
-    cols = ["phi"]
+    cols = [_input_column(scene)]
     axes = AXES[: scene.dim]
     for p in scene.output_points:
         for prefix in ("", "v", "a"):
@@ -101,6 +111,38 @@ def csv_header(scene: Scene) -> list[str]:
     for j in scene.output_joints:
         cols += [f"{j}.q", f"{j}.dq", f"{j}.ddq"]
     return cols + force_columns(scene)
+
+
+def _input_column(scene: Scene) -> str:
+    """``phi`` (rad) for a crank, the input's own name for an actuator's stroke (m)."""
+    return scene.input_joint if scene.input_units[0] == "m" else "phi"
+
+
+def _stroke(scene: Scene) -> bool:
+    return scene.input_units[0] == "m"
+
+
+def _at(scene: Scene, values: Sequence[float]) -> str:
+    """``φ = 12.0000°, …`` or, for a stroke, ``s = 0.8000 m, …``."""
+    if _stroke(scene):
+        return "s = " + ", ".join(f"{v:.4f} m" for v in values)
+    return f"φ = {_degrees(values)}"
+
+
+def stroke_grid(scene: Scene, ranges: Sequence[str], count: int) -> np.ndarray:
+    """The strokes to sweep (m): ``count`` over the stroke, or over ``--range LO:HI`` (or
+    ``Q=LO:HI``), both ends included."""
+    lo, hi = scene.input_ranges[0] or (0.0, 0.0)
+    for item in ranges:
+        name, sep, span = item.rpartition("=")
+        a, colon, b = span.partition(":")
+        if (sep and name != scene.input_joint) or not colon:
+            raise SolverError(f"--range {item!r}: give LO:HI (m) or {scene.input_joint}=LO:HI")
+        try:
+            lo, hi = bounded(PHI_MAX)(a), bounded(PHI_MAX)(b)
+        except argparse.ArgumentTypeError as exc:
+            raise SolverError(f"--range {item!r}: {exc}") from None
+    return np.linspace(lo, hi, count)
 
 
 def table(scene: Scene, k: Kinematics) -> np.ndarray:
@@ -141,8 +183,10 @@ def summary(
     phi = k.phi[valid]
     w = float(k.omega.flat[0]) if k.omega.size else 0.0
     e = float(k.epsilon.flat[0]) if k.epsilon.size else 0.0
-    span = " over one turn" if periodic else ""
-    lines = [f"scene {scene.name}: {len(phi)} positions{span} of the input '{scene.input_joint}'; {motion_line(w, e)}"]
+    unit = scene.input_units[0]
+    span = " over one turn" if periodic else " over its stroke" if unit == "m" and not given else ""
+    lines = [f"scene {scene.name}: {len(phi)} positions{span} of the input '{scene.input_joint}'; "
+             f"{motion_line(w, e, unit)}"]
     lines += provenance_lines(scene.provenance)
     desc = getattr(scene, "descriptions", {})
     # the samples of a sweep in increasing φ can be refined between neighbours; given angles cannot
@@ -163,7 +207,7 @@ def summary(
                   inputs=tuple(scene.inputs) if len(phi) else (), wraps=periodic, gaps=gaps,
                   edges=_gap_edges(scene, phi) if gaps.any() and ordered else None,
                   sampling=(f"the samples (every {360.0 / len(valid):.4g}°)" if periodic
-                            else None if ordered else "the given angles"))
+                            else None if ordered else "the given angles"), units=scene.input_units)
     lines += summary_lines(sweep)
     lines.extend(stability_lines(scene, k))
     for section in sections:
@@ -181,8 +225,12 @@ def _gap_edges(scene: Scene, phi: np.ndarray) -> np.ndarray:
     starts = np.array([lo for lo, _ in intervals])
     stops = np.array([hi for _, hi in intervals])
     two_pi = 2.0 * math.pi
-    ahead = np.mod(starts[None, :] - phi[:, None], two_pi).min(axis=1)
-    behind = np.mod(phi[:, None] - stops[None, :], two_pi).min(axis=1)
+    if _stroke(scene):  # strokes do not wrap
+        ahead = np.where(starts[None, :] >= phi[:, None], starts[None, :] - phi[:, None], np.inf).min(axis=1)
+        behind = np.where(stops[None, :] <= phi[:, None], phi[:, None] - stops[None, :], np.inf).min(axis=1)
+    else:
+        ahead = np.mod(starts[None, :] - phi[:, None], two_pi).min(axis=1)
+        behind = np.mod(phi[:, None] - stops[None, :], two_pi).min(axis=1)
     out[:, 0], out[:, 1] = phi - behind, phi + ahead
     return out
 
@@ -225,19 +273,21 @@ def stability_lines(scene: Scene, k: Kinematics) -> list[str]:
                 "change points": "change points (both assemblies meet; conditioning 0)",
                 "range edges": "toggles at the edges of the unassemblable range (conditioning 0)",
             }[kind]
-            singular.append(f"    {g.name}: {what} at φ = {_degrees(where)}")
+            singular.append(f"    {g.name}: {what} at {_at(scene, where)}")
     centres: list[str] = []
     for j in scene.output_joints:
         if j == scene.input_joint:
             continue
         stops = classify.dead_centres(scene, j)
         if stops:
-            centres.append(f"    {j}: dead centre (dq/dφ = 0) at φ = {_degrees(stops)}")
+            derivative = "dq/ds" if _stroke(scene) else "dq/dφ"
+            centres.append(f"    {j}: dead centre ({derivative} = 0) at {_at(scene, stops)}")
     flagged = int(np.count_nonzero(k.singular & k.valid))
-    lines.append(f"  singular positions over the turn, a group's conditioning 0 ({flagged} of the samples singular):")
+    over = "over the stroke" if _stroke(scene) else "over the turn"
+    lines.append(f"  singular positions {over}, a group's conditioning 0 ({flagged} of the samples singular):")
     lines.extend(singular or ["    none"])
     if centres:
-        lines.append("  dead centres over the turn (an output joint at rest, its extreme position; not singular):")
+        lines.append(f"  dead centres {over} (an output joint at rest, its extreme position; not singular):")
         lines.extend(centres)
     for g in scene.plan.groups:
         mu = classify.transmission_range(scene, g)
@@ -252,8 +302,10 @@ def stability_lines(scene: Scene, k: Kinematics) -> list[str]:
         grashof = classify.grashof(scene, g)
         if grashof is not None:
             lines.append(f"  four-bar {g.name}: {grashof}")
+    label = "s" if _stroke(scene) else "φ"
     for name, intervals in assembly.gaps(scene).items():
-        lines.append(f"  gap: {name} cannot be assembled for φ in {format_intervals(intervals)}")
+        lines.append(f"  gap: {name} cannot be assembled for {label} in "
+                     f"{format_intervals(intervals, scene.input_units[0])}")
     return lines
 
 
@@ -280,8 +332,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.csv and args.csv != "-":
             check_output(args.csv, "--csv")
         scene = load_scene(args.scene)
+        stroke = _stroke(scene)
+        if args.range and not stroke:
+            raise SolverError(f"--range is an option for scenes with several inputs (e.g. five_bar); {args.scene} "
+                              "has one: sweep its input with --phi-count N or --phi V1,V2,... (linkage-solve --help)")
+        if stroke and args.deg:
+            raise SolverError(f"--deg: the input '{scene.input_joint}' of {args.scene} is an actuator's stroke, in m")
+        if stroke and args.phi is not None and args.range:
+            raise SolverError("--phi and --range: give the strokes, or their range, not both")
         if args.phi is not None:
             phi = np.radians(args.phi) if args.deg else np.asarray(args.phi, float)
+        elif stroke:
+            phi = stroke_grid(scene, args.range, args.phi_count)
         else:
             phi = np.linspace(0.0, 2 * math.pi, args.phi_count, endpoint=False)
         omega = _one_rate(scene, 1.0 if args.omega is None else args.omega, option="--omega", default=1.0,
@@ -290,16 +352,17 @@ def main(argv: Sequence[str] | None = None) -> int:
         k = scene.solve(phi, omega=omega, epsilon=epsilon, mask=args.mask)
         if args.csv:
             if args.mask:
+                label = "s" if stroke else "φ"
                 for name, intervals in assembly.gaps(scene).items():
-                    text = format_intervals(intervals)
-                    print(f"linkage-solve: gap: {name} cannot be assembled for φ in {text}", file=sys.stderr)
+                    text = format_intervals(intervals, scene.input_units[0])
+                    print(f"linkage-solve: gap: {name} cannot be assembled for {label} in {text}", file=sys.stderr)
             flagged = k.phi[np.asarray(k.singular & k.valid)]
             if flagged.size:
-                shown = ", ".join(f"{math.degrees(p):.4f}°" for p in flagged[:8])
+                shown = _at(scene, flagged[:8].tolist())
                 more = f" and {flagged.size - 8} more" if flagged.size > 8 else ""
                 loads = "; efforts and loads there are nan (unbounded)" if scene.has_forces else ""
                 print(
-                    f"linkage-solve: note: singular position at φ = {shown}{more}: analogs there are the "
+                    f"linkage-solve: note: singular position at {shown}{more}: analogs there are the "
                     f"limit along the branch, or nan where none exists{loads} (see docs/stability.md)",
                     file=sys.stderr,
                 )
@@ -313,7 +376,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             given = None if args.phi is None else "at the given angle" if n == 1 else f"read off the {n} given angles"
             sections = [force_section(scene, k, sampling=given,
                                       default_speed=args.omega is None and args.epsilon == 0.0)]
-            print(summary(scene, k, periodic=args.phi is None, given=args.phi is not None, sections=sections))
+            print(summary(scene, k, periodic=args.phi is None and not stroke, given=args.phi is not None,
+                          sections=sections))
     except (SolverError, ValueError) as exc:
         print(f"linkage-solve: error: {one_line(str(exc))}", file=sys.stderr)
         return 2

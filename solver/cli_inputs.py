@@ -153,14 +153,18 @@ def samples_of(scene: Scene, args: argparse.Namespace) -> tuple[np.ndarray, list
         return values, None
     if args.count**k > MAX_SAMPLES:
         raise SolverError(f"--count {args.count} gives {args.count}^{k} samples, more than {MAX_SAMPLES:,}")
-    axes = {q: np.linspace(0.0, 2.0 * math.pi, args.count, endpoint=False) for q in scene.inputs}
+    # one turn of an angle; an actuator's whole stroke (m, both ends), which --deg never scales
+    axes = {q: np.linspace(0.0, 2.0 * math.pi, args.count, endpoint=False) if r is None else np.linspace(*r, args.count)
+            for q, r in zip(scene.inputs, scene.input_ranges)}
+    scales = {q: 1.0 if u == "m" else unit for q, u in zip(scene.inputs, scene.input_units)}
     for item in args.range:
         name, sep, span = item.partition("=")
         lo, colon, hi = span.partition(":")
         if not sep or not colon or name not in axes:
             raise SolverError(f"--range {item!r}: give INPUT=LO:HI with INPUT one of {', '.join(scene.inputs)}")
         try:
-            axes[name] = np.linspace(bounded(PHI_MAX)(lo) * unit, bounded(PHI_MAX)(hi) * unit, args.count)
+            axes[name] = np.linspace(bounded(PHI_MAX)(lo) * scales[name], bounded(PHI_MAX)(hi) * scales[name],
+                                     args.count)
         except argparse.ArgumentTypeError as exc:
             raise SolverError(f"--range {item!r}: {exc}") from None
     grid = [axes[q] for q in scene.inputs]
@@ -243,8 +247,13 @@ def write_csv(scene: Scene, k: Kinematics, out: TextIO, *, derivatives: bool = F
     np.savetxt(out, _table(scene, k, derivatives)[k.valid], delimiter=",", fmt="%.17g")
 
 
+def _value(v: float, unit: str) -> str:
+    """An input's value: an angle in degrees, a stroke (``unit`` "m") in m."""
+    return f"{v:.4f} m" if unit == "m" else f"{math.degrees(v):.2f}°"
+
+
 def _sample(scene: Scene, row: np.ndarray) -> str:
-    return "(" + ", ".join(f"{q} = {math.degrees(v):.2f}°" for q, v in zip(scene.inputs, row)) + ")"
+    return "(" + ", ".join(f"{q} = {_value(v, u)}" for q, v, u in zip(scene.inputs, row, scene.input_units)) + ")"
 
 
 def summary(scene: Scene, k: Kinematics, *, sampling: str | None = None, sections: Sequence[Section] = ()) -> str:
@@ -252,11 +261,20 @@ def summary(scene: Scene, k: Kinematics, *, sampling: str | None = None, section
     joints in one line), over the samples of the inputs, then the singular samples. Extremes are
     those of the samples (said so: a grid is not refined), ``sampling`` says how they were taken."""
     valid = np.asarray(k.valid, bool)
-    w = ", ".join(f"{q} = {x:g}" for q, x in zip(scene.inputs, k.omega[0])) if len(k.omega) else ""
-    e = ", ".join(f"{q} = {x:g}" for q, x in zip(scene.inputs, k.epsilon[0])) if len(k.epsilon) else ""
+    units = scene.input_units
+    mixed = "m" in units  # strokes: each rate with its own unit
+    rate = {"rad": (" rad/s", " rad/s²"), "m": (" m/s", " m/s²")}
+
+    def laws(values: np.ndarray, which: int) -> str:
+        text = ", ".join(f"{q} = {x:g}{rate[u][which] if mixed else ''}"
+                         for q, x, u in zip(scene.inputs, values, units))
+        return text if mixed else f"{text}{rate['rad'][which]}"
+
+    w = laws(k.omega[0], 0) if len(k.omega) else ""
+    e = laws(k.epsilon[0], 1) if len(k.epsilon) else ""
     lines = [
         f"scene {scene.name}: {int(valid.sum())} of {len(valid)} samples of the inputs ({', '.join(scene.inputs)}) "
-        f"assemblable; ω: {w} rad/s; ε: {e} rad/s²; angles in degrees, everything else SI"
+        f"assemblable; ω: {w}; ε: {e}; angles in degrees, {'strokes in m, ' if mixed else ''}everything else SI"
     ]
     lines += provenance_lines(scene.provenance)
     desc = getattr(scene, "descriptions", {})
@@ -268,7 +286,8 @@ def summary(scene: Scene, k: Kinematics, *, sampling: str | None = None, section
 
     sweep = Sweep(
         phi=k.phi[valid], points=[output(p, True) for p in scene.output_points],
-        joints=[output(j, False) for j in scene.output_joints], inputs=tuple(scene.inputs), sampling=sampling)
+        joints=[output(j, False) for j in scene.output_joints], inputs=tuple(scene.inputs), sampling=sampling,
+        units=units)
     lines += summary_lines(sweep)
     singular = np.flatnonzero(valid & np.asarray(k.singular, bool))
     shown = ", ".join(_sample(scene, k.phi[i]) for i in singular[:4])
@@ -279,11 +298,13 @@ def summary(scene: Scene, k: Kinematics, *, sampling: str | None = None, section
     return "\n".join(lines)
 
 
-def _sampling(axes: Sequence[np.ndarray] | None) -> str:
+def _sampling(axes: Sequence[np.ndarray] | None, units: Sequence[str] = ()) -> str:
     """The grid in words: its size and the step of each input."""
     if axes is None:
         return "the given samples"
-    steps = [f"{math.degrees(float(a[1] - a[0])):.4g}°" if len(a) > 1 else "one value" for a in axes]
+    units = list(units) if len(units) == len(axes) else ["rad"] * len(axes)
+    steps = [(f"{float(a[1] - a[0]):.4g} m" if u == "m" else f"{math.degrees(float(a[1] - a[0])):.4g}°")
+             if len(a) > 1 else "one value" for a, u in zip(axes, units)]
     each = f"every {steps[0]}" if len(set(steps)) == 1 else "every " + " × ".join(steps)
     return f"the {' × '.join(str(len(a)) for a in axes)} grid ({each})"
 
@@ -343,9 +364,10 @@ def main(argv: Sequence[str] | None = None) -> int:
                 with open(args.csv, "w", encoding="utf-8", newline="") as fh:
                     write_csv(scene, k, fh, derivatives=args.derivatives)
         else:
-            forces = force_section(scene, k, sampling=f"read off {_sampling(axes)}",
+            grid = _sampling(axes, scene.input_units)
+            forces = force_section(scene, k, sampling=f"read off {grid}",
                                    default_speed=not args.omega and not args.epsilon)
-            print(summary(scene, k, sampling=_sampling(axes), sections=[forces]))
+            print(summary(scene, k, sampling=grid, sections=[forces]))
     except (SolverError, ValueError) as exc:
         print(f"linkage-solve: error: {one_line(str(exc))}", file=sys.stderr)
         return 2

@@ -39,9 +39,14 @@ class SceneError(SolverError):
         super().__init__(" ".join(text.split()))
 
 
-def format_intervals(intervals: Sequence[tuple[float, float]]) -> str:
-    """``[(lo, hi), ...]`` in rad as text in degrees with 4 decimals."""
-    return ", ".join(f"({math.degrees(lo):.4f}°, {math.degrees(hi):.4f}°)" for lo, hi in intervals)
+def format_intervals(intervals: Sequence[tuple[float, float]], unit: str = "rad") -> str:
+    """``[(lo, hi), ...]`` in rad as text in degrees with 4 decimals (in m: metres, 6 digits)."""
+    return ", ".join(f"({show_input(lo, unit)}, {show_input(hi, unit)})" for lo, hi in intervals)
+
+
+def show_input(x: float, unit: str = "rad") -> str:
+    """An input's value in a message: an angle in degrees, a stroke (``unit`` "m") in metres."""
+    return f"{x:.6g} m" if unit == "m" else f"{math.degrees(x):.4f}°"
 
 
 class AssemblyError(SolverError):
@@ -50,7 +55,8 @@ class AssemblyError(SolverError):
     ``intervals`` lists the open intervals of φ (rad) where it cannot be assembled, exact to
     rounding (closed form or root-finding, solver.assembly): ``(lo, hi)`` with ``0 ≤ lo < 2π``
     and ``lo < hi < lo + 2π`` (one through φ = 0 ends past 2π); the pattern repeats every turn.
-    ``phi`` holds the requested angles that fall inside.
+    ``phi`` holds the requested angles that fall inside. ``unit`` "m": the input is a stroke
+    (an actuator's length, m), and the message says so in metres.
     """
 
     def __init__(
@@ -61,20 +67,23 @@ class AssemblyError(SolverError):
         intervals: Sequence[tuple[float, float]] = (),
         reason: str = "cannot be assembled",
         scene: str | None = None,
+        unit: str = "rad",
     ) -> None:
         self.group = group
+        self.unit = unit
         self.phi = tuple(float(p) for p in phi)
         self.intervals = tuple((float(lo), float(hi)) for lo, hi in intervals)
         self.reason = reason
         self.scene = scene
         head = f"{scene}: " if scene else ""
         text = f"{head}group '{group}' {reason}"
+        label = "s" if unit == "m" else "φ"
         if self.intervals:
-            text += f" for φ in {format_intervals(self.intervals)}"
+            text += f" for {label} in {format_intervals(self.intervals, unit)}"
         if self.phi:
-            shown = ", ".join(f"{math.degrees(p):.4f}°" for p in self.phi[:5])
+            shown = ", ".join(show_input(p, unit) for p in self.phi[:5])
             more = f" and {len(self.phi) - 5} more" if len(self.phi) > 5 else ""
-            text += f"; requested φ = {shown}{more}"
+            text += f"; requested {label} = {shown}{more}"
         super().__init__(text)
 
 
@@ -82,7 +91,8 @@ class SampleAssemblyError(AssemblyError):
     """A group cannot be assembled at some samples of several inputs.
 
     ``samples`` is an (M, k) array of the failing input vectors (rad or m, in the order of
-    ``inputs``); ``phi`` the same as a tuple of k-tuples; ``intervals`` is empty (the
+    ``inputs``, each shown in its ``units``: "rad" or "m"); ``phi`` the same as a tuple of
+    k-tuples; ``intervals`` is empty (the
     unassemblable set is a region of the k-dimensional input space, see :func:`assemblable`).
     """
 
@@ -94,8 +104,11 @@ class SampleAssemblyError(AssemblyError):
         inputs: Sequence[str],
         reason: str = "cannot be assembled",
         scene: str | None = None,
+        units: Sequence[str] | None = None,
     ) -> None:
         rows = np.asarray(samples, float).reshape(-1, len(inputs))
+        units = tuple(units) if units is not None else ("rad",) * len(inputs)
+        self.unit = "rad"
         self.group = group
         self.samples = rows
         self.inputs = tuple(inputs)
@@ -106,7 +119,7 @@ class SampleAssemblyError(AssemblyError):
         head = f"{scene}: " if scene else ""
         text = f"{head}group '{group}' {reason}"
         if len(rows):
-            shown = ", ".join("(" + ", ".join(f"{math.degrees(x):.4f}°" for x in r) + ")" for r in rows[:5])
+            shown = ", ".join("(" + ", ".join(show_input(x, u) for x, u in zip(r, units)) + ")" for r in rows[:5])
             more = f" and {len(rows) - 5} more" if len(rows) > 5 else ""
             text += f" at {len(rows)} sample(s) of ({', '.join(inputs)}) = {shown}{more}"
         SolverError.__init__(self, text)

@@ -129,7 +129,7 @@ def solve_multi(scene: Scene, phi: Any, omega: Any, epsilon: Any, mask: bool) ->
             raise
         bad = ~_solve_sweep(scene, arr, w, e, True).valid  # every failing sample, not only the first block's
         raise SampleAssemblyError(group=exc.group, samples=arr[bad], inputs=scene.inputs, reason=exc.reason,
-                                  scene=exc.scene) from None
+                                  scene=exc.scene, units=scene.input_units) from None
 
 
 def _seeds(scene: Scene, q: Sequence[Any], u: Sequence[Any], s: Sequence[Any]) -> dict[str, Jet]:

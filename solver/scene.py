@@ -162,6 +162,19 @@ class Scene:
         return {n: u for g in self.ordered for n, u in g.joint_units().items()}
 
     @cached_property
+    def input_units(self) -> tuple[str, ...]:
+        """Each input's unit, in the order of ``inputs``: "rad" (a crank's angle) or "m" (an
+        actuator's stroke, whose rates are then m/s and m/s²)."""
+        units = self.joint_units
+        return tuple(units.get(j, "rad") for j in self.inputs)
+
+    @cached_property
+    def input_ranges(self) -> tuple[tuple[float, float] | None, ...]:
+        """Each input's range where it has one (an actuator's stroke, m), else None (an angle)."""
+        by = {g.input_joint(): g.input_range() for g in self.ordered if g.drives}
+        return tuple(by.get(j) for j in self.inputs)
+
+    @cached_property
     def point_names(self) -> tuple[str, ...]:
         joints = set(self.joint_names) | {n for g in self.ordered for n in g.hidden()}
         provided = [n for g in self.ordered for n in g.provides() if n not in joints]
@@ -280,6 +293,7 @@ class Scene:
                 intervals=exc.intervals,
                 reason=exc.reason,
                 scene=exc.scene,
+                unit=exc.unit,
             ) from None
 
     def _solve_blocks(self, phi: np.ndarray, omega: Any, epsilon: Any, mask: bool) -> Kinematics:

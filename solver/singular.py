@@ -66,6 +66,7 @@ __all__ = [
     "bisect_roots",
     "sign_changes",
     "turn_grid",
+    "input_grid",
     "branch_sign",
     "GRID",
 ]
@@ -83,6 +84,16 @@ _CHANGE_POINTS: dict[Any, tuple[float, ...]] = {}
 def turn_grid(n: int = GRID) -> np.ndarray:
     """``n + 1`` angles from 0 to 2π inclusive."""
     return np.linspace(0.0, 2.0 * math.pi, n + 1)
+
+
+def input_grid(owner: Any, n: int = GRID) -> tuple[np.ndarray, bool]:
+    """The grid a single-input analysis brackets roots on, and whether it is periodic: one turn
+    (:func:`turn_grid`) for a crank, the stroke [s_min, s_max] (m) for an actuator."""
+    ranges = getattr(owner, "input_ranges", (None,))
+    span = ranges[0] if ranges else None
+    if span is None:
+        return turn_grid(n), True
+    return np.linspace(span[0], span[1], n + 1), False
 
 
 def upstream_plan(owner: Any, names: Sequence[str]) -> Plan:
@@ -264,7 +275,8 @@ def bisect_roots(f: Callable[[np.ndarray], np.ndarray], lo: np.ndarray, hi: np.n
 
 # -- change points ------------------------------------------------------------------------------
 def change_points(owner: Any, group: Any) -> tuple[float, ...]:
-    """The φ in [0, 2π) where the RRR dyad ``group`` of ``owner`` passes a change point."""
+    """The φ in [0, 2π) where the RRR dyad ``group`` of ``owner`` passes a change point (the
+    strokes in [s_min, s_max] for a scene driven by an actuator)."""
     plan = upstream_plan(owner, group.ends)
     key = (group, plan.groups, tuple(sorted((k, complex(v)) for k, v in plan.fixed.items())))
     if key in _CHANGE_POINTS:
@@ -281,7 +293,7 @@ def change_points(owner: Any, group: Any) -> tuple[float, ...]:
         dd = d.real * d.real + d.imag * d.imag
         return dd, 2.0 * dot(d, d1), valid
 
-    grid = turn_grid()
+    grid, periodic = input_grid(owner)
     _, slope, valid = dd_and_slope(grid)
     slope = np.where(valid, slope, np.nan)
     idx = sign_changes(slope)
@@ -291,8 +303,10 @@ def change_points(owner: Any, group: Any) -> tuple[float, ...]:
     touch = ok & (
         (np.abs((l1 + l2) ** 2 - dd) <= tol) | (np.abs(dd - (l1 - l2) ** 2) <= tol)
     )
-    found = np.mod(roots[touch], 2.0 * math.pi)
-    found = np.where(np.abs(found - 2.0 * math.pi) < 4 * np.spacing(2.0 * math.pi), 0.0, found)
+    found = roots[touch]
+    if periodic:
+        found = np.mod(found, 2.0 * math.pi)
+        found = np.where(np.abs(found - 2.0 * math.pi) < 4 * np.spacing(2.0 * math.pi), 0.0, found)
     result = tuple(sorted(set(float(x) for x in found)))
     _CHANGE_POINTS[key] = result
     return result

@@ -4,7 +4,8 @@
 simulated time) all describe their outputs with :func:`summary_lines`, in one vocabulary:
 
 * **position**, **velocity**, **acceleration** for points and joints alike;
-* angles (φ, joint angles) in degrees, everything else SI (m, m/s, m/s², rad/s, rad/s²);
+* angles (φ, joint angles) in degrees, everything else SI (m, m/s, m/s², rad/s, rad/s²); an
+  actuator's stroke input s in m (its rates m/s, m/s²: ``Sweep.units``);
 * a joint angle is unwrapped over the samples: a joint that turns a whole revolution is said to
   make a "full turn" (with the net angle), one that swings back and forth gives its range; over a
   grid of several inputs (samples in no order) the range is the shortest arc holding them all;
@@ -94,19 +95,25 @@ class Sweep:
     gaps: np.ndarray | None = None
     edges: np.ndarray | None = None
     sampling: str | None = None
+    #: each input's unit, in the order of ``inputs``: "rad" (an angle, the default) or "m" (a stroke)
+    units: Sequence[str] = ()
 
 
 #: A section of the summary: lines from the sweep.
 Section = Callable[[Sweep], list[str]]
 
 
-def format_phi(phi: Any, inputs: Sequence[str] = ()) -> str:
-    """φ as an angle in the turn, degrees in [0, 360); several inputs as a tuple of them."""
+def format_phi(phi: Any, inputs: Sequence[str] = (), units: Sequence[str] = ()) -> str:
+    """φ as an angle in the turn, degrees in [0, 360) (a stroke, ``units`` "m": in m); several
+    inputs as a tuple of them."""
     if np.ndim(phi):
         values = np.asarray(phi, float).reshape(-1)
+        unit = list(units) if len(units) == len(values) else ["rad"] * len(values)
         if len(inputs) == len(values):
-            return "(" + ", ".join(f"{q} = {format_phi(p)}" for q, p in zip(inputs, values)) + ")"
-        return "(" + ", ".join(format_phi(p) for p in values) + ")"
+            return "(" + ", ".join(f"{q} = {format_phi(p, units=(u,))}" for q, p, u in zip(inputs, values, unit)) + ")"
+        return "(" + ", ".join(format_phi(p, units=(u,)) for p, u in zip(values, unit)) + ")"
+    if tuple(units) == ("m",):
+        return f"{float(phi):.4f} m"
     deg = math.degrees(float(phi)) % 360.0
     return f"{0.0 if round(deg, 2) == 360.0 else deg:.2f}°"
 
@@ -123,8 +130,13 @@ def provenance_lines(provenance: str) -> list[str]:
 _SENTENCE_END = re.compile(r"(?<!\bi\.e)(?<!\be\.g)(?<!\bcf)\.\s")
 
 
-def motion_line(omega: float, epsilon: float) -> str:
-    """What ω and ε mean for the numbers that follow."""
+def motion_line(omega: float, epsilon: float, unit: str = "rad") -> str:
+    """What ω and ε mean for the numbers that follow (``unit`` "m": a stroke's ṡ and s̈)."""
+    if unit == "m":
+        text = f"ṡ = {omega:g} m/s, s̈ = {epsilon:g} m/s²"
+        if omega == 1.0 and epsilon == 0.0:
+            text += " (velocities and accelerations are the analogs d/ds, d²/ds², per m of the stroke)"
+        return text + "; angles in degrees, everything else SI"
     text = f"ω = {omega:g} rad/s, ε = {epsilon:g} rad/s²"
     if omega == 1.0 and epsilon == 0.0:
         text += (" (at 1 rad/s the velocities and accelerations below, in m/s and m/s², are also the analogs "
@@ -165,7 +177,9 @@ class _Context:
 
 
 def _phi_text(sweep: Sweep, phi: Any) -> str:
-    return format_phi(phi, sweep.inputs) if np.ndim(phi) else f"φ = {format_phi(phi)}"
+    if np.ndim(phi):
+        return format_phi(phi, sweep.inputs, sweep.units)
+    return f"s = {format_phi(phi, units=sweep.units)}" if tuple(sweep.units) == ("m",) else f"φ = {format_phi(phi)}"
 
 
 def _scales(sweep: Sweep) -> dict[str, float]:
@@ -369,6 +383,8 @@ def sampling_of(sweep: Sweep) -> str:
     if phi.ndim == 1 and len(phi) > 1:
         steps = np.diff(phi)
         if np.allclose(steps, steps[0], rtol=1e-9, atol=0.0) and steps[0] > 0:
+            if tuple(sweep.units) == ("m",):
+                return f"the samples (every {float(steps[0]):.4g} m)"
             return f"the samples (every {math.degrees(float(steps[0])):.4g}°)"
     return "the samples"
 

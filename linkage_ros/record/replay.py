@@ -75,6 +75,8 @@ def scene_metadata(engine: Any, *, frame_id: str = "world", topics: Mapping[str,
         "published_points": json.dumps(list(engine.published_points)),
         "fixed_points": json.dumps(fixed),
         "links": json.dumps([[str(link.name), list(link.points)] for link in scene.links]),
+        "cylinders": json.dumps([[str(g.name), str(g.base), str(g.point), float(g.stroke[0])]
+                                 for g in scene.ordered if getattr(g, "kind", "") == "actuator"]),
         "joints": json.dumps(list(engine.joint_names)),
         "joint_units": json.dumps(joint_units(scene, engine.joint_names)),
     }
@@ -202,6 +204,7 @@ def run_data_from_mcap(path: str | os.PathLike[str],
         fixed=fixed, paths=paths, input_joint=input_joint, note=note,
         inputs=tuple(inputs) if len(inputs) > 1 else (), start_ns=start_ns,
         joint_units={str(j): str(u) for j, u in json.loads(meta.get("joint_units", "{}")).items()},
+        cylinders=[(str(n), str(a), str(c), float(s)) for n, a, c, s in json.loads(meta.get("cylinders", "[]"))],
         **forces_from_mcap(ts, meta, topics, rows, types, (kind_of["joint_kinematics"][1], kin_rows, joint_names)))
     return data, contents
 

@@ -10,6 +10,7 @@ cycle, the legend) is logged static. The data come in as a
 Entity layout::
 
     mechanism/links/<link>          LineStrips2D/3D per tick
+    mechanism/links/<A>/{barrel,rod}  an actuator's cylinder: its barrel (thick) and rod, per tick
     mechanism/points                Points2D/3D per tick, labelled with the point names
     mechanism/fixed                 static, larger, labelled
     mechanism/paths/<P>             static path of each published point over one cycle
@@ -56,7 +57,7 @@ from ._drawing import (
     position_of,
 )
 from .forces import effort_views, forces_legend, load_rule, log_forces
-from .rundata import RunData
+from .rundata import Array, RunData
 from .viewer import viewer_environment, viewer_executable
 
 __all__ = [
@@ -100,6 +101,10 @@ long one, a quarter of the extent, may reach past it)."""
 EYE_OFFSET = (0.5, -0.7, 0.45)
 """3-D camera position from the middle of the drawing, in units of its extent."""
 
+#: An actuator's barrel: darker and this many times as thick as a link (its rod is a link's width).
+BARREL_COLOR = (40, 80, 140)
+BARREL_WIDTH = 2.5
+
 def _fmt(x: float) -> str:
     return f"{x:g}"
 
@@ -113,9 +118,14 @@ def plot_columns(data: RunData) -> list[list[tuple[str, list[str]]]]:
     every series name and each axis one unit."""
     plural = "inputs" if data.phi.ndim == 2 else "input"
     inputs = []
+    kinds = {data.joint_units.get(q or data.input_joint, "rad") for _, q, _ in data.input_series()}
     for kind, symbol, unit in (("phi", "φ", "rad"), ("omega", "ω", "rad/s"), ("epsilon", "ε", "rad/s²")):
         paths = [f"plots/input/{kind}/{q}" if q else f"plots/input/{kind}"
                  for k, q, _ in data.input_series() if k == kind]
+        if kinds == {"m"}:  # actuators' strokes
+            symbol, unit = _STROKE[kind]
+        elif "m" in kinds:
+            unit = f"{unit} | {_STROKE[kind][1]}"
         inputs.append((f"{plural} {symbol} ({unit})", paths))
     by_unit: dict[str, list[str]] = {}
     for j in data.joints:
@@ -250,14 +260,23 @@ def log_run(rec: Any, data: RunData) -> dict[str, float]:
     if n == 0:
         return {"velocity": v_scale, "acceleration": a_scale}
 
-    # -- per tick: links, moving points, arrows --------------------------------------------
+    # -- per tick: links, cylinders, moving points, arrows -----------------------------------
+    drawn = {(a, c) for _, a, c, _ in _drawable(data)}  # a cylinder's line is its barrel and rod
     for link, names in data.links:
+        if tuple(names) in drawn:
+            continue
         strip = np.stack([position_of(data, p) for p in names], axis=1)  # (N, k, dim)
         rec.log(f"mechanism/links/{link}", strips_t.from_fields(
             radii=radius, colors=LINK_COLOR, labels=[link], show_labels=False, **order("links")),
             static=True)
         rec.send_columns(f"mechanism/links/{link}", indexes=[times],
                          columns=strips_t.columns(strips=strip))
+    for name, part, strip, width in cylinder_strips(data):
+        entity = f"mechanism/links/{name}/{part}"
+        rec.log(entity, strips_t.from_fields(radii=width * radius, colors=LINK_COLOR if part == "rod" else
+                                             BARREL_COLOR, labels=[f"{name} {part}"], show_labels=False,
+                                             **order("links")), static=True)
+        rec.send_columns(entity, indexes=[times], columns=strips_t.columns(strips=strip))
     moving = [p for p in data.positions if p not in data.fixed]
     if moving:
         stacked = np.stack([data.positions[p] for p in moving], axis=1).reshape(-1, data.dim)
@@ -285,10 +304,13 @@ def log_run(rec: Any, data: RunData) -> dict[str, float]:
     joints = list(data.joints)
     for name, q, values in data.input_series():
         i = joints.index(q or data.input_joint) if (q or data.input_joint) in joints else 0  # the joint's colour
+        symbol, unit = _greek(name), units[name]
+        if data.joint_units.get(q or data.input_joint) == "m":  # an actuator's stroke: s, ṡ, s̈ in m
+            symbol, unit = _STROKE[name]
         if q:  # several inputs: one series per input, e.g. plots/input/phi/q1 "φ q1 (rad)"
-            log_series(rec, f"plots/input/{name}/{q}", f"{_greek(name)} {q} ({units[name]})", times, values, i)
+            log_series(rec, f"plots/input/{name}/{q}", f"{symbol} {q} ({unit})", times, values, i)
         else:
-            log_series(rec, f"plots/input/{name}", f"{_greek(name)} ({units[name]})", times, values, i)
+            log_series(rec, f"plots/input/{name}", f"{symbol} ({unit})", times, values, i)
     for i, joint in enumerate(data.joints):
         p, v, a = data.plotted_joint(joint)
         for kind, values in (("position", p), ("velocity", v), ("acceleration", a)):
@@ -322,8 +344,31 @@ def legend_text(data: RunData) -> str:
     return legend
 
 
+#: The input plots of an actuator's stroke: symbol and unit per kind.
+_STROKE = {"phi": ("s", "m"), "omega": ("ṡ", "m/s"), "epsilon": ("s̈", "m/s²")}
+
+
 def _greek(name: str) -> str:
     return {"phi": "φ", "omega": "ω", "epsilon": "ε"}.get(name, name)
+
+
+def cylinder_strips(data: RunData) -> list[tuple[str, str, Array, float]]:
+    """Each actuator's barrel (from its base A along A→C, its closed length long, thick) and rod
+    (from the eye C back the same length, thin) per tick: ``(name, part, (N, 2, dim), width)``."""
+    out = []
+    for name, base, eye, closed in _drawable(data):
+        a, c = position_of(data, base), position_of(data, eye)
+        d = c - a
+        unit = d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), np.finfo(float).tiny)
+        out.append((name, "barrel", np.stack([a, a + closed * unit], axis=1), BARREL_WIDTH))
+        out.append((name, "rod", np.stack([c - closed * unit, c], axis=1), 1.0))
+    return out
+
+
+def _drawable(data: RunData) -> list[tuple[str, str, str, float]]:
+    """The cylinders whose base and eye the run knows (a replay knows the points its markers drew)."""
+    known = set(data.positions) | set(data.fixed)
+    return [c for c in data.cylinders if c[1] in known and c[2] in known]
 
 
 def write_rrd(data: RunData, path: str | os.PathLike[str] | None = None, *,

@@ -63,9 +63,10 @@ class RunResult:
     statuses: dict[str, int] = field(default_factory=dict)
 
 
-def duration_for_cycles(cycles: float, omega: float, epsilon: float) -> float:
-    """Time for the input to turn ``cycles`` turns from rest angle φ0 (|Δφ| = 2π·cycles)."""
-    goal = TWO_PI * cycles
+def duration_for_cycles(cycles: float, omega: float, epsilon: float, *, span: float = TWO_PI) -> float:
+    """Time for the input to turn ``cycles`` turns from rest angle φ0 (|Δφ| = 2π·cycles; an
+    actuator's ``span`` is its stroke: |Δs| = span·cycles)."""
+    goal = span * cycles
     if epsilon == 0.0:
         if omega == 0.0:
             raise ValueError("with omega = 0 and epsilon = 0 the input never turns; "
@@ -280,5 +281,6 @@ def summary_lines(
         for j in output_joints
         if j in data.joints
     ]
-    sweep = Sweep(phi=data.phi, points=points, joints=joints, t=data.t, inputs=tuple(inputs))
+    sweep = Sweep(phi=data.phi, points=points, joints=joints, t=data.t, inputs=tuple(inputs),
+                  units=tuple((units or {}).get(q, "rad") for q in inputs))
     return lines_of(sweep, sections=sections)

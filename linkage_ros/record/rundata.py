@@ -50,6 +50,8 @@ class RunData:
     joint_units: dict[str, str] = field(default_factory=dict)
     """Joint → unit of its position, "rad" or "m" (a joint not listed: "rad"); the view plots
     angles and lengths apart."""
+    cylinders: list[tuple[str, str, str, float]] = field(default_factory=list)
+    """Each actuator as ``(name, base A, eye C, closed length m)``: drawn as barrel and rod."""
 
     @property
     def n(self) -> int:
@@ -155,6 +157,8 @@ class RunBuilder:
             load_pins={p.key: (p.point, p.body, p.other) for p in getattr(self.engine, "load_pairs", ())},
             effort_units=dict(getattr(self.engine, "effort_units", {})),
             joint_units=joint_units(scene, self.jnt),
+            cylinders=[(str(g.name), str(g.base), str(g.point), float(g.stroke[0]))
+                       for g in scene.ordered if getattr(g, "kind", "") == "actuator"],
         )
 
 

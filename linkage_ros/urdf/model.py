@@ -7,6 +7,10 @@ closes a loop leaves one joint out of the tree (the *cut*) and records a point o
 group                      bodies (tree joint from the parent)    cut (side a / side b)
 =========================  =====================================  ==============================
 crank O→A                  ``<g>`` (revolute about O)             none (no loop)
+actuator A–C, pivot O      ``<g>`` link OC (revolute about O),    pin C: rod / link
+                           ``<g>_barrel`` (revolute about A),
+                           ``<g>_rod`` (prismatic along the
+                           barrel: its coordinate is the stroke)
 attached P                 none: P is fixed on the body that      none
                            carries its base and direction
 rrr A–B–C                  ``<g>_AB`` (revolute about A),         pin B: ``<g>_AB`` / ``<g>_CB``
@@ -37,7 +41,7 @@ from collections.abc import Callable
 from typing import Any
 
 from solver.errors import SceneError
-from solver.groups import RRP, RRR, Attached, Crank, JointExpression, Slotted, SphericalCrankSlider
+from solver.groups import RRP, RRR, Actuator, Attached, Crank, JointExpression, Slotted, SphericalCrankSlider
 
 from .tree import BASE_LINK, Body, Cut, TreeJoint, TreeModel, Vec3, check_names
 from .vectors import build_vector_model
@@ -54,7 +58,7 @@ __all__ = [
 ]
 
 #: Group kinds the URDF export understands.
-SUPPORTED_GROUPS = ("crank", "attached", "rrr", "rrp", "slotted", "spherical_crank_slider", "joint")
+SUPPORTED_GROUPS = ("crank", "actuator", "attached", "rrr", "rrp", "slotted", "spherical_crank_slider", "joint")
 
 
 def _c(v: Vec3) -> complex:
@@ -127,6 +131,40 @@ class _Builder:
             body.size["radius"] = g.length
         self.pin(self.holder(g.center, g), body, g.center, unwrap=g.joint)
         self.owner[g.point] = body.name
+
+    def actuator(self, g: Actuator) -> None:
+        """The pushed link about O, and the cylinder: the barrel pinned at A, the rod sliding in
+        it (a prismatic joint whose coordinate is the stroke s = |AC|), cut at the eye C."""
+        a, c, o = g.base, g.point, g.pivot
+        link = self.add_body(Body(g.name, "bar", o, (o, c), {o: (0.0, 0.0, 0.0), c: (g.length, 0.0, 0.0)}), g)
+        link.bars.append((o, c))
+        self.pin(self.holder(o, g), link, o)
+        closed = g.stroke[0]
+        barrel = self.add_body(Body(f"{g.name}_barrel", "barrel", a, (a, c), {a: (0.0, 0.0, 0.0)},
+                                    size={"length": closed}), g)
+        self.pin(self.holder(a, g), barrel, a)
+        rod = self.add_body(Body(f"{g.name}_rod", "rod", c, (a, c), {c: (0.0, 0.0, 0.0)},
+                                 size={"length": closed, "open": g.stroke[1]}), g)
+        self.joints.append(
+            TreeJoint(
+                name=f"{rod.name}_joint",
+                type="prismatic",
+                parent=barrel.name,
+                child=rod.name,
+                xyz=(0.0, 0.0, 0.0),
+                rpy=(0.0, 0.0, 0.0),
+                axis=(1.0, 0.0, 0.0),
+                rule="planar_slide",
+                data=((0.0, 0.0, 0.0), 0.0, g.joint),  # (the input it follows: its effort is the cylinder's)
+            )
+        )
+        self.owner[c] = link.name
+        rod.pins.append(c)
+        self.cuts.append(
+            Cut(f"{g.name}_{c}", "pin", c, rod.name, (0.0, 0.0, 0.0), link.name, link.local[c],
+                f"the eye {c} joins the rod of actuator '{g.name}' to the link it pushes; cutting it keeps "
+                "barrel, rod and link on the tree")
+        )
 
     def rrr(self, g: RRR) -> None:
         (a, c), b = g.ends, g.point
@@ -262,6 +300,7 @@ def build_model(scene: object) -> TreeModel:
     b = _Builder(scene)
     handlers: dict[type, Callable[[Any], None]] = {
         Crank: b.crank,
+        Actuator: b.actuator,
         RRR: b.rrr,
         RRP: b.rrp,
         Slotted: b.slotted,

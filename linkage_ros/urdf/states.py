@@ -101,7 +101,7 @@ class _Plan:
                 joint_inputs += [unwrap] if unwrap is not None else []
                 args: tuple[Any, ...] = (j.parent, j.child, unwrap)
             elif j.rule == "planar_slide":
-                x0v, beta = j.data
+                x0v, beta = j.data[:2]
                 located[j.parent] = located[j.child] = True
                 spinning.add(j.parent)
                 args = (j.parent, j.child, complex(x0v[0], x0v[1]),  # type: ignore[index]

@@ -27,7 +27,8 @@ class Body:
     absolute angle) turned by ``turn`` rad; ``local`` maps its points to frame coordinates.
     ``anchor``: a named point of ``local`` from which the origin is located when the origin is not
     itself a point the solver reports (vector scenes). ``role`` names the drawing: ``base``,
-    ``bar``, ``drum``, ``slider``, ``eyelet``, ``shaft``, ``ring``, ``cage``."""
+    ``bar``, ``drum``, ``slider``, ``eyelet``, ``shaft``, ``ring``, ``cage``, ``barrel``, ``rod``
+    (an actuator's, ``size["length"]`` long: its closed length)."""
 
     name: str
     role: str
@@ -52,7 +53,7 @@ class TreeJoint:
     """A joint of the tree. ``type`` is the URDF type (``continuous`` for a pin, ``prismatic``);
     ``xyz``/``rpy`` the joint frame in the parent's frame, ``axis`` in the joint frame.
     ``rule`` says how its coordinate is computed (see :mod:`.states`); ``data`` holds the names
-    and constants the rule reads."""
+    and constants the rule reads (an actuator's rod slide adds the input joint it follows)."""
 
     name: str
     type: str

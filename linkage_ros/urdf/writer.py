@@ -52,11 +52,16 @@ def _vec(v: Sequence[float]) -> str:
 
 def travel(scene: object, model: TreeModel, *, samples: int = CYCLE_SAMPLES) -> dict[str, tuple[float, float]]:
     """``{joint: (lowest, highest)}`` of every prismatic tree joint over one turn of the input
-    (the assemblable samples of ``[0, 2π)``)."""
-    slides = [i for i, j in enumerate(model.joints) if j.type == "prismatic"]
+    (the assemblable samples of ``[0, 2π)``, or of an actuator's stroke); an actuator's rod
+    travels exactly its stroke [closed, open]."""
+    rods = {j.name: (model.bodies[j.child].size["length"], model.bodies[j.child].size["open"])
+            for j in model.joints if j.type == "prismatic" and model.bodies[j.child].role == "rod"}
+    slides = [i for i, j in enumerate(model.joints) if j.type == "prismatic" and j.name not in rods]
     if not slides:
-        return {}
-    phi = np.linspace(0.0, 2.0 * math.pi, samples, endpoint=False)
+        return rods
+    span = getattr(scene, "input_ranges", (None,))[0]
+    phi = (np.linspace(0.0, 2.0 * math.pi, samples, endpoint=False) if span is None
+           else np.linspace(float(span[0]), float(span[1]), samples))
     k = scene.everything().solve(phi, mask=True)  # type: ignore[attr-defined]
     valid = np.asarray(k.valid, dtype=bool)
     if not valid.any():
@@ -70,7 +75,7 @@ def travel(scene: object, model: TreeModel, *, samples: int = CYCLE_SAMPLES) -> 
         lo, hi = float(q.min()), float(q.max())
         pad = TRAVEL_MARGIN * (hi - lo) if hi > lo else TRAVEL_MARGIN * max(abs(hi), 1.0)
         out[model.joints[i].name] = (lo - pad, hi + pad)
-    return out
+    return {**out, **rods}
 
 
 def _size(model: TreeModel) -> float:
@@ -147,6 +152,11 @@ def _body_visuals(doc: _Doc, link: ET.Element, body: Body, rb: float, slides: di
     yaw = body.size.get("yaw", 0.0)  # the box along its slide, in the body frame
     if body.role == "slider":
         doc.visual(link, "box", {"size": _vec((8 * rb, 5 * rb, 4 * rb))}, (0, 0, 0), (0, 0, yaw), "slider")
+    if body.role in ("barrel", "rod"):  # an actuator: the barrel ahead of A, the rod back from the eye C
+        length = body.size["length"]
+        x, radius = (0.5 * length, 2.6 * rb) if body.role == "barrel" else (-0.5 * length, 1.2 * rb)
+        doc.visual(link, "cylinder", {"radius": radius, "length": length}, (x, 0, rb), (0, math.pi / 2, 0),
+                   "slider" if body.role == "barrel" else "crank")
     if body.role == "eyelet":
         doc.visual(link, "box", {"size": _vec((5 * rb, 3.5 * rb, 3.5 * rb))}, (0, 0, 0), (0, 0, yaw), "slider")
     r = body.size.get("radius", 0.0)

@@ -2,7 +2,7 @@
 
 ``ForceModel.evaluate`` reads the jets a kinematics pass has just computed (no second pass),
 puts every body's d'Alembert load, gravity and applied loads into its wrench, then solves the
-groups from the last to the first (solver.forces.crank, .rrr, .rrp, .slotted), each handing
+groups from the last to the first (solver.forces.crank, .actuator, .rrr, .rrp, .slotted), each handing
 the reactions at the pins it shares with earlier groups back to them, sign flipped. Closed form,
 no iteration; the same source runs on numpy arrays and on Python scalars (solver._backend).
 At samples where a group of the mechanism is singular (conditioning < tolerances.SINGULAR) every
@@ -20,9 +20,10 @@ from typing import Any
 import numpy as np
 
 from .._backend import Backend
-from ..groups import RRP, RRR, Crank, Slotted
+from ..groups import RRP, RRR, Actuator, Crank, Slotted
 from ..jet import Jet
 from ..tolerances import SINGULAR
+from .actuator import ActuatorForces
 from .crank import CrankForces
 from .frames import accel, inertial_wrench, spring_force, table_force
 from .rrp import RRPForces
@@ -34,7 +35,7 @@ from .structure import GROUND
 
 __all__ = ["ForceModel", "Step"]
 
-Step = CrankForces | RRRForces | RRPForces | SlottedForces
+Step = CrankForces | ActuatorForces | RRRForces | RRPForces | SlottedForces
 
 
 @dataclass(frozen=True)
@@ -54,6 +55,12 @@ class ForceModel:
         for g in st.groups:
             if isinstance(g, Crank):
                 out.append(CrankForces(g.name, g.center, g.joint, pin_index[g.center, g.name]))
+            elif isinstance(g, Actuator):
+                cyl = f"{g.name}.cylinder"
+                out.append(ActuatorForces(g.name, cyl, g.base, g.pivot, g.point, g.joint,
+                                          (owner[g.base, cyl], owner[g.pivot, g.name]),
+                                          (pin_index[g.pivot, g.name], pin_index[g.base, cyl],
+                                           pin_index[g.point, cyl])))
             elif isinstance(g, RRR):
                 one, two = f"{g.name}.1", f"{g.name}.2"
                 (a, c), b = g.ends, g.point

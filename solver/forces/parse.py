@@ -44,7 +44,7 @@ def parse_forces(top: Entry, units: Units, fixed: Mapping[str, Any], groups: Seq
         structure = derive_structure(order_groups(groups, fixed, file=top.file), fixed)
     except StructureFault as exc:
         raise top.error(str(exc), present[0]) from None
-    bodies, names = _bodies(top, structure.links, units)
+    bodies, names = _bodies(top, structure.links, units, structure.massless)
     gravity = _gravity(top)
     motors, flywheels, bodies, dampers = parse_drive(top, groups, bodies)
     spec = ForceSpec(structure, bodies, gravity, (), names)
@@ -83,7 +83,9 @@ def _links_text(links: Sequence[Link]) -> str:
     return "; ".join(f"{ln.name} [{', '.join(ln.points)}]" for ln in links)
 
 
-def _bodies(top: Entry, links: Sequence[Link], units: Units) -> tuple[tuple[Body, ...], dict[str, str]]:
+def _bodies(
+    top: Entry, links: Sequence[Link], units: Units, massless: frozenset[str] = frozenset()
+) -> tuple[tuple[Body, ...], dict[str, str]]:
     raw = top.raw("bodies", {}) or {}
     b = top.child("bodies", raw)
     named: dict[str, Body] = {}  # link name → body
@@ -110,6 +112,9 @@ def _bodies(top: Entry, links: Sequence[Link], units: Units) -> tuple[tuple[Body
         cy = e.length_value(center.imag, "center", units, positive=False)
         mass = _nonnegative(e, "mass", MASS_MAX)
         inertia = _nonnegative(e, "inertia", MASS_MAX)
+        if link.name in massless and (mass or inertia):
+            raise e.error(f"{_links_text([link])} is an actuator's cylinder, a massless two-force member: lump "
+                          "its barrel's and rod's masses into the links it is pinned to", "mass")
         e.done()
         frame = pts[:2] if len(pts) >= 2 else pts
         named[link.name] = Body(name, link, frame, mass, complex(cx, cy), inertia)
@@ -179,6 +184,9 @@ def _body_point(e: Entry, spec: ForceSpec, body: str, point: str | None, key: st
         raise e.error(_unknown_body(body, known), key)
     if point is not None and point not in b.points:
         raise e.error(f"'{point}' is not a point of body '{body}' ({', '.join(b.points)})", "point")
+    if b.link.name in spec.structure.massless:
+        raise e.error(f"body '{body}' is an actuator's cylinder, a massless two-force member: put the load on "
+                      "a link it is pinned to", key)
 
 
 def _force(e: Entry, spec: ForceSpec, units: Units, joints: Mapping[str, str]) -> Load:

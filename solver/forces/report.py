@@ -1,11 +1,11 @@
 """Summary lines of a sweep's forces, in SI, for people (``linkage-solve``, ``linkage-run``).
 
 From a solve over samples of the input(s) — one turn of φ, or a run's ticks — the lines give,
-per input, the peak and RMS effort (N·m for a crank) and the peak input power Σ Q·ω (W), and
-per pin the peak load |R| (N), per slide the peak and RMS normal force, how often it changes
-the side of the guide it presses on, and the couple where there is one (a block whose load acts
-at its pin has none). Each value at a sample is exact (closed form, solver.forces); a peak or an
-RMS over the cycle is *read off the samples* — the line says how many and at what step — since
+per input, the peak and RMS effort (N·m for a crank, N for an actuator's cylinder) and the peak
+input power Σ Q·ω (W), and per pin the peak load |R| (N), per slide the peak and RMS normal
+force, how often it changes the side of the guide it presses on, and the couple where there is
+one (a block whose load acts at its pin has none). Each value at a sample is exact (closed form,
+solver.forces); a peak or an RMS over the cycle is *read off the samples* — the line says how many and at what step — since
 between samples nothing is evaluated. Samples at singular positions (NaN, ``k.singular``) are
 left out and counted.
 
@@ -32,7 +32,7 @@ from ..tolerances import ZERO_TO_ROUNDING
 __all__ = ["force_lines", "force_section", "motion_of_forces"]
 
 
-def _step(k: Any, sampling: str | None) -> str:
+def _step(k: Any, sampling: str | None, units: tuple[str, ...] = ()) -> str:
     if sampling is not None:
         return sampling
     phi = np.asarray(k.phi, float)
@@ -40,18 +40,25 @@ def _step(k: Any, sampling: str | None) -> str:
     if phi.ndim == 1 and n > 2:
         d = np.diff(phi)
         if np.allclose(d, d[0], rtol=1e-9, atol=0.0):
-            return f"read off {n} samples, step {math.degrees(abs(d[0])):.3g}°"
+            step = f"{abs(d[0]):.3g} m" if units == ("m",) else f"{math.degrees(abs(d[0])):.3g}°"
+            return f"read off {n} samples, step {step}"
     return f"read off {n} samples"
 
 
-def _at(k: Any, i: int, inputs: tuple[str, ...], times: Any = None) -> str:
-    """Where sample ``i`` lies: its input angle(s), after its time ``t`` when the samples are a
-    run's ticks (as the kinematic lines of a run's summary say it)."""
+def _value(v: float, unit: str) -> str:
+    """An input's value: an angle in degrees within the turn, a stroke (``unit`` "m") in m."""
+    return f"{v:.4f} m" if unit == "m" else f"{math.degrees(v) % 360.0:.2f}°"
+
+
+def _at(k: Any, i: int, inputs: tuple[str, ...], times: Any = None, units: tuple[str, ...] = ()) -> str:
+    """Where sample ``i`` lies: its input angle(s) or stroke(s), after its time ``t`` when the
+    samples are a run's ticks (as the kinematic lines of a run's summary say it)."""
     phi = np.asarray(k.phi, float)
+    units = units if len(units) == len(inputs) else ("rad",) * len(inputs)
     if phi.ndim == 2:
-        where = "(" + ", ".join(f"{q} = {math.degrees(v) % 360.0:.2f}°" for q, v in zip(inputs, phi[i])) + ")"
+        where = "(" + ", ".join(f"{q} = {_value(v, u)}" for q, v, u in zip(inputs, phi[i], units)) + ")"
     else:
-        where = f"φ = {math.degrees(float(phi[i])) % 360.0:.2f}°"
+        where = f"{'s' if units[0] == 'm' else 'φ'} = {_value(float(phi[i]), units[0])}"
     if times is None:
         return where
     return f"t = {float(times[i]):.6g} s ({where.strip('()')})"
@@ -131,7 +138,8 @@ def force_lines(scene: Any, k: Any, *, sampling: str | None = None, times: Any =
         return []
     inputs = tuple(scene.inputs)
     units = scene.joint_units
-    how = _step(k, sampling)
+    kinds = tuple(units.get(q, "rad") for q in inputs)
+    how = _step(k, sampling, kinds)
     efforts = {q: np.asarray(k.effort(q), float) for q in inputs}
     ok = np.ones(efforts[inputs[0]].shape, bool)
     for v in efforts.values():
@@ -158,18 +166,18 @@ def force_lines(scene: Any, k: Any, *, sampling: str | None = None, times: Any =
         v = efforts[q][ok]
         j = int(idx[np.argmax(np.abs(v))])
         rms = math.sqrt(float(np.mean(v * v)))
-        lines.append(f"  effort {q}: peak |Q| = {_g(abs(efforts[q][j]))} {unit} at {_at(k, j, inputs, times)} "
+        lines.append(f"  effort {q}: peak |Q| = {_g(abs(efforts[q][j]))} {unit} at {_at(k, j, inputs, times, kinds)} "
                      f"(Q = {_g(efforts[q][j])}), RMS {_g(rms)} {unit}")
         w = np.broadcast_to(omega if omega.ndim <= 1 else omega[:, i], ok.shape)
         power = power + efforts[q] * w
         scale += float(np.abs(v).max()) * float(np.abs(w[ok]).max())
     if not default_speed:  # (Σ Q·ω at the default 1 rad/s: the effort's numbers again)
-        lines.append(_power_line(power, ok, idx, scale, lambda j: _at(k, j, inputs, times)))
+        lines.append(_power_line(power, ok, idx, scale, lambda j: _at(k, j, inputs, times, kinds)))
     for pin in scene.pins:
         r = np.asarray(k.reaction(pin.point, on=pin.body, by=pin.other), float)
         mag = np.hypot(r[..., 0], r[..., 1])[ok]
         j = int(idx[np.argmax(mag)])
-        where = _at(k, j, inputs, times)
+        where = _at(k, j, inputs, times, kinds)
         lines.append(f"  pin {pin.point} ({pin.body}–{pin.other}): peak load {_g(float(mag.max()))} N at {where}")
     cyclic = _one_turn(k) and times is None and bool(ok.all())
     for s in scene.slides:
@@ -183,10 +191,10 @@ def force_lines(scene: Any, k: Any, *, sampling: str | None = None, times: Any =
                 f"changes the side of the guide it presses on {changes} time{'s' if changes > 1 else ''}"
                 + (" a turn" if cyclic else ""))
         text = (f"  slide {s.point} ({s.body} on {s.guide}): peak normal force {_g(float(mag.max()))} N at "
-                f"{_at(k, j, inputs, times)}, RMS {_g(rms)} N; {side}")
+                f"{_at(k, j, inputs, times, kinds)}, RMS {_g(rms)} N; {side}")
         if couple.max() > 0.0:  # a block whose load acts at its pin has none: nothing to print
             c = int(idx[np.argmax(couple)])
-            text += f"; peak couple {_g(float(couple.max()))} N·m at {_at(k, c, inputs, times)}"
+            text += f"; peak couple {_g(float(couple.max()))} N·m at {_at(k, c, inputs, times, kinds)}"
         lines.append(text)
     return lines
 

@@ -6,6 +6,8 @@ Which group makes which body, and which pin joins which two bodies:
 group      bodies (default name: points, frame)         pins (point: body ↔ other) and slides
 =========  ==========================================  =========================================
 crank      ``name``: [O, A]                             O: crank ↔ ground; A: joins what uses A
+actuator   pushed link ``name``: [O, C]; cylinder        O: link ↔ owner(O); A: cylinder ↔
+           ``name.cylinder``: [A, C] (massless)         owner(A); C: cylinder ↔ link
 rrr        ``name.1``: [A, B];  ``name.2``: [C, B]      A: 1 ↔ owner(A); C: 2 ↔ owner(C); B: 1 ↔ 2
 rrp        rod ``name``: [A, B]; block ``name.block``:  A: rod ↔ owner(A); B: rod ↔ block;
            [B] (frame: the guide's)                     slide: block on the ground's guide
@@ -17,8 +19,9 @@ joints     none (read-outs)                             —
 =========  ==========================================  =========================================
 
 The *owner* of a point is the body a later group's pin at that point attaches to: ground for a
-fixed point, the crank for its point, the first link (A–B) of an RRR for B, the slider block of
-an RRP for B, the slotted link for its points, the carrying link for an attached point. A point
+fixed point, the crank for its point, an actuator's pushed link for its eye C, the first link
+(A–B) of an RRR for B, the slider block of an RRP for B, the slotted link for its points, the
+carrying link for an attached point (never a cylinder: it carries no other point). A point
 that several bodies carry (B of an RRR is on both links) is "on" each of them for loads.
 
 Spherical groups (seed 001) and vector-loop scenes (seed 004) have no planar body structure
@@ -31,7 +34,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..groups import RRP, RRR, Attached, Crank, Group, JointExpression, Slotted
+from ..groups import RRP, RRR, Actuator, Attached, Crank, Group, JointExpression, Slotted
 
 __all__ = ["GROUND", "Link", "Pin", "Slide", "Structure", "derive_structure", "StructureFault"]
 
@@ -89,6 +92,9 @@ class Structure:
     owner: Mapping[str, str]  # point → the body a later pin at that point attaches to
     groups: tuple[Group, ...]  # the groups that make bodies (no read-out joints)
     rigid: Mapping[frozenset[str], float] = field(default_factory=dict)  # points at a fixed distance
+    #: links that carry no mass and no load: an actuator's cylinder, a two-force member (its
+    #: barrel's and rod's masses are lumped into the links it is pinned to)
+    massless: frozenset[str] = frozenset()
 
 
 def derive_structure(ordered: Sequence[Group], fixed: Mapping[str, Any]) -> Structure:
@@ -99,6 +105,7 @@ def derive_structure(ordered: Sequence[Group], fixed: Mapping[str, Any]) -> Stru
     pins: list[Pin] = []
     slides: list[Slide] = []
     makers: list[Group] = []
+    massless: set[str] = set()
     for g in ordered:
         if isinstance(g, JointExpression):
             continue
@@ -106,6 +113,13 @@ def derive_structure(ordered: Sequence[Group], fixed: Mapping[str, Any]) -> Stru
             links.append(Link(g.name, g.name, (g.center, g.point)))
             pins.append(Pin(g.center, g.name, owner[g.center]))
             owner[g.point] = g.name
+        elif isinstance(g, Actuator):
+            cylinder = f"{g.name}.cylinder"
+            links += [Link(g.name, g.name, (g.pivot, g.point)), Link(cylinder, g.name, (g.base, g.point))]
+            pins += [Pin(g.pivot, g.name, owner[g.pivot]), Pin(g.base, cylinder, owner[g.base]),
+                     Pin(g.point, cylinder, g.name)]
+            owner[g.point] = g.name
+            massless.add(cylinder)
         elif isinstance(g, RRR):
             (a, c), b = g.ends, g.point
             one, two = f"{g.name}.1", f"{g.name}.2"
@@ -135,7 +149,8 @@ def derive_structure(ordered: Sequence[Group], fixed: Mapping[str, Any]) -> Stru
                 owner[g.point] = GROUND
                 continue
             carriers = [
-                ln for ln in links if not ln.block and need <= {*ln.points, *extra.get(ln.name, ())}
+                ln for ln in links
+                if not ln.block and ln.name not in massless and need <= {*ln.points, *extra.get(ln.name, ())}
             ]
             if not carriers:
                 raise StructureFault(
@@ -151,8 +166,8 @@ def derive_structure(ordered: Sequence[Group], fixed: Mapping[str, Any]) -> Stru
             )
         else:
             raise StructureFault(
-                f"{g.kind} '{g.name}': forces are modelled for the planar groups (crank, rrr, rrp, slotted, "
-                "attached); a vector-loop scene (seed 004) has no body structure here (docs/forces.md)"
+                f"{g.kind} '{g.name}': forces are modelled for the planar groups (crank, actuator, rrr, rrp, "
+                "slotted, attached); a vector-loop scene (seed 004) has no body structure here (docs/forces.md)"
             )
         if not isinstance(g, Attached):
             makers.append(g)
@@ -160,4 +175,4 @@ def derive_structure(ordered: Sequence[Group], fixed: Mapping[str, Any]) -> Stru
         Link(ln.name, ln.group, (*ln.points, *extra.get(ln.name, ())), ln.block, ln.guide, ln.along) for ln in links
     )
     rigid = {frozenset((p, q)): d for g in ordered for p, q, d in g.rigid_pairs() if p != q}
-    return Structure(full, tuple(pins), tuple(slides), owner, tuple(makers), rigid)
+    return Structure(full, tuple(pins), tuple(slides), owner, tuple(makers), rigid, frozenset(massless))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from .actuator import Actuator
 from .attached import Attached
 from .base import Context, Group
 from .crank import Crank
@@ -14,6 +15,7 @@ from .slotted import Slotted
 from .spherical import SphericalCrankSlider
 
 __all__ = [
+    "Actuator",
     "Attached",
     "Context",
     "Crank",
@@ -28,4 +30,6 @@ __all__ = [
 ]
 
 #: The group types a scene's ``groups:`` list may name, by their ``type:`` key.
-GROUP_TYPES: dict[str, Any] = {cls.kind: cls for cls in (Crank, Attached, Slotted, RRR, RRP, SphericalCrankSlider)}
+GROUP_TYPES: dict[str, Any] = {
+    cls.kind: cls for cls in (Crank, Actuator, Attached, Slotted, RRR, RRP, SphericalCrankSlider)
+}

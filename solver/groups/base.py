@@ -48,6 +48,11 @@ class Context:
     #: k-tuple on the per-tick path). ``None`` for a single-input scene.
     seeds: Mapping[str, Jet] | None = None
 
+    def input_units(self) -> tuple[str, ...]:
+        """Each input's unit, "rad" (a crank's angle) or "m" (an actuator's stroke), from the owner."""
+        units = getattr(self.owner, "input_units", None)
+        return tuple(units) if units else ("rad",)
+
     def intervals_of(self, group: str) -> list[tuple[float, float]]:
         """The φ intervals in which ``group`` cannot be assembled, where the plan can tell."""
         return self.find_intervals(group) if self.find_intervals is not None else []
@@ -68,6 +73,7 @@ class Context:
                     intervals=self.intervals_of(group.name),
                     reason=reason,
                     scene=self.scene,
+                    unit=self.input_units()[0],
                 )
             return
         if bool(np.all(ok)):
@@ -84,6 +90,7 @@ class Context:
             intervals=self.intervals_of(group.name),
             reason=reason,
             scene=self.scene,
+            unit=self.input_units()[0],
         )
 
 
@@ -121,6 +128,11 @@ class Group:
         """The joint whose coordinate is φ, for the driving group."""
         return None
 
+    def input_range(self) -> tuple[float, float] | None:
+        """The range of a driving group's input where it has one (an actuator's stroke, m);
+        None for an angle, which turns."""
+        return None
+
     def requires(self) -> tuple[str, ...]:
         raise NotImplementedError
 
@@ -155,7 +167,7 @@ def require_samples(ctx: Context, group: Group, ok: Any, reason: str) -> None:
             ctx.invalid = True
             return
         raise SampleAssemblyError(group=group.name, samples=[ctx.phi], inputs=list(ctx.seeds), reason=reason,
-                                  scene=ctx.scene)
+                                  scene=ctx.scene, units=ctx.input_units())
     if bool(np.all(ok)):
         return
     bad = ~np.asarray(ok, dtype=bool)
@@ -164,4 +176,5 @@ def require_samples(ctx: Context, group: Group, ok: Any, reason: str) -> None:
         return
     phi = np.asarray(ctx.phi)
     rows = phi[np.broadcast_to(bad, phi.shape[:1])]
-    raise SampleAssemblyError(group=group.name, samples=rows, inputs=list(ctx.seeds), reason=reason, scene=ctx.scene)
+    raise SampleAssemblyError(group=group.name, samples=rows, inputs=list(ctx.seeds), reason=reason, scene=ctx.scene,
+                              units=ctx.input_units())

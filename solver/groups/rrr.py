@@ -28,7 +28,7 @@ CLOSURE_ROUNDING); the φ intervals come from ``assembly_residual`` (solver.asse
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
@@ -40,7 +40,7 @@ from ..jet import Jet
 from ..tolerances import ASSEMBLY_SLACK, CLOSURE_ROUNDING
 from .base import Context, Group
 
-__all__ = ["RRR", "CrankFeed", "solve_linear", "branch_sign"]
+__all__ = ["RRR", "CrankFeed", "solve_linear", "branch_sign", "circle_point", "dyad_analogs", "closes"]
 
 
 class CrankFeed(NamedTuple):
@@ -97,6 +97,99 @@ def closure_slack(lengths: tuple[float, float], dd: Any, size: Any) -> Any:
     return CLOSURE_ROUNDING * (abs(f1) * m2 + abs(f2) * m1)
 
 
+def closes(lengths: tuple[Any, Any], h2n: Any, dd: Any, a_: Any, c_: Any) -> Any:
+    """Where the dyad closes: h² ≥ 0, or below by no more than its rounding bound.
+
+    Each factor of h²·4D⁴ rounds to EPS times the magnitudes it is the difference of:
+    m₁ = (l₁+l₂)² + D² + 2·D·S and m₂ = (l₁−l₂)² + D² + 2·D·S, with S = |A| + |C| (D² from
+    coordinates of that size carries 2·D·S·EPS); the product is accepted down to
+    −CLOSURE_ROUNDING·(|f₁|·m₂ + |f₂|·m₁). Relative to the lengths and to the conditioning of
+    D, not to the largest D²: a folded dyad with |l₁ − l₂| ≪ l₁ + l₂ no longer passes
+    positions that miss the circles' intersection by ~1e-8·(l₁ + l₂). Only the samples with
+    h² < 0 pay for the bound.
+    """
+    ok = h2n >= 0.0
+    if ok is True or (ok.__class__ is np.ndarray and ok.all()):  # (no numpy call per tick)
+        return ok
+    return h2n >= -closure_slack(lengths, dd, abs(a_) + abs(c_))
+
+
+def circle_point(
+    ctx: Context,
+    group: Group,
+    a_: Any,
+    c_: Any,
+    lengths: tuple[Any, Any],
+    mode_of: Callable[[Context], Any],
+    *,
+    factors: Callable[[Any], tuple[Any, Any]] | None = None,
+) -> tuple[Any, Any, Any, Any, Any]:
+    """The circle intersection B of the module docstring: |B − A| = l₁, |B − C| = l₂, assembly
+    mode ``mode_of(ctx)``; ``(B, p = B − A, q = B − C, j/(p × q), |p × q|)``.
+
+    The lengths may vary with the input (an actuator's stroke, solver.groups.actuator): plain
+    arithmetic on them. ``factors(xp)`` gives the two factors of h²·4D⁴ where the caller has
+    them without cancellation (a crank-fed dyad). Written so that every array temporary is fresh
+    and reused in place (augmented assignments, ``out=``): the same operations in the same order
+    as the formulas, so the same bits, with fewer allocations. Never writes into its inputs.
+    """
+    xp = ctx.xp
+    l1, l2 = lengths
+    d = c_ - a_
+    dd = abs2(d)
+    ctx.require(group, dd > 0.0, reason="has its two ends on one point")
+    # (per tick in mask mode the sample is flagged above and solved on: inf as numpy gives)
+    half_inv = 0.5 / dd if dd.__class__ is not float or dd != 0.0 else math.inf
+    a = l1 * l1 - l2 * l2 + dd
+    a *= half_inv
+    # h²·4D⁴ = ((l₁+l₂)² − D²)(D² − (l₁−l₂)²): the factored form is exactly 0 at a toggle
+    # whenever D² rounds to the toggle's value (no cancellation in l₁²/D² − a²).
+    if factors is None:
+        h2n = (l1 + l2) ** 2 - dd
+        h2n *= dd - (l1 - l2) ** 2
+    else:
+        h2n, f2 = factors(xp)
+        h2n *= f2
+    # rounding at a toggle can leave h² a few ulps below zero: clamp that, report the rest
+    ctx.require(group, closes(lengths, h2n, dd, a_, c_))
+    h = xp.sqrt0(h2n)
+    h *= half_inv
+    mode = mode_of(ctx)
+    p: Any
+    if isinstance(h, np.ndarray) and h.ndim:  # p = d·(a − j·M·h), in one complex temporary
+        p = np.multiply(1j * mode, h)
+        np.multiply(d, np.subtract(a, p, out=p), out=p)
+    else:
+        p = d * (a - 1j * mode * h)  # B − A
+    b, q = a_ + p, p - d  # q = B − C
+    det = cross(p, q)
+    cond = abs(det)
+    jdet: Any
+    if isinstance(det, np.ndarray):
+        jdet = _j_over(det) if det.size and cond.min() >= _NORMAL else 1j / det
+    elif xp.vectorised or det != 0.0:
+        jdet = 1j / det
+    else:  # an exact toggle on the scalar path: the limit is taken below
+        jdet = complex(math.nan, math.nan)
+    return b, p, q, jdet, cond
+
+
+def dyad_analogs(p: Any, q: Any, jdet: Any, ja: Jet, jc: Jet, grow: tuple[Any, Any] | None = None) -> tuple[Any, Any]:
+    """B' and B'' from the linear system of the module docstring, given the circle point's
+    ``p``, ``q``, ``jdet`` and the ends' jets. ``grow = (e₁, e₂)`` adds the derivatives of a
+    varying l₁²/2 to the first row: (l₁·l₁', l₁'² + l₁·l₁'') — an actuator's stroke."""
+    r1 = dot(ja.d1, p)
+    if grow is not None:  # (a fixed A: the structural float 0.0, no operation on it)
+        r1 = grow[0] if type(r1) is float and r1 == 0.0 else r1 + grow[0]
+    b1 = solve_linear(p, q, jdet, r1, dot(jc.d1, q))
+    s1 = dot(ja.d2, p)
+    s1 -= abs2(minus(b1, ja.d1))
+    if grow is not None:
+        s1 += grow[1]
+    s2 = dot(jc.d2, q) - abs2(minus(b1, jc.d1))
+    return b1, solve_linear(p, q, jdet, s1, s2)
+
+
 @dataclass(frozen=True)
 class RRR(Group):
     kind = "rrr"
@@ -122,73 +215,21 @@ class RRR(Group):
         return ((self.ends[0], self.point, self.ends[1]),)
 
     def solve(self, ctx: Context) -> None:
-        # Written so that every array temporary is fresh and reused in place (augmented
-        # assignments, ``out=``): the same operations in the same order as the formulas above,
-        # so the same bits, with fewer allocations. Never write into a jet from ``ctx.values``.
-        xp, vals = ctx.xp, ctx.values
+        vals = ctx.values
         ja, jc = vals[self.ends[0]], vals[self.ends[1]]
         l1, l2 = self.lengths
-        a_, c_ = ja.value, jc.value
-        d = c_ - a_
-        dd = abs2(d)
-        ctx.require(self, dd > 0.0, reason="has its two ends on one point")
-        # (per tick in mask mode the sample is flagged above and solved on: inf as numpy gives)
-        half_inv = 0.5 / dd if dd.__class__ is not float or dd != 0.0 else math.inf
-        a = l1 * l1 - l2 * l2 + dd
-        a *= half_inv
-        # h²·4D⁴ = ((l₁+l₂)² − D²)(D² − (l₁−l₂)²): the factored form is exactly 0 at a toggle
-        # whenever D² rounds to the toggle's value (no cancellation in l₁²/D² − a²).
-        if self.feed is None:
-            h2n = (l1 + l2) ** 2 - dd
-            h2n *= dd - (l1 - l2) ** 2
-        else:
-            h2n, f2 = self._fed_factors(vals[self.feed.point].value, xp)
-            h2n *= f2
-        # rounding at a toggle can leave h² a few ulps below zero: clamp that, report the rest
-        ctx.require(self, self._closes(h2n, dd, a_, c_))
-        h = xp.sqrt0(h2n)
-        h *= half_inv
-        mode = self.mode if not self.continuous else self.mode * branch_sign(ctx.phi, self.flips(ctx))
-        p: Any
-        if isinstance(h, np.ndarray) and h.ndim:  # p = d·(a − j·M·h), in one complex temporary
-            p = np.multiply(1j * mode, h)
-            np.multiply(d, np.subtract(a, p, out=p), out=p)
-        else:
-            p = d * (a - 1j * mode * h)  # B − A
-        b, q = a_ + p, p - d  # q = B − C
-        det = cross(p, q)
-        cond = abs(det)
-        jdet: Any
-        if isinstance(det, np.ndarray):
-            jdet = _j_over(det) if det.size and cond.min() >= _NORMAL else 1j / det
-        elif xp.vectorised or det != 0.0:
-            jdet = 1j / det
-        else:  # an exact toggle on the scalar path: the limit is taken below
-            jdet = complex(math.nan, math.nan)
-        b1 = solve_linear(p, q, jdet, dot(ja.d1, p), dot(jc.d1, q))
-        s1 = dot(ja.d2, p)
-        s1 -= abs2(minus(b1, ja.d1))
-        s2 = dot(jc.d2, q) - abs2(minus(b1, jc.d1))
-        b2 = solve_linear(p, q, jdet, s1, s2)
+        factors = None
+        if self.feed is not None:
+            feed_point = self.feed.point
+            factors = lambda xp: self._fed_factors(vals[feed_point].value, xp)
+        b, p, q, jdet, cond = circle_point(ctx, self, ja.value, jc.value, (l1, l2), self._mode, factors=factors)
+        b1, b2 = dyad_analogs(p, q, jdet, ja, jc)
         vals[self.point] = Jet(b, b1, b2)
         cond /= l1 * l2
         ctx.conditioning[self.name] = cond
 
-    def _closes(self, h2n: Any, dd: Any, a_: Any, c_: Any) -> Any:
-        """Where the dyad closes: h² ≥ 0, or below by no more than its rounding bound.
-
-        Each factor of h²·4D⁴ rounds to EPS times the magnitudes it is the difference of:
-        m₁ = (l₁+l₂)² + D² + 2·D·S and m₂ = (l₁−l₂)² + D² + 2·D·S, with S = |A| + |C| (D² from
-        coordinates of that size carries 2·D·S·EPS); the product is accepted down to
-        −CLOSURE_ROUNDING·(|f₁|·m₂ + |f₂|·m₁). Relative to the lengths and to the conditioning of
-        D, not to the largest D²: a folded dyad with |l₁ − l₂| ≪ l₁ + l₂ no longer passes
-        positions that miss the circles' intersection by ~1e-8·(l₁ + l₂). Only the samples with
-        h² < 0 pay for the bound.
-        """
-        ok = h2n >= 0.0
-        if ok is True or (ok.__class__ is np.ndarray and ok.all()):  # (no numpy call per tick)
-            return ok
-        return h2n >= -closure_slack(self.lengths, dd, abs(a_) + abs(c_))
+    def _mode(self, ctx: Context) -> Any:
+        return self.mode if not self.continuous else self.mode * branch_sign(ctx.phi, self.flips(ctx))
 
     def _fed_factors(self, crank_point: Any, xp: Any) -> tuple[Any, Any]:
         """(l₁+l₂)² − D² and D² − (l₁−l₂)² for a crank-fed dyad.

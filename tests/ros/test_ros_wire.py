@@ -32,7 +32,9 @@ def ordinary(engine: Engine, frame: object, stamp: int, *, paths: bool) -> list[
 
 @pytest.mark.parametrize("scene", SCENES, ids=lambda p: p.stem)
 def test_templates_give_the_builders_bytes(scene: Path) -> None:
-    engine = Engine(scene, Motion(phi0=0.1, omega=2.0, epsilon=0.3))
+    span = solver.load_scene(scene).input_ranges[0]  # an actuator's stroke: from its closed length, m/s
+    engine = Engine(scene, Motion(phi0=0.1, omega=2.0, epsilon=0.3) if span is None else Motion(
+        phi0=span[0] + 0.01, omega=0.2, epsilon=0.3))
     wire = Serializer(MessageBuilder(engine, STORE.types, frame_id="world"), STORE.serialize_cdr)
     first = engine.frame(0.0)
     assert wire.verify(first, STAMP) == []

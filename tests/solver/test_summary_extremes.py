@@ -122,8 +122,10 @@ def test_refined_extremes_bound_the_samples_and_match_a_dense_sweep(name: str) -
     from solver.cli import _evaluator
 
     scene = solver.load_scene(name)
-    coarse = np.linspace(0, 2 * np.pi, 24, endpoint=False)
-    dense = np.linspace(0, 2 * np.pi, 200_001)
+    span = scene.input_ranges[0]  # one turn, or an actuator's stroke (its ends included)
+    lo, hi, periodic = (0.0, 2 * np.pi, True) if span is None else (span[0], span[1], False)
+    coarse = np.linspace(lo, hi, 24, endpoint=not periodic)
+    dense = np.linspace(lo, hi, 200_001)
     for p in scene.output_points:
         evaluate = _evaluator(scene, p, point=True, omega=1.0, epsilon=0.0)
         pos = evaluate(coarse)[0]
@@ -131,7 +133,7 @@ def test_refined_extremes_bound_the_samples_and_match_a_dense_sweep(name: str) -
         for axis in range(pos.shape[1]):
             for largest in (True, False):
                 e = extreme(pos[:, axis], largest=largest, phi=coarse, evaluate=evaluate,
-                            quantity=lambda q, v, a, i=axis: q[:, i], periodic=True)
+                            quantity=lambda q, v, a, i=axis: q[:, i], periodic=periodic)
                 sign = 1.0 if largest else -1.0
                 assert e.exact
                 assert sign * e.value >= sign * pos[e.sample, axis]  # never worse than the samples

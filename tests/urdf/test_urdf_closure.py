@@ -60,7 +60,8 @@ def test_cut_frames_coincide_and_bodies_follow_the_solver_over_a_cycle(name: str
     scene = _exportable(name)
     model = build_model(scene)
     urdf = _load(scene)
-    phi = np.linspace(0.0, 2.0 * math.pi, CYCLE, endpoint=False)
+    span = scene.input_ranges[0]  # one turn, or an actuator's stroke
+    phi = np.linspace(0.0, 2.0 * math.pi, CYCLE, endpoint=False) if span is None else np.linspace(*span, CYCLE)
     k = scene.everything().solve(phi, omega=OMEGA, epsilon=EPSILON, mask=True)
     states = kinematics_tree_joint_states(model, k)
     valid = np.flatnonzero(np.asarray(k.valid, bool))
@@ -85,7 +86,10 @@ def test_cut_frames_coincide_along_an_engine_run(name: str) -> None:
     scene = _exportable(name)
     model = build_model(scene)
     urdf = _load(scene)
-    engine = Engine(scene, Motion(phi0=0.25, omega=2.0 * math.pi, epsilon=0.5))
+    span = scene.input_ranges[0]  # an actuator: from its closed length at 0.4 m/s
+    motion = Motion(phi0=0.25, omega=2.0 * math.pi, epsilon=0.5) if span is None else Motion(
+        phi0=span[0], omega=0.4, epsilon=0.1)
+    engine = Engine(scene, motion)
     worst = 0.0
     for frame in engine.frames(np.linspace(0.0, 1.0, 100)):
         states = frame_tree_joint_states(model, frame)

@@ -67,7 +67,10 @@ def test_one_frame_gives_the_states_of_the_same_sample_of_a_sweep(name: str) -> 
 
     scene = _exportable(name)
     model = build_model(scene)
-    engine = Engine(scene, Motion(phi0=0.3, omega=2.5, epsilon=0.7))
+    span = scene.input_ranges[0]  # an actuator: from its closed length, in m/s
+    motion = Motion(phi0=0.3, omega=2.5, epsilon=0.7) if span is None else Motion(phi0=span[0], omega=0.25,
+                                                                                  epsilon=0.7)
+    engine = Engine(scene, motion)
     frame = engine.frame(0.2)
     one = frame_tree_joint_states(model, frame)
     k = scene.everything().solve(np.array([frame.phi]), omega=frame.omega, epsilon=frame.epsilon)
