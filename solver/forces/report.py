@@ -1,23 +1,22 @@
 """Summary lines of a sweep's forces, in SI, for people (``linkage-solve``, ``linkage-run``).
 
-From a solve over samples of the input(s) — one turn of φ, or a run's ticks — the lines give,
-per input, the peak and RMS effort (N·m for a crank, N for an actuator's cylinder) and the peak
-input power Σ Q·ω (W), and per pin the peak load |R| (N), per slide the peak and RMS normal
-force, how often it changes the side of the guide it presses on, and the couple where there is
-one (a block whose load acts at its pin has none). Each value at a sample is exact (closed form,
-solver.forces); a peak or an RMS over the cycle is *read off the samples* — the line says how many and at what step — since
-between samples nothing is evaluated. Samples at singular positions (NaN, ``k.singular``) are
-left out and counted.
+From a solve over samples of the input(s) — one turn of φ, or a run's ticks — the lines give, per
+input, the peak and RMS effort (N·m for a crank, N for an actuator's cylinder) and the peak input
+power Σ Q·ω (W), and per pin the peak load |R| (N), per slide the peak and RMS normal force, how
+often it changes the side of the guide it presses on, and the couple where there is one (a block
+whose load acts at its pin has none). Each value at a sample is exact (closed form, solver.forces);
+a peak or an RMS over the cycle is *read off the samples* — the line says how many and at what step
+— since between samples nothing is evaluated. Samples at singular positions (NaN, ``k.singular``)
+are left out and counted.
 
-The heading says at which ω and ε the forces hold: the bodies' inertia makes them depend on
-the motion (without mass or inertia they are the same at every speed). ``default_speed``: the
-caller chose ω and ε for the user (linkage-solve without ``--omega``, 1 rad/s): a line says so
-and how to ask for statics or an operating speed, and the input power (then the effort's
-numbers again, in W) is left out.
+The heading says at which ω and ε the forces hold: the bodies' inertia makes them depend on the
+motion (without mass or inertia they are the same at every speed). ``default_speed``: the caller
+chose ω and ε for the user (linkage-solve without ``--omega``, 1 rad/s): a line says so and how to
+ask for statics or an operating speed, and the input power (then the effort's numbers again, in W)
+is left out.
 
 ``force_lines(scene, k)`` gives the lines; ``force_section(scene, k)`` the same as a section of
-:func:`solver.summary.summary_lines` (``sections=[force_section(scene, k)]``).
-"""
+:func:`solver.summary.summary_lines` (``sections=[force_section(scene, k)]``)."""
 
 from __future__ import annotations
 
