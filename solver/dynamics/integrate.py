@@ -317,6 +317,7 @@ class Stepper:
 
     def _restart(self) -> None:
         self._solver = self._method(self.eq, self.t, self.y, math.inf, rtol=self.rtol, atol=self.atol)
+        self._dense: tuple[float, Any] | None = None
 
     def set_drive(self, drive: Any) -> None:
         fn, self.kind = make_drive(drive, self.scene.inputs, self.model.motors, scene=self.scene.name)
@@ -340,7 +341,11 @@ class Stepper:
         if t == s.t:
             y = s.y.copy()
         else:
-            y = s.dense_output()(t)
+            # one interpolant per step (DOP853's costs three more evaluations): ticks between
+            # two steps only evaluate it
+            if self._dense is None or self._dense[0] != s.t:
+                self._dense = (s.t, s.dense_output())
+            y = self._dense[1](t)
         self.t, self.y = t, y
         return y
 
