@@ -50,6 +50,10 @@ class RunData:
     joint_units: dict[str, str] = field(default_factory=dict)
     """Joint → unit of its position, "rad" or "m" (a joint not listed: "rad"); the view plots
     angles and lengths apart."""
+    energy: dict[str, Array] = field(default_factory=dict)
+    """A dynamic run (``linkage-run --dynamics``, issue 22): per tick (J) ``kinetic``, ``gravity``,
+    ``springs``, ``work_drive``, ``work_other`` and ``balance`` (the energy balance's error,
+    :meth:`solver.dynamics.Trajectory.energy`); empty for a kinematic run."""
 
     @property
     def n(self) -> int:
