@@ -125,7 +125,7 @@ class _DynamicLaw:
         self.stop_message = ""
         self._held = False
         self._stepper = Stepper(scene, phi0=phi0, omega0=omega, drive=self._drive(), rtol=self.tolerance,
-                                atol=self.tolerance, t0=float(t0))
+                                atol=self.tolerance, t0=float(t0), works=False)
         self._t = float(t0)
         self._read()
         phi, w, e = self._state
@@ -286,7 +286,7 @@ class _DynamicLaw:
         rates = [float(omega)] * self.k if isinstance(omega, (int, float)) else [float(w) for w in omega]
         self._stepper = Stepper(self.scene, phi0=phis if self.k > 1 else phis[0],
                                 omega0=rates if self.k > 1 else rates[0], drive=self._drive(),
-                                rtol=self.tolerance, atol=self.tolerance, t0=t)
+                                rtol=self.tolerance, atol=self.tolerance, t0=t, works=False)
         self._held, self.stop_message, self._t = False, "", t
         self._read()
 

@@ -33,10 +33,12 @@ _METHODS = {"DOP853": DOP853, "RK45": RK45, "Radau": Radau}
 class Equation:
     """The right-hand side of the first-order system y = (q, q̇, W_drive, W_other), per instant."""
 
-    def __init__(self, model: ReducedModel, drive: Drive) -> None:
+    def __init__(self, model: ReducedModel, drive: Drive, *, works: bool = True) -> None:
         self.model, self.drive, self.k = model, drive, model.k
         self.fault: tuple[str, str] | None = None  # (group, reason) of the last unassemblable call
         self._other = model.other is not None
+        #: whether the two work integrals are integrated (False: their rates are 0, one pass fewer)
+        self.works = works
 
     def accelerations(
         self, t: float, q: Sequence[float], qd: Sequence[float]
@@ -58,6 +60,8 @@ class Equation:
         except AssemblyError as exc:  # a trial step beyond an assembly limit: rejected (NaN)
             self.fault = (exc.group, exc.reason)
             return np.full(y.shape, math.nan)
+        if not self.works:
+            return np.array([*qd, *qdd, 0.0, 0.0])
         other = self.model.other_forces(q, qd) if self._other else (0.0,) * k
         return np.array([*qd, *qdd, sum(a * b for a, b in zip(qdrive, qd)), sum(a * b for a, b in zip(other, qd))])
 
@@ -287,16 +291,42 @@ def _trajectory(
     )
 
 
+def _interpolant(dense: Any) -> Callable[[float], np.ndarray]:
+    """A step's dense output as a function of one time. DOP853's (scipy's ``Dop853DenseOutput``)
+    is evaluated as one dot product of its coefficient rows ``F`` with their weights — the same
+    nested form scipy evaluates row by row, y = y_old + Σ F[n−1−i]·Π_{j≥i} m_j with m_j = x for
+    even j and 1 − x for odd j, x = (t − t_old)/h — in a quarter of the time at a tick; any other
+    dense output as it is."""
+    coefficients = getattr(dense, "F", None)
+    if coefficients is None or not all(hasattr(dense, a) for a in ("t_old", "h", "y_old")):
+        return dense  # type: ignore[no-any-return]
+    rows = np.ascontiguousarray(coefficients[::-1])
+    t_old, h, y_old, n = float(dense.t_old), float(dense.h), dense.y_old, len(coefficients)
+
+    def at(t: float) -> np.ndarray:
+        x = (t - t_old) / h
+        weights = [0.0] * n
+        w = 1.0
+        for i in range(n - 1, -1, -1):
+            w *= x if i % 2 == 0 else 1.0 - x
+            weights[i] = w
+        return y_old + np.dot(weights, rows)  # type: ignore[no-any-return]
+
+    return at
+
+
 class Stepper:
     """The equation advanced tick by tick (the node): ``advance(t)`` steps scipy's solver until it
     passes ``t`` and returns the state there from its dense output; ``set_drive`` changes the
     drive (an effort command), restarting the solver at the current time so that no step
     straddles the change. Accuracy: each step's local error within ``rtol``/``atol`` as in
-    :func:`simulate`; the output at a tick is the step's dense interpolant (same order)."""
+    :func:`simulate`; the output at a tick is the step's dense interpolant (same order).
+    ``works=False``: the work integrals W_drive, W_other stay 0 (the node does without them: one
+    force pass fewer per evaluation in a scene with forces, torques or dampers)."""
 
     def __init__(
         self, scene: Any, *, phi0: Any = None, omega0: Any = 0.0, drive: Any = None, rtol: float = 1e-9,
-        atol: float = 1e-9, method: str = "DOP853", t0: float = 0.0,
+        atol: float = 1e-9, method: str = "DOP853", t0: float = 0.0, works: bool = True,
     ) -> None:
         self.scene = scene
         self.model = reduced_model(scene)
@@ -304,7 +334,8 @@ class Stepper:
         q0 = _initial(phi0, k, "phi0", scene.name)
         w0 = _initial(omega0, k, "omega0", scene.name)
         fn, self.kind = make_drive(drive, scene.inputs, self.model.motors, scene=scene.name)
-        self.eq = Equation(self.model, fn)
+        self.works = works
+        self.eq = Equation(self.model, fn, works=works)
         self.rtol, self.atol, self._method = rtol, atol, _METHODS[method]
         self.t = t0
         self.y = np.array([*q0, *w0, 0.0, 0.0])
@@ -321,7 +352,7 @@ class Stepper:
 
     def set_drive(self, drive: Any) -> None:
         fn, self.kind = make_drive(drive, self.scene.inputs, self.model.motors, scene=self.scene.name)
-        self.eq = Equation(self.model, fn)
+        self.eq = Equation(self.model, fn, works=self.works)
         self._restart()
 
     def advance(self, t: float) -> np.ndarray:
@@ -344,7 +375,7 @@ class Stepper:
             # one interpolant per step (DOP853's costs three more evaluations): ticks between
             # two steps only evaluate it
             if self._dense is None or self._dense[0] != s.t:
-                self._dense = (s.t, s.dense_output())
+                self._dense = (s.t, _interpolant(s.dense_output()))
             y = self._dense[1](t)
         self.t, self.y = t, y
         return y
