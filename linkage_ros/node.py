@@ -21,6 +21,12 @@ velocities and stamp are read straight off the CDR bytes
 (:func:`~linkage_ros.serialize.read_joint_state`; rclpy's deserialiser for anything unusual),
 without building the message object.
 
+Dynamic mode (``-p mode:=dynamic``, issue 22): the timer ticks as in clock mode, but φ(t) comes
+from the equation of motion (:mod:`linkage_ros.dynamic`); the node subscribes to the relative
+topic ``effort_commands`` (``std_msgs/Float64MultiArray``, one value per input) and hands each
+command to :meth:`Runtime.command_efforts`; a refused one is logged as one warning (at most one
+a second).
+
 The spin loop runs rclpy's ``EventsExecutor`` (C++, ``rclpy.experimental``, in Jazzy's rclpy
 7.1): at 1 kHz it takes about a third of the CPU of the ``SingleThreadedExecutor``, whose Python
 wait-set and task machinery costs ≈ 240 µs per timer tick here. ``LINKAGE_ROS_EXECUTOR=single``

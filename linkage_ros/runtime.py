@@ -17,6 +17,12 @@ inputs (docs/inputs.md) take ``omega``, ``epsilon`` and ``phi0`` per input from 
 :class:`~linkage_ros.motion.Motions`. In topic mode every input joint is read from the same
 message and joint_states leaves out all of them.
 
+Dynamic mode (``mode: dynamic``, issue 22): the engine's time law is a
+:class:`~linkage_ros.dynamic.DynamicMotion` (or ``DynamicMotions``) that integrates the equation of
+motion tick by tick; :meth:`Runtime.command_efforts` takes the effort commands, and a command
+that timed out is reported among :attr:`Runtime.events`. Everything after the time law is the
+clock mode's.
+
 What a tick sends: every topic of :func:`~linkage_ros.topics.topic_types` except that
 ``diagnostics`` goes out on the first tick, whenever the status changes (ok / near singular /
 unassemblable, or a new unassemblable event) and otherwise every :data:`DIAGNOSTICS_PERIOD_S`
