@@ -263,15 +263,19 @@ class _DynamicLaw:
     def _read(self) -> None:
         """The stepper's last state as (φ, ω, ε) and the drive's effort."""
         stepper = self._stepper
-        y = stepper.y
+        y = stepper.y.tolist()
         k = self.k
         try:
             qdd, qdrive = stepper.accelerations()
         except SolverError as error:  # pragma: no cover - the stepper's state was assembled
             self._freeze(f"{error}; holding the last state")
             return
-        self.effort = self._pack(qdrive)
-        self._state = (self._pack(y[:k]), self._pack(y[k:2 * k]), self._pack(qdd))
+        if k == 1:
+            self.effort = qdrive[0]
+            self._state = (y[0], y[1], qdd[0])
+        else:
+            self.effort = tuple(qdrive)
+            self._state = (tuple(y[:k]), tuple(y[k:2 * k]), tuple(float(v) for v in qdd))
 
     def _freeze(self, message: str) -> None:
         self._held = True

@@ -53,8 +53,8 @@ class Equation:
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
         k = self.k
-        q = [float(v) for v in y[:k]]
-        qd = [float(v) for v in y[k:2 * k]]
+        state = y.tolist()  # Python floats (one call, not one float() per entry)
+        q, qd = state[:k], state[k:2 * k]
         try:
             qdd, qdrive, _ = self.accelerations(float(t), q, qd)
         except AssemblyError as exc:  # a trial step beyond an assembly limit: rejected (NaN)
@@ -67,8 +67,9 @@ class Equation:
 
     def conditioning(self, t: float, y: np.ndarray) -> float:
         k = self.k
+        state = y.tolist()
         try:
-            return self.model.instant([float(v) for v in y[:k]], [float(v) for v in y[k:2 * k]])[2]
+            return self.model.instant(state[:k], state[k:2 * k])[2]
         except AssemblyError:
             return 0.0
 
@@ -383,7 +384,6 @@ class Stepper:
     def accelerations(self) -> tuple[list[float], list[float]]:
         """(q̈, Q_drive) at the last state returned."""
         k = self.k
-        q = [float(v) for v in self.y[:k]]
-        qd = [float(v) for v in self.y[k:2 * k]]
-        qdd, qdrive, _ = self.eq.accelerations(self.t, q, qd)
+        state = self.y.tolist()
+        qdd, qdrive, _ = self.eq.accelerations(self.t, state[:k], state[k:2 * k])
         return qdd, qdrive

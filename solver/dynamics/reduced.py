@@ -90,21 +90,22 @@ class ReducedModel:
 
     @cached_property
     def _one_input(self) -> tuple[Any, Any, int, int, int, int]:
-        """One input: the two compiled functions and where h, the conditioning figures and M sit
-        in their tuples (what :meth:`_efforts` finds per call, found once)."""
+        """One input: the two compiled units and where h, the conditioning figures and M sit in
+        their tuples (what :meth:`_efforts` finds per call, found once). The units, not their
+        ``function``: a unit compiles on its first call and then replaces its ``function``."""
         full, inertia, _ = self._units
         lo = full.size
         hi = lo + len(full.conditioning)
-        return full.function, inertia.function, lo, hi, hi, inertia.size + len(inertia.conditioning)
+        return full, inertia, lo, hi, hi, inertia.size + len(inertia.conditioning)
 
     def instant(self, q: Sequence[float], qd: Sequence[float]) -> tuple[Any, list[float], float]:
         """(M, h, conditioning) at one state: M a float (one input) or a k×k list of rows, h a list
         of k floats, the worst conditioning of the groups (below tolerances.SINGULAR: singular)."""
         k = self.k
         if k == 1:  # the per-tick path (the node's Stepper): _efforts' reads, inlined
-            full_fn, inertia_fn, lo, hi, at_h, at_m = self._one_input
-            flat = full_fn(q[0], qd[0], 0.0)
-            return inertia_fn(q[0], 0.0, 1.0)[at_m], [flat[at_h]], min(flat[lo:hi]) if hi > lo else 1.0
+            full, inertia, lo, hi, at_h, at_m = self._one_input
+            flat = full.function(q[0], qd[0], 0.0)
+            return inertia.function(q[0], 0.0, 1.0)[at_m], [flat[at_h]], min(flat[lo:hi]) if hi > lo else 1.0
         full, inertia, _ = self._units
         zeros = (0.0,) * k
         h, cond = self._efforts(full, (*q, *qd, *zeros))
