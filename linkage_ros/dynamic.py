@@ -124,6 +124,9 @@ class _DynamicLaw:
         #: why the law holds (the DynamicsError's message), "" while it moves
         self.stop_message = ""
         self._held = False
+        #: the drive's effort at the last state (a float, or a k-tuple), and that state (φ, ω, ε)
+        self.effort: Any = 0.0
+        self._state: tuple[Any, Any, Any] = (0.0, 0.0, 0.0)
         self._stepper = Stepper(scene, phi0=phi0, omega0=omega, drive=self._drive(), rtol=self.tolerance,
                                 atol=self.tolerance, t0=float(t0), works=False)
         self._t = float(t0)
