@@ -63,6 +63,6 @@ def energy_views(data: RunData) -> list[Any]:
     views = [_plot(ENERGY_ORIGIN, "energy (J)", *series.values(),
                    contents=[f"/{ENERGY_ORIGIN}/{key}" for key in series])]
     if "balance" in data.energy:
-        views.append(_plot(BALANCE_ENTITY, "energy balance error (J)", data.energy["balance"],
+        views.append(_plot(BALANCE_ENTITY, "balance error (J)", data.energy["balance"],
                            contents=[f"/{BALANCE_ENTITY}"]))
     return views
