@@ -72,25 +72,34 @@ class _Samples:
         row = values[i]
         return float(row) if self.k == 1 else tuple(float(v) for v in row)
 
-    def _index(self, times: ArrayLike) -> np.ndarray:
+    def _index(self, times: ArrayLike) -> np.ndarray | None:
+        """The sample of each time, or None when one of them is not a sample."""
         t = self.trajectory.t
         times = np.asarray(times, dtype=np.float64).reshape(-1)
         i = np.clip(np.searchsorted(t, times), 1, t.size - 1) if t.size > 1 else np.zeros(times.size, int)
         if t.size > 1:
             i = np.where(np.abs(t[i - 1] - times) <= np.abs(t[i] - times), i - 1, i)
         if np.any(np.abs(t[i] - times) > _SAME_TIME * (1.0 + np.abs(times))):
-            raise ValueError("a tick of the run is not a sample of the simulated trajectory")
+            return None
         return i  # type: ignore[no-any-return]
 
     def states(self, t: ArrayLike) -> Any:
+        """The samples at the run's ticks; elsewhere (the engine's sweep for the drawn paths, with
+        several inputs) φ and ω from the dense output within the run and ε = 0."""
         i = self._index(t)
         tr = self.trajectory
-        return tr.phi[i], tr.omega[i], tr.epsilon[i]
+        if i is not None:
+            return tr.phi[i], tr.omega[i], tr.epsilon[i]
+        times = np.clip(np.asarray(t, dtype=np.float64), tr.t[0], tr.t[-1])
+        phi, omega = tr.at(times)
+        return phi, omega, np.zeros_like(phi)
 
     def state(self, t: float) -> Any:
-        i = int(self._index([t])[0])
+        i = self._index([t])
+        if i is None:
+            raise ValueError(f"t = {t!r} s is not a tick of the simulated run")
         tr = self.trajectory
-        return self._row(tr.phi, i), self._row(tr.omega, i), self._row(tr.epsilon, i)
+        return self._row(tr.phi, int(i[0])), self._row(tr.omega, int(i[0])), self._row(tr.epsilon, int(i[0]))
 
     def moving_state(self, t: float) -> Any:
         return self.state(t)

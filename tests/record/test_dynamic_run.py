@@ -100,6 +100,23 @@ def test_a_toggle_ends_the_run_with_its_message(tmp_path: Path, capsys: pytest.C
                      r"'distal'", text)
 
 
+def test_several_inputs_under_constant_efforts_are_recorded_up_to_their_toggle(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    mcap = tmp_path / "five_bar.mcap"
+    assert run_main(["five_bar", "--dynamics", "--drive", "0.1,-0.1", "--phi0", "q1=2.2", "--phi0", "q2=0.9",
+                     "--omega0", "q1=1", "--duration", "1", "--mcap", str(mcap), "--no-rrd"]) == 0
+    text = capsys.readouterr().out
+    assert "'q1' from φ0 = 126.051°, ω0 = 1 rad/s; 'q2' from φ0 = 51.5662°, ω0 = 0 rad/s" in text
+    assert "dynamics: drive constant effort 0.1, -0.1;" in text and "\n  stopped: five_bar, t = 0.15" in text
+    assert "\n  q1: peak drive effort 0.1 N·m at t = 0 s" in text and "\n  q2: peak drive effort -0.1 N·m" in text
+    with AnyReader([mcap]) as reader:
+        states = [reader.deserialize(raw, c.msgtype) for c, _, raw in reader.messages() if c.topic == "/joint_states"]
+    assert len(states) == 16  # the ticks 0 … 0.15 s before the toggle at 0.1533 s
+    for js in states:
+        effort = dict(zip(js.name, js.effort))
+        assert effort["q1"] == pytest.approx(0.1, rel=1e-9) and effort["q2"] == pytest.approx(-0.1, rel=1e-9)
+
+
 @pytest.mark.parametrize(("argv", "message"), [
     (["four_bar_loaded", "--dynamics", "--omega", "3"],
      "--omega: the kinematic law; with --dynamics the motion follows from the equation of motion"),
