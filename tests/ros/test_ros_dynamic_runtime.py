@@ -124,3 +124,10 @@ def test_a_toggle_holds_the_last_state_with_one_event_until_omega_is_set() -> No
     assert rt.last_frame is not None and rt.last_frame.phi == held and not rt.take_events()
     assert rt.update({"input_omegas": [-1.0, 1.0]}, START_NS + round(0.4 * NS)) is None
     assert law.segment_at(0.4).tag == "dynamics" and law.stop_message == ""
+    run(rt, 0.3, since=0.4)  # back to the toggle from the other side, or not: held again or moving
+    law.hold(0.7)
+    assert law.segment_at(0.7).tag == "hold"
+    # a new effort command resumes a held law from the held angle, at rest
+    assert rt.command_efforts([0.01, -0.01], START_NS + round(0.7 * NS)) is None
+    assert law.segment_at(0.7).tag == "dynamics" and law.efforts == (0.01, -0.01)
+    assert law.state(0.7)[1] == (0.0, 0.0)
