@@ -28,6 +28,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from solver._cmdline import (
     EPSILON_MAX,
     OMEGA_MAX,
@@ -67,11 +69,12 @@ def _law(limit: float) -> Any:
 
 
 #: linkage-run's defaults of the motion law (every input of a several-input scene alike).
-LAW_DEFAULTS = {"--omega": (2 * math.pi, OMEGA_MAX), "--epsilon": (0.0, EPSILON_MAX), "--phi0": (0.0, PHI_MAX)}
+LAW_DEFAULTS = {"--omega": (2 * math.pi, OMEGA_MAX), "--epsilon": (0.0, EPSILON_MAX), "--phi0": (0.0, PHI_MAX),
+                "--omega0": (0.0, OMEGA_MAX)}
 #: An actuator's stroke extends from its closed length at this rate (m/s) unless told otherwise.
 STROKE_RATE = 0.1
 STROKE_DEFAULTS: dict[str, Callable[[tuple[float, float]], float]] = {
-    "--omega": lambda r: STROKE_RATE, "--epsilon": lambda r: 0.0, "--phi0": lambda r: r[0]}
+    "--omega": lambda r: STROKE_RATE, "--epsilon": lambda r: 0.0, "--phi0": lambda r: r[0], "--omega0": lambda r: 0.0}
 
 
 def _laws(scene: Any, args: argparse.Namespace) -> dict[str, tuple[float, ...]]:
@@ -83,9 +86,9 @@ def _laws(scene: Any, args: argparse.Namespace) -> dict[str, tuple[float, ...]]:
     out: dict[str, tuple[float, ...]] = {}
     inputs = tuple(getattr(scene, "inputs", (scene.input_joint,)))
     ranges = tuple(getattr(scene, "input_ranges", ())) or (None,) * len(inputs)
-    for option, attr in (("--phi0", "phi0"), ("--omega", "omega"), ("--epsilon", "epsilon")):
+    for option, attr in (("--phi0", "phi0"), ("--omega", "omega"), ("--epsilon", "epsilon"), ("--omega0", "omega0")):
         default, limit = LAW_DEFAULTS[option]
-        items = getattr(args, attr)
+        items = getattr(args, attr, [])
         plain = [v for v in items if isinstance(v, float)]
         named = [v for v in items if isinstance(v, str)]
         # each input's own default: an actuator starts closed and extends at STROKE_RATE
@@ -135,7 +138,35 @@ def _run_parser() -> argparse.ArgumentParser:
                    help="close and flush an MCAP chunk at least this often (1 s)")
     p.add_argument("--no-fast", action="store_true",
                    help="build and serialise every message through the builder (slower)")
+    dyn = p.add_argument_group("dynamics (issue 22: the motion from the equation of motion, docs/dynamics.md)")
+    dyn.add_argument("--dynamics", action="store_true",
+                     help="integrate the inputs from --phi0 and --omega0 under the drive and the loads "
+                          "instead of prescribing ω and ε; prints the run-up, ω, δ, the drive's peaks and "
+                          "the energy balance, and plots the energies")
+    dyn.add_argument("--omega0", type=_law(OMEGA_MAX), action="append", default=[], metavar="W|Q=W",
+                     help="with --dynamics: input rate at t = 0, rad/s (0); Q=W per input as for --omega")
+    dyn.add_argument("--drive", metavar="free|motor|EFFORT",
+                     help="with --dynamics: free, motor, or a constant effort in N·m (N for a slide; "
+                          "several inputs: one per input, comma-separated); default: the scene's motor, "
+                          "else free")
+    dyn.add_argument("--tolerance", type=positive, default=1e-9, metavar="TOL",
+                     help="with --dynamics: the integrator's rtol = atol (1e-9)")
     return p
+
+
+def _dynamic_options(args: argparse.Namespace) -> None:
+    """The options that go with ``--dynamics`` and those that do not; ValueError: one line."""
+    if not args.dynamics:
+        used = [o for o, v in (("--omega0", args.omega0), ("--drive", args.drive)) if v]
+        if used:
+            raise ValueError(f"{', '.join(used)}: only with --dynamics (a kinematic run takes --omega and --epsilon)")
+        return
+    if args.cycles is not None:
+        raise ValueError("--cycles does not go with --dynamics (the turns follow from the motion): give --duration S")
+    used = [o for o, v in (("--omega", args.omega), ("--epsilon", args.epsilon)) if v]
+    if used:
+        raise ValueError(f"{', '.join(used)}: the kinematic law; with --dynamics the motion follows from the "
+                         "equation of motion (the initial rate: --omega0)")
 
 
 def _run_outputs(args: argparse.Namespace, stem: str) -> tuple[Path | None, Path | None]:
@@ -206,6 +237,14 @@ def _start_line(scene: Any, duration: float, rate: float, ticks: int, laws: dict
     return head + f"{len(scene.inputs)} inputs: {each}; angles in degrees, everything else SI"
 
 
+def _dynamic_start_line(scene: Any, duration: float, rate: float, ticks: int, start: dict[str, Any]) -> str:
+    """A dynamic run's first line: time, ticks and each input's initial state."""
+    each = "; ".join(f"'{q}' from φ0 = {math.degrees(p):g}°, ω0 = {w:g} rad/s"
+                     for q, p, w in zip(scene.inputs, *(np.atleast_1d(start[k]) for k in ("phi0", "omega0"))))
+    return (f"scene {scene.name}: {duration:g} s of simulated time at {rate:g} Hz (up to {ticks} ticks), the "
+            f"motion from the equation of motion: {each}; angles in degrees, everything else SI")
+
+
 def _load_rule(scales: dict[str, float]) -> LoadArrows:
     """The load arrows' rule from a run's arrow scales (``load``, and ``load_knee`` with a knee)."""
     from .forces import LoadArrows
@@ -232,10 +271,17 @@ def run_main(argv: Sequence[str] | None = None) -> int:
     try:  # everything the command line says is checked before the run starts
         if args.duration is not None:
             _check_ticks(args.duration, args.rate)
+        _dynamic_options(args)
         scene = solver.load_scene(args.scene)
         laws = _laws(scene, args)
-        duration = _duration(args, laws, duration_for_cycles, tuple(getattr(scene, "inputs", ())),
-                             tuple(getattr(scene, "input_ranges", ())))
+        if args.dynamics:
+            from linkage_ros.record.dynamic_run import DEFAULT_DURATION, parse_drive
+
+            duration = float(args.duration) if args.duration is not None else DEFAULT_DURATION
+            drive = parse_drive(args.drive, tuple(scene.inputs))
+        else:
+            duration = _duration(args, laws, duration_for_cycles, tuple(getattr(scene, "inputs", ())),
+                                 tuple(getattr(scene, "input_ranges", ())))
         ticks = _check_ticks(duration, args.rate)
         for p in points or ():
             if p not in scene.point_names:
@@ -267,7 +313,22 @@ def run_main(argv: Sequence[str] | None = None) -> int:
         phi0=laws["phi0"][0] if one else laws["phi0"], mcap=mcap, rrd=shown, spawn=False,
         points=points, on_unassemblable=args.on_unassemblable, frame_id=args.frame_id,
         namespace=args.namespace, chunk_interval_s=args.chunk_interval, fast=not args.no_fast)
-    print(_start_line(scene, duration, args.rate, ticks, laws), flush=True)
+    trajectory = None
+    if args.dynamics:  # the motion from the equation of motion (linkage_ros.record.dynamic_run)
+        from linkage_ros.record.dynamic_run import law_of, simulate_ticks
+
+        start = {name: laws[name][0] if one else list(laws[name]) for name in ("phi0", "omega0")}
+        try:
+            trajectory = simulate_ticks(scene, duration=duration, rate=args.rate, phi0=start["phi0"],
+                                        omega0=start["omega0"], drive=drive, tolerance=args.tolerance)
+        except solver.SolverError as exc:
+            err(str(exc), "linkage-run")
+            return EXIT_USAGE
+        opts.scene, opts.law, opts.energy = scene, law_of(trajectory), trajectory.energy()  # type: ignore[assignment]
+        opts.duration = duration if trajectory.status == "done" else float(trajectory.t[-1])
+        print(_dynamic_start_line(scene, duration, args.rate, ticks, start), flush=True)
+    else:
+        print(_start_line(scene, duration, args.rate, ticks, laws), flush=True)
     tty = sys.stderr if sys.stderr.isatty() else None
     try:
         result = run_standalone(opts, progress=tty)
@@ -288,6 +349,11 @@ def run_main(argv: Sequence[str] | None = None) -> int:
                               descriptions=getattr(scene, "descriptions", {}), inputs=tuple(scene.inputs),
                               sections=force_sections(scene, data)):
         print(line)
+    if trajectory is not None:
+        from linkage_ros.record.dynamic_run import dynamics_lines
+
+        for line in dynamics_lines(scene, trajectory, phi0=laws["phi0"][0]):
+            print(line)
     if set(result.statuses) - {"ok"}:
         print("status: " + ", ".join(f"{k}: {v} ticks" for k, v in sorted(result.statuses.items())))
     secs = result.seconds

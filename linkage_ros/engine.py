@@ -306,8 +306,8 @@ class Engine:
             value = float(values if i is None else values[i])
             if value < conditioning:
                 conditioning, worst = value, group
-        if holding:
-            status, message = STATUS_UNASSEMBLABLE, self._event_message
+        if holding:  # a dynamic law (linkage_ros.dynamic) says why it holds itself
+            status, message = STATUS_UNASSEMBLABLE, getattr(self.motion, "stop_message", "") or self._event_message
         elif conditioning < self.near_singular_below:
             status = STATUS_NEAR_SINGULAR
             message = f"group '{worst}' near singular: conditioning {conditioning:.3g}"

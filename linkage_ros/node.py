@@ -21,6 +21,12 @@ velocities and stamp are read straight off the CDR bytes
 (:func:`~linkage_ros.serialize.read_joint_state`; rclpy's deserialiser for anything unusual),
 without building the message object.
 
+Dynamic mode (``-p mode:=dynamic``, issue 22): the timer ticks as in clock mode, but φ(t) comes
+from the equation of motion (:mod:`linkage_ros.dynamic`); the node subscribes to the relative
+topic ``effort_commands`` (``std_msgs/Float64MultiArray``, one value per input) and hands each
+command to :meth:`Runtime.command_efforts`; a refused one is logged as one warning (at most one
+a second).
+
 The spin loop runs rclpy's ``EventsExecutor`` (C++, ``rclpy.experimental``, in Jazzy's rclpy
 7.1): at 1 kHz it takes about a third of the CPU of the ``SingleThreadedExecutor``, whose Python
 wait-set and task machinery costs ≈ 240 µs per timer tick here. ``LINKAGE_ROS_EXECUTOR=single``
@@ -78,6 +84,10 @@ QOS_DEPTH = 10
 #: Topic mode: the incoming JointState topic (relative, so it can be remapped), its queue depth.
 INPUT_TOPIC = "input_joint_states"
 INPUT_QOS_DEPTH = 100
+#: Dynamic mode: the effort command topic (relative), std_msgs/Float64MultiArray, one value per
+#: input (as ros2_control's effort controllers command them); its queue depth.
+EFFORT_TOPIC = "effort_commands"
+EFFORT_QOS_DEPTH = 10
 #: Topic mode: at most one warning about dropped / unassemblable input per this many seconds.
 WARNING_THROTTLE_S = 1.0
 #: Longest wait of the spin loop (s): how soon a signal is acted on when no timer is due.
@@ -220,12 +230,16 @@ class MechanismNode(Node):
         self._tick_timer = self.create_timer(self.runtime.period_s, self._on_timer)
         self._input_subscription: Any = None
         self._input_type: Any = None
+        self._effort_subscription: Any = None
         self._sync_input()
         self._pending_parameters: list[Parameter] = []
         self.add_pre_set_parameters_callback(self._coerce_parameters)
         self.add_on_set_parameters_callback(self._on_set_parameters)
         where = (f"answering {self.resolve_topic_name(INPUT_TOPIC)}" if self.runtime.topic_mode
                  else f"at {self.runtime.settings['rate_hz']:g} Hz")
+        if self._effort_subscription is not None:
+            where += (f", dynamic mode (drive {self.runtime.engine.motion.kind}; effort commands on "  # type: ignore[union-attr]
+                      f"{self.resolve_topic_name(EFFORT_TOPIC)})")
         self.get_logger().info(
             f"scene {self.runtime.engine.scene.name}: publishing {len(self._topic_publishers)} topics {where}"
         )
@@ -271,6 +285,13 @@ class MechanismNode(Node):
         if runtime.input_warnings:
             for warning in runtime.take_input_warnings():
                 self.get_logger().warning(warning, throttle_duration_sec=WARNING_THROTTLE_S)
+
+    def _on_effort_command(self, message: Any) -> None:
+        """Dynamic mode: an effort command; a refused one is logged (one line, at most one a
+        second) and the last good command stays in force."""
+        reason = self.runtime.command_efforts(message.data, self._now_ns())
+        if reason is not None:
+            self.get_logger().warning(reason, throttle_duration_sec=WARNING_THROTTLE_S)
 
     def _coerce_parameters(self, parameters: list[Parameter]) -> list[Parameter]:
         out = []
@@ -363,6 +384,15 @@ class MechanismNode(Node):
                 self._input_subscription = None
             if self._tick_timer.is_canceled():
                 self._tick_timer.reset()
+        dynamic = self.runtime.settings.get("mode") == "dynamic"
+        if dynamic and self._effort_subscription is None:
+            from std_msgs.msg import Float64MultiArray
+
+            self._effort_subscription = self.create_subscription(
+                Float64MultiArray, EFFORT_TOPIC, self._on_effort_command, EFFORT_QOS_DEPTH)
+        elif not dynamic and self._effort_subscription is not None:
+            self.destroy_subscription(self._effort_subscription)
+            self._effort_subscription = None
 
     def destroy_node(self) -> None:
         recorder = self.runtime.recorder

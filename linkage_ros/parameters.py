@@ -17,6 +17,10 @@ A scene driven by an actuator (a stroke input, docs/inputs.md): ``omega``, ``eps
 node declares them for its start scene, and :func:`scene_defaults` the start values a stroke
 needs (its closed length, STROKE_RATE) where none is given. A ``phi0`` outside the stroke cannot
 be assembled: the change is rejected with the reason and the node keeps its state.
+
+Dynamic mode (issue 22, :mod:`linkage_ros.dynamic`): ``mode`` (kinematic | dynamic), ``drive``
+(auto | motor | effort | free), ``effort_timeout`` and ``dynamics_tolerance``; ``phi0`` and
+``omega`` (or the per-input arrays) then give the initial state, ``epsilon`` is not used.
 """
 
 from __future__ import annotations
@@ -31,6 +35,14 @@ from typing import Any
 import solver
 from solver.errors import SolverError
 
+from .dynamic import (
+    DEFAULT_EFFORT_TIMEOUT,
+    DEFAULT_TOLERANCE,
+    DRIVES,
+    EFFORT_TIMEOUT_RANGE,
+    MODES,
+    TOLERANCE_RANGE,
+)
 from .engine import ON_UNASSEMBLABLE
 from .relay import DEFAULT_MAX_GAP, EPSILON_RULES, EPSILON_ZERO
 
@@ -179,6 +191,31 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
         "a message has no velocities, and for topic_epsilon: difference).",
         float_range=MAX_GAP_RANGE_S,
     ),
+    # dynamic mode (issue 22, linkage_ros.dynamic; docs/ros.md "Dynamic mode")
+    ParameterSpec(
+        "mode", "string", MODES[0],
+        "kinematic: phi(t) from omega and epsilon (or the input topic); dynamic: phi(t) from the "
+        "equation of motion, from phi0 and omega, under the drive. A change restarts the run at phi0.",
+        constraints=" or ".join(MODES),
+    ),
+    ParameterSpec(
+        "drive", "string", DRIVES[0],
+        "Dynamic mode: what drives the inputs. motor: the scene's motor; effort: the commands on "
+        "effort_commands (std_msgs/Float64MultiArray, one value per input); free: nothing; auto: "
+        "the motor if the scene has one, else the effort commands.",
+        constraints=" or ".join(DRIVES),
+    ),
+    ParameterSpec(
+        "effort_timeout", "double", DEFAULT_EFFORT_TIMEOUT,
+        "Dynamic mode: an effort command older than this (s) counts as zero.",
+        float_range=EFFORT_TIMEOUT_RANGE,
+    ),
+    ParameterSpec(
+        "dynamics_tolerance", "double", DEFAULT_TOLERANCE,
+        "Dynamic mode: the integrator's relative and absolute tolerance (DOP853 steps; the state "
+        "at a tick from its dense output). A change restarts the run at phi0.",
+        float_range=TOLERANCE_RANGE,
+    ),
 )
 
 SPECS: Mapping[str, ParameterSpec] = {spec.name: spec for spec in PARAMETERS}
@@ -285,6 +322,10 @@ def validate_parameter(name: str, value: Any) -> str | None:
         return f"input_source must be one of {', '.join(INPUT_SOURCES)}, got {value!r}"
     elif name == "topic_epsilon" and value not in EPSILON_RULES:
         return f"topic_epsilon must be one of {', '.join(EPSILON_RULES)}, got {value!r}"
+    elif name == "mode" and value not in MODES:
+        return f"mode must be one of {', '.join(MODES)}, got {value!r}"
+    elif name == "drive" and value not in DRIVES:
+        return f"drive must be one of {', '.join(DRIVES)}, got {value!r}"
     return None
 
 

@@ -17,6 +17,12 @@ inputs (docs/inputs.md) take ``omega``, ``epsilon`` and ``phi0`` per input from 
 :class:`~linkage_ros.motion.Motions`. In topic mode every input joint is read from the same
 message and joint_states leaves out all of them.
 
+Dynamic mode (``mode: dynamic``, issue 22): the engine's time law is a
+:class:`~linkage_ros.dynamic.DynamicMotion` (or ``DynamicMotions``) that integrates the equation of
+motion tick by tick; :meth:`Runtime.command_efforts` takes the effort commands, and a command
+that timed out is reported among :attr:`Runtime.events`. Everything after the time law is the
+clock mode's.
+
 What a tick sends: every topic of :func:`~linkage_ros.topics.topic_types` except that
 ``diagnostics`` goes out on the first tick, whenever the status changes (ok / near singular /
 unassemblable, or a new unassemblable event) and otherwise every :data:`DIAGNOSTICS_PERIOD_S`
@@ -33,6 +39,7 @@ from typing import Any, Protocol
 import solver
 from solver.errors import SolverError
 
+from .dynamic import RESTARTING, drive_reason, dynamic_law, mode_reason
 from .engine import Engine
 from .frame import STATUS_OK, STATUS_UNASSEMBLABLE, Frame
 from .instant import FastPath
@@ -110,6 +117,9 @@ class Runtime:
         recorder_factory: RecorderFactory | None = None,
     ) -> None:
         settings = initial_settings(values)
+        reason = mode_reason(settings)
+        if reason is not None:
+            raise ValueError(reason)
         if types is None or serialize is None:
             store = _jazzy_typestore()
             types = store.types if types is None else types
@@ -185,9 +195,21 @@ class Runtime:
             self._last_event = frame.message if frame.status == STATUS_UNASSEMBLABLE else ""
             messages = self.wire.render(frame, now_ns, paths=self.builder.wants_paths(frame.t),
                                         diagnostics=self._wants_diagnostics(frame, now_ns))
+        notes = getattr(self.engine.motion, "events", None)  # dynamic mode: a command timed out
+        if notes:
+            self.events += self.engine.motion.take_events()  # type: ignore[union-attr]
         if self.recorder is not None:
             self.recorder.write_serialized(now_ns, messages)
         return messages
+
+    def command_efforts(self, values: Sequence[float], now_ns: int) -> str | None:
+        """Dynamic mode: an effort command (``effort_commands``, one value per input) from clock
+        time ``now_ns`` on; the one-line reason it is refused (the last good command stays in
+        force), or None (:meth:`linkage_ros.dynamic.DynamicMotion.command`)."""
+        command = getattr(self.engine.motion, "command", None)
+        if command is None:
+            return "effort command ignored: mode is kinematic (set mode to dynamic)"
+        return command(values, self.run_time(now_ns))  # type: ignore[no-any-return]
 
     def answer(self, names: Sequence[str], positions: Sequence[float], velocities: Sequence[float],
                stamp_ns: int) -> list[tuple[str, bytes]]:
@@ -305,13 +327,17 @@ class Runtime:
         t = self.run_time(now_ns)
         changed = {k for k, v in ours.items() if v != self.settings[k]}
         engine = self.engine
-        if changed & {"scene", "points", "phi0", "input_phi0s"}:
+        reason = mode_reason(new)
+        if reason is not None:
+            return reason
+        if changed & {"scene", "points", "phi0", "input_phi0s", *RESTARTING}:
             if "scene" in changed and "points" not in ours and (
                 points_of(self.settings["points"]) == tuple(self.engine.scene.output_points)
             ):
                 new["points"] = []  # follow the new scene's outputs
             try:
-                engine = self._engine(new, t0=t, keep_motion=not changed & {"scene", "phi0", "input_phi0s"})
+                restart = changed & {"scene", "phi0", "input_phi0s", *RESTARTING}
+                engine = self._engine(new, t0=t, keep_motion=not restart)
             except (SolverError, ValueError) as error:
                 return str(error)
             new["points"] = list(engine.published_points)
@@ -320,6 +346,11 @@ class Runtime:
             return reason
         if "input_source" in changed and new["input_source"] == "clock":
             engine = self._engine(new, t0=0.0)  # the run restarts at phi0
+        dynamic = getattr(engine.motion, "set_kind", None)  # dynamic mode: drive from the state reached
+        if dynamic is not None and "drive" in changed and engine.motion is self.engine.motion:
+            reason = drive_reason(engine.scene, new["drive"])
+            if reason is not None:
+                return reason
         relay = self.relay
         if new["input_source"] == "clock":
             relay = None
@@ -345,6 +376,10 @@ class Runtime:
             elif changed & {"epsilon", "input_epsilons"}:
                 motion.set_epsilon(t, per_input(new, "epsilon", inputs))
         engine.on_unassemblable = new["on_unassemblable"]
+        if dynamic is not None and engine.motion is self.engine.motion:
+            if "drive" in changed:
+                dynamic(new["drive"])
+            engine.motion.timeout = float(new["effort_timeout"])  # type: ignore[union-attr]
         if engine is not self.engine or "frame_id" in changed or relay is not self.relay:
             self.builder, self.wire = self._builder(engine, new["frame_id"], relay)
             self._diagnostics_key = None
@@ -383,7 +418,9 @@ class Runtime:
             if reason is not None:
                 raise ValueError(reason)
             phi0, omega, epsilon = (per_input(settings, name, inputs) for name in ("phi0", "omega", "epsilon"))
-            if len(inputs) == 1:
+            if settings.get("mode") == "dynamic":  # phi(t) from the equation of motion (linkage_ros.dynamic)
+                motion = dynamic_law(scene, settings, phi0=phi0, omega=omega, t0=t0)
+            elif len(inputs) == 1:
                 motion = Motion(phi0=phi0, omega=omega, epsilon=epsilon, t0=t0)
             else:
                 motion = Motions.of(len(inputs), phi0=phi0, omega=omega, epsilon=epsilon, t0=t0)

@@ -22,6 +22,8 @@ Entity layout::
     plots/input/<kind>/<Q>          Scalars per input Q of a several-input scene (kind = phi | omega | epsilon)
     plots/joints/<kind>/<J>         Scalars, kind = position | velocity | acceleration
     plots/effort/<Q>                scenes with forces: Scalars, the effort of input Q (:mod:`.forces`)
+    plots/energy/<kind>             dynamic runs: Scalars, the energies and works (:mod:`.energy`)
+    plots/energy_balance            dynamic runs: Scalars, the energy balance's error
 
 A 2-D view draws its y axis downwards (image coordinates; rerun ignores view coordinates in 2-D
 views), so each drawn entity of a planar scene carries a static mirror ``Transform3D`` (y → −y,
@@ -56,6 +58,7 @@ from ._drawing import (
     plot_view,
     position_of,
 )
+from .energy import energy_views, log_energy
 from .forces import effort_views, forces_legend, load_rule, log_forces
 from .rundata import Array, RunData
 from .viewer import viewer_environment, viewer_executable
@@ -178,6 +181,8 @@ def blueprint(data: RunData) -> Any:
                        *(values[p] for p in paths), contents=[f"/{p}" for p in paths])
                  for title, paths in column if paths]
         columns.append(rrb.Vertical(*views, *(effort_views(data) if c == 0 else [])))
+    if data.energy:  # a dynamic run: a column of its energy plots (.energy)
+        columns.append(rrb.Vertical(*energy_views(data)))
     plots = rrb.Horizontal(*columns)
     return rrb.Blueprint(
         rrb.Horizontal(mechanism, plots, column_shares=[PLOTS_SHARE[0], PLOTS_SHARE[1] * len(columns)]),
@@ -315,6 +320,8 @@ def log_run(rec: Any, data: RunData) -> dict[str, float]:
         p, v, a = data.plotted_joint(joint)
         for kind, values in (("position", p), ("velocity", v), ("acceleration", a)):
             log_series(rec, f"plots/joints/{kind}/{joint}", joint, times, values, i)
+    if data.energy:  # a dynamic run: the energies and the balance's error (.energy)
+        log_energy(rec, data, times)
     if data.loads or data.efforts:  # scenes with forces: arrows at the pins, efforts (.forces)
         rule = log_forces(rec, data, times, radius=radius)
         knee = {"load_knee": rule.knee} if math.isfinite(rule.knee) else {}

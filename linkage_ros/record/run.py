@@ -48,6 +48,10 @@ class RunOptions:
     namespace: str = "/"
     chunk_interval_s: float = 1.0
     fast: bool = True
+    law: Any = None
+    """A time law in place of ω, ε, φ0 (``--dynamics``: :mod:`.dynamic_run`'s trajectory law)."""
+    energy: Mapping[str, Any] | None = None
+    """A dynamic run's energies per tick (``RunData.energy``), for the rerun view."""
 
 
 @dataclass
@@ -152,7 +156,9 @@ def run_standalone(opts: RunOptions, *, progress: TextIO | None = None) -> RunRe
     scene: Any = opts.scene if hasattr(opts.scene, "with_outputs") else load_scene(opts.scene)
     inputs = tuple(getattr(scene, "inputs", (scene.input_joint,)))
     motion: Motion | Motions
-    if len(inputs) > 1:  # several inputs (docs/inputs.md): one law per input
+    if opts.law is not None:  # a dynamic run (.dynamic_run): the simulated trajectory
+        motion = opts.law
+    elif len(inputs) > 1:  # several inputs (docs/inputs.md): one law per input
         motion = Motions.of(len(inputs), phi0=opts.phi0, omega=opts.omega, epsilon=opts.epsilon)
     else:
         motion = Motion(phi0=_single(opts.phi0, "phi0"), omega=_single(opts.omega, "omega"),
@@ -204,6 +210,8 @@ def run_standalone(opts: RunOptions, *, progress: TextIO | None = None) -> RunRe
             recorder.close()
     seconds["solve+mcap"] = time.perf_counter() - clock
     data = rb.build()
+    if opts.energy:
+        data.energy = {key: np.asarray(v, dtype=np.float64)[:data.n] for key, v in opts.energy.items()}
     scales: dict[str, float] = {}
     if opts.rrd is not None or opts.spawn:
         clock2 = time.perf_counter()

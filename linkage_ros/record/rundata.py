@@ -52,6 +52,10 @@ class RunData:
     angles and lengths apart."""
     cylinders: list[tuple[str, str, str, float]] = field(default_factory=list)
     """Each actuator as ``(name, base A, eye C, closed length m)``: drawn as barrel and rod."""
+    energy: dict[str, Array] = field(default_factory=dict)
+    """A dynamic run (``linkage-run --dynamics``, issue 22): per tick (J) ``kinetic``, ``gravity``,
+    ``springs``, ``work_drive``, ``work_other`` and ``balance`` (the energy balance's error,
+    :meth:`solver.dynamics.Trajectory.energy`); empty for a kinematic run."""
 
     @property
     def n(self) -> int:

@@ -33,9 +33,12 @@ _METHODS = {"DOP853": DOP853, "RK45": RK45, "Radau": Radau}
 class Equation:
     """The right-hand side of the first-order system y = (q, q̇, W_drive, W_other), per instant."""
 
-    def __init__(self, model: ReducedModel, drive: Drive) -> None:
+    def __init__(self, model: ReducedModel, drive: Drive, *, works: bool = True) -> None:
         self.model, self.drive, self.k = model, drive, model.k
         self.fault: tuple[str, str] | None = None  # (group, reason) of the last unassemblable call
+        #: whether the two work integrals are integrated (False: their rates are 0, no pass for the
+        #: other loads with several inputs)
+        self.works = works
 
     def accelerations(
         self, t: float, q: Sequence[float], qd: Sequence[float]
@@ -45,7 +48,7 @@ class Equation:
         return qdd, qdrive, cond
 
     def _solve(self, t: float, q: Sequence[float], qd: Sequence[float]) -> tuple[list, list, list, float]:
-        m, h, other, cond = self.model.state(q, qd)
+        m, h, other, cond = self.model.state(q, qd, other=self.works)
         qdrive = list(self.drive(t, q, qd))
         if self.k == 1:
             return [(qdrive[0] - h[0]) / m], qdrive, other, cond
@@ -54,15 +57,15 @@ class Equation:
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
         k = self.k
-        if k == 1:
-            q, qd = [float(y[0])], [float(y[1])]
-        else:
-            q, qd = [float(v) for v in y[:k]], [float(v) for v in y[k:2 * k]]
+        state = y.tolist()  # Python floats (one call, not one float() per entry)
+        q, qd = state[:k], state[k:2 * k]
         try:
             qdd, qdrive, other, _ = self._solve(float(t), q, qd)
         except AssemblyError as exc:  # a trial step beyond an assembly limit: rejected (NaN)
             self.fault = (exc.group, exc.reason)
             return np.full(y.shape, math.nan)
+        if not self.works:
+            return np.array([*qd, *qdd, 0.0, 0.0])
         if k == 1:
             w = qd[0]
             return np.array((w, qdd[0], qdrive[0] * w, other[0] * w))
@@ -70,8 +73,9 @@ class Equation:
 
     def conditioning(self, t: float, y: np.ndarray) -> float:
         k = self.k
+        state = y.tolist()
         try:
-            return self.model.instant([float(v) for v in y[:k]], [float(v) for v in y[k:2 * k]])[2]
+            return self.model.instant(state[:k], state[k:2 * k])[2]
         except AssemblyError:
             return 0.0
 
@@ -294,16 +298,42 @@ def _trajectory(
     )
 
 
+def _interpolant(dense: Any) -> Callable[[float], np.ndarray]:
+    """A step's dense output as a function of one time. DOP853's (scipy's ``Dop853DenseOutput``)
+    is evaluated as one dot product of its coefficient rows ``F`` with their weights — the same
+    nested form scipy evaluates row by row, y = y_old + Σ F[n−1−i]·Π_{j≥i} m_j with m_j = x for
+    even j and 1 − x for odd j, x = (t − t_old)/h — in a quarter of the time at a tick; any other
+    dense output as it is."""
+    coefficients = getattr(dense, "F", None)
+    if coefficients is None or not all(hasattr(dense, a) for a in ("t_old", "h", "y_old")):
+        return dense  # type: ignore[no-any-return]
+    rows = np.ascontiguousarray(coefficients[::-1])
+    t_old, h, y_old, n = float(dense.t_old), float(dense.h), dense.y_old, len(coefficients)
+
+    def at(t: float) -> np.ndarray:
+        x = (t - t_old) / h
+        weights = [0.0] * n
+        w = 1.0
+        for i in range(n - 1, -1, -1):
+            w *= x if i % 2 == 0 else 1.0 - x
+            weights[i] = w
+        return y_old + np.dot(weights, rows)  # type: ignore[no-any-return]
+
+    return at
+
+
 class Stepper:
     """The equation advanced tick by tick (the node): ``advance(t)`` steps scipy's solver until it
     passes ``t`` and returns the state there from its dense output; ``set_drive`` changes the
     drive (an effort command), restarting the solver at the current time so that no step
     straddles the change. Accuracy: each step's local error within ``rtol``/``atol`` as in
-    :func:`simulate`; the output at a tick is the step's dense interpolant (same order)."""
+    :func:`simulate`; the output at a tick is the step's dense interpolant (same order).
+    ``works=False``: the work integrals W_drive, W_other stay 0 (the node does without them: one
+    force pass fewer per evaluation in a scene with forces, torques or dampers)."""
 
     def __init__(
         self, scene: Any, *, phi0: Any = None, omega0: Any = 0.0, drive: Any = None, rtol: float = 1e-9,
-        atol: float = 1e-9, method: str = "DOP853", t0: float = 0.0,
+        atol: float = 1e-9, method: str = "DOP853", t0: float = 0.0, works: bool = True,
     ) -> None:
         self.scene = scene
         self.model = reduced_model(scene)
@@ -311,7 +341,8 @@ class Stepper:
         q0 = _initial(phi0, k, "phi0", scene.name)
         w0 = _initial(omega0, k, "omega0", scene.name)
         fn, self.kind = make_drive(drive, scene.inputs, self.model.motors, scene=scene.name)
-        self.eq = Equation(self.model, fn)
+        self.works = works
+        self.eq = Equation(self.model, fn, works=works)
         self.rtol, self.atol, self._method = rtol, atol, _METHODS[method]
         self.t = t0
         self.y = np.array([*q0, *w0, 0.0, 0.0])
@@ -324,10 +355,11 @@ class Stepper:
 
     def _restart(self) -> None:
         self._solver = self._method(self.eq, self.t, self.y, math.inf, rtol=self.rtol, atol=self.atol)
+        self._dense: tuple[float, Any] | None = None
 
     def set_drive(self, drive: Any) -> None:
         fn, self.kind = make_drive(drive, self.scene.inputs, self.model.motors, scene=self.scene.name)
-        self.eq = Equation(self.model, fn)
+        self.eq = Equation(self.model, fn, works=self.works)
         self._restart()
 
     def advance(self, t: float) -> np.ndarray:
@@ -347,14 +379,17 @@ class Stepper:
         if t == s.t:
             y = s.y.copy()
         else:
-            y = s.dense_output()(t)
+            # one interpolant per step (DOP853's costs three more evaluations): ticks between
+            # two steps only evaluate it
+            if self._dense is None or self._dense[0] != s.t:
+                self._dense = (s.t, _interpolant(s.dense_output()))
+            y = self._dense[1](t)
         self.t, self.y = t, y
         return y
 
     def accelerations(self) -> tuple[list[float], list[float]]:
         """(q̈, Q_drive) at the last state returned."""
         k = self.k
-        q = [float(v) for v in self.y[:k]]
-        qd = [float(v) for v in self.y[k:2 * k]]
-        qdd, qdrive, _ = self.eq.accelerations(self.t, q, qd)
+        state = self.y.tolist()
+        qdd, qdrive, _ = self.eq.accelerations(self.t, state[:k], state[k:2 * k])
         return qdd, qdrive

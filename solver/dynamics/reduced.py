@@ -118,20 +118,23 @@ class ReducedModel:
         return list(flat[start:start + self.k]), min(cond) if cond else 1.0
 
     @cached_property
-    def _stacked_unit(self) -> tuple[Any, int]:
+    def _stacked_unit(self) -> Any:
         assert self.stacked is not None
-        unit = self.stacked.compiled()
-        unit.function(0.0, 0.0, 0.0) if unit.conditioning is None else None
-        return unit, unit.size + len(unit.conditioning or ())
+        return self.stacked.compiled()
 
-    def state(self, q: Sequence[float], qd: Sequence[float]) -> tuple[Any, list[float], list[float], float]:
+    def state(
+        self, q: Sequence[float], qd: Sequence[float], *, other: bool = True
+    ) -> tuple[Any, list[float], list[float], float]:
         """(M, h, Q_other, conditioning) at one state (Q_other: the generalised forces of the loads
-        other than gravity and springs; zeros when there are none). One input: one compiled pass."""
+        other than gravity and springs; zeros when there are none, or with ``other=False``). One
+        input: one compiled pass. (The unit is kept, not its ``function``: a unit compiles on its
+        first call and then replaces its ``function``.)"""
         if self.k != 1:
             m, h, cond = self.instant(q, qd)
-            return m, h, self.other_forces(q, qd), cond
-        unit, start = self._stacked_unit
+            return m, h, self.other_forces(q, qd) if other else [0.0] * self.k, cond
+        unit = self._stacked_unit
         flat = unit.function(q[0], qd[0], 0.0)
+        start = unit.size + len(unit.conditioning)
         cond = min(flat[unit.size:start]) if start > unit.size else 1.0
         return flat[start + 1], [flat[start]], [-flat[start + 2]] if self.other is not None else [0.0], cond
 
