@@ -151,11 +151,14 @@ ROS_LAYERS: dict[str, int] = {
     "linkage_ros.urdf.vector_bodies": 1,
     "linkage_ros.record._drawing": 1,
     "linkage_ros.record.mcap_read": 1,
+    "linkage_ros.dynamic": 1,  # the dynamic time law (a Motion over solver.dynamics' Stepper)
+    "linkage_ros.record.dynamic_run": 1,  # a simulated run as a time law, its summary
     # the engine, the tree of a vector scene, the URDF text, the recorded forces
     "linkage_ros.engine": 2,
     "linkage_ros.urdf.vectors": 2,
     "linkage_ros.urdf.writer": 2,
     "linkage_ros.record.forces": 2,
+    "linkage_ros.record.energy": 2,  # the energy plots of a dynamic run
     # topic tables, the tree of a group scene, the rerun view, replay
     "linkage_ros": 3,
     "linkage_ros.topics": 3,

@@ -57,8 +57,8 @@ def test_the_summary_says_drive_run_up_speeds_delta_peaks_and_energy_balance(mot
                                "from the equation of motion: 'crank' from φ0 = 0°, ω0 = 0 rad/s")
     assert ("dynamics: drive the scene's motor (crank: stall torque 4 N·m, no-load speed 30 rad/s); DOP853, "
             "rtol 1e-09, atol 1e-09") in text
-    assert re.search(r"\n  run-up from rest at φ0: [0-9.]+ s to the steady band ω ≥ [0-9.]+ rad/s \(steady: energy "
-                     r"method over one 360° cycle", text)
+    assert re.search(r"\n  run-up from rest at φ0: [0-9.]+ s to the steady band ω ≥ [0-9.]+ rad/s \(steady: periodic "
+                     r"solution over one 360° cycle", text)
     assert re.search(r"\n  crank: ω mean [0-9.]+, min 0, max [0-9.]+ rad/s over the run \(time mean\)", text)
     assert re.search(r"\n  δ = \(ω_max − ω_min\)/ω_mean = [0-9.]+ over the last full 360° cycle", text)
     assert "\n  crank: peak motor effort 4 N·m at t = 0 s, peak motor power " in text
