@@ -32,6 +32,8 @@ from __future__ import annotations
 
 import cmath
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
@@ -111,8 +113,8 @@ def build_four_bar(scene: Any, phi0: float, *, penalty: float | None = None) -> 
         centre = pose[first] + body.center * turn
         node[body.name] = mbs.AddNode(ei.NodeRigidBody2D(referenceCoordinates=[
             centre.real, centre.imag, cmath.phase(turn)]))
-        obj = mbs.AddObject(ei.ObjectRigidBody2D(physicsMass=body.mass, physicsInertia=body.inertia,
-                                                 nodeNumber=node[body.name]))
+        obj = mbs.AddObject(ei.ObjectRigidBody2D(mass=body.mass, inertia=body.inertia,
+                                                 nodeNumber=node[body.name]))  # about the centre
         mass = mbs.AddMarker(ei.MarkerBodyMass(bodyNumber=obj))
         mbs.AddLoad(ei.LoadMassProportional(markerNumber=mass, loadVector=[
             spec.gravity.real, spec.gravity.imag, 0.0]))
@@ -135,6 +137,19 @@ def build_four_bar(scene: Any, phi0: float, *, penalty: float | None = None) -> 
     return sc, ExudynModel(mbs, node, (sensors[0], sensors[1]))
 
 
+@contextmanager
+def _quiet() -> Iterator[None]:
+    """EXUDYN's console output off (its banners around a failed solve), then as it was."""
+    import exudyn as exu
+
+    before = exu.config.printToConsole
+    exu.config.printToConsole = False
+    try:
+        yield
+    finally:
+        exu.config.printToConsole = before
+
+
 def run_four_bar(scene: Any, phi0: float, t_end: float, *, solver: str, step: float, newton: float = 1e-8,
                  rho: float | None = None, penalty: float | None = None,
                  tolerance: float | None = None) -> ExudynRun:
@@ -155,15 +170,13 @@ def run_four_bar(scene: Any, phi0: float, t_end: float, *, solver: str, step: fl
     settings.solution.file.write = False
     settings.solution.sensors.writePeriod = min(10 * step, 1e-3)
     failed_at = None
-    exu.SetWriteToConsole(False)  # the solver's own failure banner; the failure is a row here
     start = time.perf_counter()
     try:
-        model.mbs.SolveDynamic(settings, solverType=getattr(exu.DynamicSolverType, solver))
+        with _quiet():  # the solver's own failure banner: the failure is a row here
+            model.mbs.SolveDynamic(settings, solverType=getattr(exu.DynamicSolverType, solver))
     except exu.SolverError:
         failed_at = float(model.mbs.sys["dynamicSolver"].it.currentTime)
-    finally:
-        wall = time.perf_counter() - start
-        exu.SetWriteToConsole(True)
+    wall = time.perf_counter() - start
     b1, b2 = (model.mbs.GetSensorStoredData(s) for s in model.sensors)
     gap = float(np.linalg.norm(b1[:, 1:3] - b2[:, 1:3], axis=1).max())
     phi = float(model.mbs.GetNodeOutput(model.nodes["crank"], exu.OutputVariableType.Rotation)[2])
@@ -179,13 +192,12 @@ def _refusal(scene: Any, phi0: float, solver: str) -> str:
     settings = exu.SimulationSettings()
     settings.timeIntegration.endTime, settings.timeIntegration.numberOfSteps = 1e-3, 1
     settings.solution.file.write = False
-    exu.SetWriteToConsole(False)
     try:
-        model.mbs.SolveDynamic(settings, solverType=getattr(exu.DynamicSolverType, solver))
+        with _quiet():
+            model.mbs.SolveDynamic(settings, solverType=getattr(exu.DynamicSolverType, solver))
     except exu.ExudynError as err:
         return str(err).split("[")[0].strip().rstrip(";")
     finally:
-        exu.SetWriteToConsole(True)
         del sc
     return "accepted"
 
