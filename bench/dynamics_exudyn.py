@@ -11,8 +11,8 @@ at rest; φ is the crank node's rotation (reference + displacement).
 
 Its solvers (``exudyn.DynamicSolverType``), fixed step h = t_end / numberOfSteps:
 
-* ``GeneralizedAlpha`` — the Chung–Hulbert generalized-α method (default spectral radius
-  ρ∞ = 0.9) on the index-3 DAE: the position constraints are solved by Newton at every step, so
+* ``GeneralizedAlpha`` — the generalized-α method (EXUDYN's default spectral radius ρ∞ = 0.9)
+  on the index-3 DAE: the position constraints are solved by Newton at every step, so
   the loop stays closed to the Newton tolerance; second order, with numerical damping;
 * ``TrapezoidalIndex2`` — the trapezoidal rule (Newmark β = ¼, γ = ½) with the constraints
   differentiated once (index 2, velocity level): no damping, but the positions drift off the
