@@ -54,7 +54,7 @@ setup(
             "pillow",
             "colcon-common-extensions",
         ],
-        "bench": ["matplotlib>=3.8", "pylinkage==1.3.0", "numba>=0.60", "kinepy==0.1.7", "mujoco>=3"],
+        "bench": ["matplotlib>=3.8", "pylinkage==1.3.0", "numba>=0.60", "kinepy==0.1.7", "mujoco>=3", "exudyn>=1.13"],
     },
     zip_safe=True,
     maintainer="linkage_ros developers",

@@ -23,6 +23,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from importlib import metadata
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -32,6 +33,7 @@ __all__ = [
     "ROOT",
     "SCENES",
     "Reference",
+    "assembled_points",
     "carry_section",
     "errors_against",
     "machine",
@@ -72,6 +74,15 @@ class Reference:
     scale: float
     points: Mapping[str, tuple[np.ndarray, np.ndarray, np.ndarray]]  # (N, dim) each
     joints: Mapping[str, tuple[str, np.ndarray, np.ndarray, np.ndarray]]  # kind, (N,) each
+
+
+def assembled_points(scene: Any, phi: float) -> dict[str, complex]:
+    """Every point of a one-input ``scene`` (fixed and moving) in its assembled pose at input ``phi``,
+    as complex numbers (m): the pose the field's engines (MuJoCo, EXUDYN) start their bodies in."""
+    full = scene.everything()
+    solved = full.solve(phi)
+    fixed = {name: complex(z) for name, z in scene._data.fixed.items()}
+    return {**fixed, **{p: complex(*solved.point(p).position) for p in full.point_names if p not in fixed}}
 
 
 def _ensure_cache() -> None:

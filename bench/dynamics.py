@@ -1,4 +1,4 @@
-"""Forward dynamics: cost of (M, h) and work–precision against MuJoCo (docs/dynamics.md).
+"""Forward dynamics: cost of (M, h) and work–precision against MuJoCo and EXUDYN (docs/dynamics.md).
 
 * per instant: one evaluation of (M, h) (``ReducedModel.instant``: two compiled force passes)
   against one compiled instant with efforts (``scene.instant``), same process, interleaved;
@@ -6,13 +6,17 @@
 * work–precision on the four-bar pendulum (four_bar_pendulum, released from rest at φ = 0.3 rad,
   10 s) and on a slider-crank pendulum (engine's geometry and masses, gravity only, released at
   φ = 2 rad, 5 s; not yet measured): the error of φ at the end against wall time, and the loop's largest opening,
-  for ``scene.simulate`` at rtol = atol = 1e-4 … 1e-12 and for MuJoCo (the same bodies, hinges
-  and a ``connect`` equality closing the loop; RK4 and implicit-fast at several steps). The
+  for ``scene.simulate`` at rtol = atol = 1e-4 … 1e-12, for MuJoCo (the same bodies, hinges
+  and a ``connect`` equality closing the loop; RK4 and implicit-fast at several steps) and for
+  EXUDYN (planar rigid bodies and revolute joints, the loop closed by a joint; generalized-α on
+  the index-3 equations, the index-2 trapezoidal rule, DOPRI5 with penalty pins: see
+  bench/dynamics_exudyn.py). The
   reference is ``scene.simulate`` at rtol = atol = 1e-13 (itself checked against the 50-digit
   reference of tests/reference/dynamics_mp.py and against energy conservation).
 
-Run ``python -m bench.dynamics`` (MuJoCo from PyPI: ``pip install mujoco``); it prints Markdown
-and writes the section "## Measured" of docs/dynamics.md.
+Run ``python -m bench.dynamics`` (MuJoCo and EXUDYN from PyPI: ``pip install mujoco exudyn``; a
+missing one is a "not installed" row); it prints Markdown and writes the section "## Measured" of
+docs/dynamics.md (``--no-write``: print only).
 """
 
 from __future__ import annotations
@@ -27,7 +31,8 @@ import numpy as np
 
 import solver
 
-from ._common import machine, median_times, write_section
+from ._common import assembled_points, machine, median_times, write_section
+from .dynamics_exudyn import _exudyn_rows
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "dynamics.md"
 
@@ -77,12 +82,10 @@ def _cost_rows() -> list[str]:
 
 
 def _four_bar_mjcf(scene: Any, phi0: float) -> tuple[str, dict[str, float]]:
-    data = scene._data
     spec = scene.reduced().spec
     body = {b.name: b for b in spec.bodies}
-    k = scene.everything().solve(phi0)
-    o, c = data.fixed["O"], data.fixed["C"]
-    a, b = (complex(*k.point(p).position) for p in ("A", "B"))
+    pts = assembled_points(scene, phi0)
+    o, c, a, b = (pts[p] for p in "OCAB")
     crank, coupler, rocker = (body[n] for n in ("crank", "coupler", "rocker"))
     la, lab, lcb = abs(a - o), abs(b - a), abs(b - c)
     th_c = math.atan2((b - a).imag, (b - a).real)
@@ -168,11 +171,17 @@ def _work_precision(name: str, phi0: float, t_end: float) -> list[str]:
         wall = time.perf_counter() - start
         rows.append(f"| linkage_ros DOP853 rtol=atol={tol:g} | {abs(float(traj.phi[-1]) - want):.1e} | "
                     f"{wall:.3f} s | {_closure_gap(scene, traj):.0e} m |")
+    rows += _mujoco_rows(scene, phi0=phi0, t_end=t_end, want=want)
+    rows += _exudyn_rows(scene, phi0=phi0, t_end=t_end, want=want)
+    return rows
+
+
+def _mujoco_rows(scene: Any, *, phi0: float, t_end: float, want: float) -> list[str]:
     try:
         import mujoco  # noqa: F401
     except ImportError:
-        rows.append("| MuJoCo | not installed | | |")
-        return rows
+        return ["| MuJoCo | not installed | | |"]
+    rows = []
     xml, init = _four_bar_mjcf(scene, phi0)
     for integrator, dt, stiff in (("EULER", 1e-3, False), ("RK4", 1e-3, False), ("RK4", 1e-4, False),
                                   ("RK4", 1e-4, True), ("IMPLICITFAST", 1e-4, True), ("RK4", 1e-5, True)):
@@ -220,8 +229,9 @@ def main() -> None:
     lines += _cost_rows()
     lines += ["", "### Work–precision: four_bar_pendulum from rest at φ = 0.3 rad, 10 s", "",
               "Error of φ(10 s) against linkage_ros at rtol = atol = 1e-13; wall time of the whole run; the "
-              "loop's largest opening (|AB| and |CB| against their lengths; MuJoCo: the distance between "
-              "the two bodies' B).", "",
+              "loop's largest opening (|AB| and |CB| against their lengths; MuJoCo and EXUDYN: the distance "
+              "between the coupler's and the rocker's B). EXUDYN's h is its fixed step; the explicit "
+              "DOPRI5 takes no joints, so there every pin is a penalty spring of stiffness k.", "",
               "| method | error of φ(10 s) (rad) | wall time | loop opening |", "|---|---|---|---|"]
     lines += _work_precision("four_bar_pendulum", 0.3, 10.0)
     lines += ["", "### Accuracy at rtol = atol = 1e-12 (conservative scenes)", "",
