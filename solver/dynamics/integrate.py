@@ -59,6 +59,8 @@ class Equation:
         k = self.k
         state = y.tolist()  # Python floats (one call, not one float() per entry)
         q, qd = state[:k], state[k:2 * k]
+        if not all(map(math.isfinite, state)):  # a trial stage after a rejected one: rejected too
+            return np.full(y.shape, math.nan)
         try:
             qdd, qdrive, other, _ = self._solve(float(t), q, qd)
         except AssemblyError as exc:  # a trial step beyond an assembly limit: rejected (NaN)
@@ -166,6 +168,28 @@ def _where(scene: Any, y: np.ndarray) -> str:
     return ", ".join(parts[:k])
 
 
+def _stroke_events(scene: Any) -> list[Any]:
+    """One terminal event per length input with a stroke: (s − closed)·(open − s) falls to 0 at
+    either end, where the cylinder bottoms out or tops out (an assembly limit)."""
+    out = []
+    groups = {g.input_joint(): g.name for g in getattr(scene, "ordered", ()) if g.drives}
+    for i, (joint, span) in enumerate(zip(scene.inputs, getattr(scene, "input_ranges", ()))):
+        if span is None:
+            continue
+        lo, hi = span
+        name = groups.get(joint, joint)
+
+        def end(t: float, y: np.ndarray, i: int = i, lo: float = lo, hi: float = hi) -> float:
+            return float((y[i] - lo) * (hi - y[i]))
+
+        end.terminal = True  # type: ignore[attr-defined]
+        end.message = (  # type: ignore[attr-defined]
+            f"reaches an end of the stroke [{lo:g}, {hi:g}] m of group '{name}' (an assembly limit: the cylinder "
+            "bottoms or tops out)")
+        out.append(end)
+    return out
+
+
 def simulate(
     scene: Any,
     t_end: float,
@@ -217,6 +241,8 @@ def simulate(
 
     toggle.terminal = True  # type: ignore[attr-defined]
     all_events: list[Any] = [toggle]
+    strokes = _stroke_events(scene)
+    all_events += strokes
     if until_phi is not None:
         if k != 1:
             raise DynamicsError("until_phi is for one input; pass events=[f(t, q, qd)] with several", scene=name)
@@ -253,6 +279,9 @@ def simulate(
             status = "toggle"
             message = (f"reaches a singular position of group '{eq.worst_group(ye)}' (a toggle: the inputs cannot "
                        f"drive through it, the reduced inertia grows without bound)")
+        elif hit <= len(strokes):
+            status = "assembly"
+            message = strokes[hit - 1].message  # type: ignore[attr-defined]
         else:
             status = "until"
     elif sol.status == -1:
@@ -346,6 +375,7 @@ class Stepper:
         self.rtol, self.atol, self._method = rtol, atol, _METHODS[method]
         self.t = t0
         self.y = np.array([*q0, *w0, 0.0, 0.0])
+        self._spans = tuple(getattr(scene, "input_ranges", ())) or (None,) * k
         try:
             self.eq.accelerations(t0, q0, w0)
         except AssemblyError as exc:
@@ -372,6 +402,11 @@ class Stepper:
                 group, reason = self.eq.fault or ("?", str(msg))
                 raise DynamicsError(f"stops at an assembly limit ({reason})", scene=self.scene.name, time=s.t,
                                     at=_where(self.scene, s.y), group=group)
+            for i, span in enumerate(self._spans):
+                if span is not None and not span[0] <= s.y[i] <= span[1]:
+                    raise DynamicsError(f"reaches an end of the stroke of '{self.scene.inputs[i]}' [{span[0]:g}, "
+                                        f"{span[1]:g}] m (an assembly limit)", scene=self.scene.name, time=s.t,
+                                        at=_where(self.scene, s.y), group=None)
             if self.eq.conditioning(s.t, s.y) < DYNAMICS_TOGGLE:
                 raise DynamicsError("reaches a singular position (a toggle: the inputs cannot drive through it)",
                                     scene=self.scene.name, time=s.t, at=_where(self.scene, s.y),

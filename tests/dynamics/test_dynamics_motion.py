@@ -199,3 +199,19 @@ def test_flywheel_for_a_looser_delta_needs_none() -> None:
     scene = solver.load_scene("harvester_finger")
     jf, state, _ = flywheel_for(scene, 0.9)
     assert jf == 0.0 and state.delta < 0.9
+
+
+def test_a_cylinder_driven_by_a_force_stops_at_the_end_of_its_stroke() -> None:
+    scene = solver.load_scene("tipper")  # a stroke input: its effort is the cylinder's force (N)
+    (lo, hi), = scene.input_ranges
+    m, h, _ = scene.reduced().instant(((lo + hi) / 2,), (0.0,))
+    assert m > 0 and h[0] > 0  # a reduced mass (kg) and the load's weight along the stroke (N)
+    run = scene.simulate(2.0, phi0=(lo + hi) / 2, drive=10 * h[0], on_singular="stop")
+    assert run.status == "assembly" and run.phi[-1] == pytest.approx(hi, abs=1e-9)
+    # the stroke's event, or the step beyond it rejected first: either way the limit and the group
+    assert "stroke = 1.3 m" in run.message and "group 'lift'" in run.message and "[0.74, 1.3] m" in run.message
+    k = run.solve()
+    np.testing.assert_allclose(k.effort("stroke"), run.effort, rtol=1e-9)  # M·s̈ + h = the force applied
+    with pytest.raises(solver.DynamicsError, match=r"t = .* s, stroke = 0.74 m: stops at an assembly limit of group "
+                                                   r"'lift' \(is outside its stroke"):
+        scene.simulate(2.0, phi0=(lo + hi) / 2, drive=0.0)
