@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["SolverError", "SceneError", "AssemblyError", "SampleAssemblyError", "format_intervals"]
+__all__ = ["SolverError", "SceneError", "AssemblyError", "SampleAssemblyError", "SynthesisError", "format_intervals"]
 
 
 class SolverError(ValueError):
@@ -110,3 +110,8 @@ class SampleAssemblyError(AssemblyError):
             more = f" and {len(rows) - 5} more" if len(rows) > 5 else ""
             text += f" at {len(rows)} sample(s) of ({', '.join(inputs)}) = {shown}{more}"
         SolverError.__init__(self, text)
+
+
+class SynthesisError(SolverError):
+    """A synthesis task that cannot be posed or has no feasible answer (solver.synthesis): the
+    message names the argument (``through[3]``, ``pairs``) or the constraint that no design met."""

@@ -22,6 +22,7 @@ __all__ = [
     "LIMIT_NODE",
     "CLOSURE_ROUNDING",
     "ZERO_TO_ROUNDING",
+    "EXACT_MISS",
 ]
 
 #: Machine epsilon of float64.
@@ -90,3 +91,8 @@ CLOSURE_ROUNDING: float = 16 * EPS
 #: scale it is made of (the largest of its kind, or the products it sums) is printed as "zero to
 #: rounding": e.g. a fixed point's speed, or the input power Σ Q·ω of a sweep at rest.
 ZERO_TO_ROUNDING: float = 1e-12
+
+#: Synthesis (solver.synthesis): a design whose largest miss of its targets, checked by solving the
+#: returned scene, is at most this (m, or the joint's unit: rad, m) is "exact" — the round-off of
+#: the closed forms at a linkage of about 1 m is ~1e-16·(a few hundred operations) ≪ this.
+EXACT_MISS: float = 1e-9
