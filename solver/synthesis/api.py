@@ -44,7 +44,7 @@ def synthesize(
     input_range: tuple[float, float] | None = None,
     min_transmission: float = math.radians(30.0),
     max_ratio: float | None = None,
-    starts: int = 4,
+    starts: int = 8,
     samples: int = SAMPLES,
     popsize: int = 20,
     maxiter: int = 300,
@@ -78,7 +78,7 @@ def synthesize(
                     progress=progress)
     expired = any(r.expired for r in results)
     designs = distinct(found, goal)
-    if not designs or not designs[0].feasible:
+    if not designs or (not designs[0].feasible and not expired):
         what = "assembles over the required input range with every transmission angle ≥ " \
                f"{math.degrees(goal.min_transmission):g}°" + (f" and links within {max_ratio:g}:1" if max_ratio else "")
         more = " before the time limit expired" if expired else f" in {len(results)} start(s)"

@@ -36,7 +36,7 @@ class Options:
     popsize: int = 20  # scipy's multiplier: popsize × n candidates per generation
     maxiter: int = 300
     polish_count: int = 8  # distinct final members polished per start
-    starts: int = 4
+    starts: int = 8
     #: below this best figure, every ``try_every`` generations, the best is polished on trial
     try_below: float = 5e-2
     try_every: int = 5
