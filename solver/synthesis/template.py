@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from .._fields import MISSING, Entry, Units, show
+from .._fields import MISSING, Entry, Units, show, suggest
 from .._loader import SceneData, _joints, _rigid_pairs, _units, parse_scene
 from .._yaml import line_of, load_yaml
 from ..errors import SceneError
@@ -118,6 +118,18 @@ def _read_free(value: Mapping[str, Any], place: str, kind: str, file: str | None
     return Free(place, lo, hi, kind, ())
 
 
+def _known_type(data: Mapping[str, Any], index: int, file: str | None) -> None:
+    """The loader's own refusal of an unknown group type, before "cannot vary" would mislead."""
+    groups = data.get("groups")
+    group = groups[index] if isinstance(groups, list) and index < len(groups) else None
+    kind = group.get("type") if isinstance(group, Mapping) else None
+    if isinstance(kind, str) and kind not in GROUP_TYPES:
+        near = suggest(kind, GROUP_TYPES)
+        hint = f" (did you mean '{near[0]}'?)" if near else ""
+        raise SceneError(f"unknown group type '{kind}'{hint}; known types: {', '.join(sorted(GROUP_TYPES))}",
+                         file=file, entry=f"groups[{index}].type", line=line_of(group, "type"))
+
+
 class _ArrayEntry(Entry):
     """An entry whose free numbers are arrays of C candidates' values, shape (C, 1): the
     groups' ``from_entry`` build groups whose parameters broadcast against (C, S) samples.
@@ -157,6 +169,8 @@ class Template:
             place = _place(path)
             line = line_of(container, key)
             kind = _kind_of(path, data)
+            if kind is None and path[0] == "groups" and isinstance(path[1], int) and len(path) > 2:
+                _known_type(data, path[1], file)
             if kind is None:
                 raise SceneError(
                     "a free value in a place that cannot vary (free values: fixed points' coordinates, "
