@@ -77,7 +77,7 @@ def synthesize(
     results = sweep(tpl, goal, seed=seed, options=options, time_limit=time_limit, workers=workers, done=done,
                     progress=progress)
     expired = any(r.expired for r in results)
-    designs = distinct(found, goal)
+    designs = distinct([d for d in found if d.feasible] or found, goal)  # solutions: the feasible designs
     if not designs or (not designs[0].feasible and not expired):
         what = "assembles over the required input range with every transmission angle ≥ " \
                f"{math.degrees(goal.min_transmission):g}°" + (f" and links within {max_ratio:g}:1" if max_ratio else "")
