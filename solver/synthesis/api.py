@@ -12,6 +12,7 @@ import math
 import os
 import time
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -44,6 +45,9 @@ def synthesize(
     input_range: tuple[float, float] | None = None,
     min_transmission: float = math.radians(30.0),
     max_ratio: float | None = None,
+    effort_weight: float = 0.0,
+    pin_weight: float = 0.0,
+    speed: float = 1.0,
     starts: int = 8,
     samples: int = SAMPLES,
     popsize: int = 20,
@@ -54,7 +58,10 @@ def synthesize(
 
     ``input_range`` (rad): the range the input must turn through, default a full turn;
     ``min_transmission`` (rad): the smallest transmission angle of every dyad over that range;
-    ``max_ratio``: the longest link over the shortest at most this. ``starts``: multi-start
+    ``max_ratio``: the longest link over the shortest at most this. ``effort_weight`` (per N·m,
+    or per N for a slider input) and ``pin_weight`` (per N) add the peak input effort and the peak
+    pin load over the range at ``speed`` (ω, rad/s) to the search's figure (the template needs
+    bodies or loads, docs/forces.md); the polish still hits the targets. ``starts``: multi-start
     sweep length (stopped at the first start that gives an exact design); ``workers``: a
     ``dask.distributed.Client`` that runs the starts (the result is the same). An expired
     ``time_limit`` (s) returns the best design so far, marked (``res.expired``).
@@ -64,6 +71,8 @@ def synthesize(
     goal = make_goal(tpl, point=point, through=through, at=at, joint=joint, pairs=pairs, poses=poses,
                      input_range=input_range, min_transmission=min_transmission, max_ratio=max_ratio,
                      samples=samples)
+    if effort_weight or pin_weight:
+        goal = _weighted(tpl, goal, effort_weight, pin_weight, speed)
     options = Options(popsize=popsize, maxiter=maxiter, starts=starts)
     found: list[Design] = []
 
@@ -157,6 +166,16 @@ def make_goal(tpl: Template, *, point: str | None, through: Any, at: Any, joint:
     closures = tuple(g.point for g in scene.ordered if g.kind in ("rrr", "rrp"))  # type: ignore[attr-defined]
     return Goal(kind, point, joint, targets, timing, sweep, float(min_transmission), max_ratio, scale, wraps,
                 closures, full)
+
+
+def _weighted(tpl: Template, goal: Goal, effort: float, pin: float, speed: float) -> Goal:
+    for name, value in (("effort_weight", effort), ("pin_weight", pin), ("speed", speed)):
+        if not (math.isfinite(value) and value >= 0.0):
+            raise SynthesisError(f"{name} must be a finite number ≥ 0, got {value}")
+    if tpl.template_scene.forces is None:
+        raise SynthesisError(f"{tpl.file or 'template'}: effort_weight and pin_weight need a template with bodies, "
+                             "gravity or loads (docs/forces.md)")
+    return replace(goal, effort_weight=float(effort), pin_weight=float(pin), speed=float(speed))
 
 
 def _check_reach(tpl: Template, targets: np.ndarray) -> None:

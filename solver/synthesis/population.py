@@ -15,7 +15,10 @@ task's figures are read off the jets:
 
 :func:`objective` turns these into one figure per candidate for the global search: the targets'
 RMS miss over the task's size for a feasible design, and above every feasible figure a penalty
-that grows with how far a design is from feasible (never NaN).
+that grows with how far a design is from feasible (never NaN). With weights, the force terms the
+scene already computes are added to a feasible design's figure: the peak input effort and the
+peak pin load over the sweep at a given speed, from the kinetostatics of each design's own
+bodies (solver.forces, evaluated on the population's jets: the same arrays, one more pass).
 """
 
 from __future__ import annotations
@@ -28,6 +31,7 @@ import numpy as np
 
 from .._backend import NUMPY
 from ..groups import Context
+from ..plan import Plan
 from .template import Template
 
 __all__ = ["Goal", "Evaluation", "evaluate", "objective", "INFEASIBLE"]
@@ -52,6 +56,9 @@ class Goal:
     joint_wraps: bool  # the joint is an angle: differences wrapped to (−π, π]
     closures: tuple[str, ...]  # the points of every dyad (their conditioning is checked)
     full_turn: bool = True  # the input turns fully (sweep over [lo, lo + 2π)); else over [lo, hi]
+    effort_weight: float = 0.0  # objective += weight · peak |input effort| (per N·m, or per N)
+    pin_weight: float = 0.0  # objective += weight · peak |pin load| (per N)
+    speed: float = 1.0  # ω (rad/s) of the force terms (ε = 0)
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -68,6 +75,8 @@ class Evaluation:
     invalid: np.ndarray  # (C,) fraction of the sweep that cannot be assembled
     conditioning: np.ndarray  # (C,) smallest dyad conditioning over the sweep (1 without dyads)
     ratio: np.ndarray  # (C,) longest link over shortest
+    effort: np.ndarray | None = None  # (C,) peak |input effort| over the sweep at ω = Goal.speed (N·m or N)
+    pin_load: np.ndarray | None = None  # (C,) peak |pin reaction| over the sweep (N)
 
 
 def wrap(a: Any) -> Any:
@@ -77,27 +86,50 @@ def wrap(a: Any) -> Any:
 
 def run(template: Template, x: np.ndarray, phi: np.ndarray, names: tuple[str, ...]) -> Context:
     """The plan of the designs ``x`` (C, n) solved at ``phi`` (C, S) in mask mode."""
-    plan = template.population(x, names)
+    return solve(template, x, phi, names)[0]
+
+
+def solve(template: Template, x: np.ndarray, phi: np.ndarray, names: tuple[str, ...], *,
+          forces: bool = False) -> tuple[Context, Plan, Any]:
+    """:func:`run`, and the plan and (with ``forces``) the designs' force layer."""
+    plan, model = template.population(x, names, forces=forces)
     phi = np.ascontiguousarray(np.broadcast_to(phi, (x.shape[0], np.shape(phi)[-1])), dtype=float)
     with np.errstate(all="ignore"):
-        return plan.run(Context(phi=phi, xp=NUMPY, mask=True))
+        return plan.run(Context(phi=phi, xp=NUMPY, mask=True)), plan, model
 
 
-def link_ratio(template: Template, x: np.ndarray, names: tuple[str, ...]) -> np.ndarray:
+def link_ratio(plan: Plan, c: int) -> np.ndarray:
     """Longest link over shortest: the cranks', dyads' and sliders' lengths and the distances
     between the fixed pivots they use."""
-    plan = template.population(x, names)
-    lengths = [np.broadcast_to(length, (x.shape[0], 1)) for g in plan.groups if g.kind in ("crank", "rrr", "rrp")
+    lengths = [np.broadcast_to(length, (c, 1)) for g in plan.groups if g.kind in ("crank", "rrr", "rrp")
                for _, _, length in g.rigid_pairs()]
-    pivots = [np.broadcast_to(v, (x.shape[0], 1)) for v in plan.fixed.values() if np.iscomplexobj(v)]
+    pivots = [np.broadcast_to(v, (c, 1)) for v in plan.fixed.values() if np.iscomplexobj(v)]
     for i in range(len(pivots)):
         for j in range(i):
             lengths.append(np.abs(pivots[i] - pivots[j]))
     if not lengths:
-        return np.ones(x.shape[0])
+        return np.ones(c)
     stack = np.abs(np.concatenate(lengths, axis=1))
     with np.errstate(all="ignore"):
         return np.nan_to_num(stack.max(axis=1) / np.maximum(stack.min(axis=1), 1e-300), nan=np.inf)
+
+
+def _force_peaks(goal: Goal, ctx: Context, model: Any, s: int, invalid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Peak |input effort| and peak |pin load| over the valid sweep at ω = ``goal.speed``."""
+    c = invalid.shape[0]
+    with np.errstate(all="ignore"):
+        out = model.evaluate(ctx.values, NUMPY, ctx.conditioning, goal.speed, 0.0)
+    k = len(model.inputs)
+    n_pins = len(model.spec.structure.pins)
+
+    def peak(values: Any) -> np.ndarray:
+        if not values:
+            return np.zeros(c)
+        a = np.stack([np.abs(np.broadcast_to(v, invalid.shape)) for v in values])[:, :, :s]
+        a = np.where(invalid[None, :, :s], 0.0, np.nan_to_num(a, nan=np.inf))
+        return a.max(axis=(0, 2))  # type: ignore[no-any-return]
+
+    return peak(out[:k]), peak(out[k : k + n_pins])
 
 
 def evaluate(template: Template, goal: Goal, x: np.ndarray) -> Evaluation:
@@ -106,7 +138,8 @@ def evaluate(template: Template, goal: Goal, x: np.ndarray) -> Evaluation:
     c, s = x.shape[0], goal.sweep.size
     at = goal.at if goal.at is not None else np.empty(0)
     phi = np.concatenate([goal.sweep, at])
-    ctx = run(template, x, phi, goal.names)
+    weighted = goal.effort_weight > 0.0 or goal.pin_weight > 0.0
+    ctx, plan, model = solve(template, x, phi, goal.names, forces=weighted)
     invalid = np.broadcast_to(np.asarray(ctx.invalid, bool), (c, phi.size))
     frac = invalid[:, :s].mean(axis=1) if s else np.zeros(c)
     cond = np.ones(c)
@@ -120,7 +153,10 @@ def evaluate(template: Template, goal: Goal, x: np.ndarray) -> Evaluation:
         phases = np.broadcast_to(goal.at, misses.shape).copy()
     else:
         misses, phases = _untimed(goal, ctx, s, invalid)
-    return Evaluation(misses, phases, frac, cond, link_ratio(template, x, goal.names))
+    ev = Evaluation(misses, phases, frac, cond, link_ratio(plan, c))
+    if model is not None:
+        ev.effort, ev.pin_load = _force_peaks(goal, ctx, model, s, invalid)
+    return ev
 
 
 def _group_of(template: Template, point: str) -> str:
@@ -207,5 +243,10 @@ def objective(goal: Goal, ev: Evaluation) -> np.ndarray:
     excess = np.zeros_like(fit) if goal.max_ratio is None else np.maximum(ev.ratio / goal.max_ratio - 1.0, 0.0)
     excess = np.nan_to_num(excess, nan=1.0, posinf=1.0)
     infeasible = (ev.invalid > 0.0) | (deficit > 0.0) | (excess > 0.0)
+    if ev.effort is not None:
+        fit = fit + goal.effort_weight * np.nan_to_num(ev.effort, nan=INFEASIBLE, posinf=INFEASIBLE)
+    if ev.pin_load is not None:
+        fit = fit + goal.pin_weight * np.nan_to_num(ev.pin_load, nan=INFEASIBLE, posinf=INFEASIBLE)
+    fit = np.minimum(fit, 0.999 * INFEASIBLE)
     penalty = INFEASIBLE * (1.0 + ev.invalid + deficit + np.minimum(excess, 1.0)) + fit / INFEASIBLE
     return np.where(infeasible, penalty, fit)  # type: ignore[no-any-return]

@@ -26,7 +26,7 @@ from .._fields import ANGLE_UNITS
 from ..errors import SolverError
 from ..scene import Scene
 from ..tolerances import EXACT_MISS
-from .population import Goal, wrap
+from .population import Goal, evaluate, wrap
 from .template import Template
 
 __all__ = ["Design", "SynthesisResult", "check_design", "same_curve", "curve_of", "CHECK_SAMPLES"]
@@ -220,6 +220,10 @@ class SynthesisResult:
             gr = classify.grashof(d.scene, g)
             if gr is not None:
                 lines.append(f"  four-bar {g.name}: {gr}")
+        if self.goal.effort_weight or self.goal.pin_weight:
+            ev = evaluate(self.template, self.goal, d.x[None])
+            lines.append(f"  at ω = {self.goal.speed:g} rad/s: peak input effort {float(ev.effort[0]):.4g}, "  # type: ignore[index]
+                         f"peak pin load {float(ev.pin_load[0]):.4g} N")  # type: ignore[index]
         cognates = [i for i, e in enumerate(self.designs) if e.cognate_of is not None]
         if cognates:
             lines.append(f"cognates (same curve, other dimensions): designs {cognates}")

@@ -32,6 +32,8 @@ from .._loader import SceneData, _joints, _rigid_pairs, _units, parse_scene
 from .._yaml import line_of, load_yaml
 from ..errors import SceneError
 from ..groups import GROUP_TYPES, RRR, Group
+from ..forces import ForceModel
+from ..forces.parse import parse_forces
 from ..plan import Plan, build_plan, order_groups
 from ..scene import Scene, find_scene
 
@@ -208,8 +210,8 @@ class Template:
         return Scene(self.scene_data(x))
 
     # -- populations ----------------------------------------------------------------------------
-    def population(self, x: np.ndarray, targets: Sequence[str]) -> Plan:
-        """The plan of ``len(x)`` designs at once: every free number a (C, 1) array."""
+    def _parts(self, x: np.ndarray) -> tuple[Entry, dict[str, Any], list[Group]]:
+        """The file read with every free number a (C, 1) array: its top entry, fixed points, groups."""
         x = np.asarray(x, float)
         data = _plain(self.data)
         for i, f in enumerate(self.free):
@@ -231,8 +233,20 @@ class Template:
         sections = [g for g in tdata.groups[n_listed:] if g.kind != "joint"]  # contours: constants
         groups = [replace(g, feed=None) if isinstance(g, RRR) else g for g in [*groups, *sections]]
         groups.extend(_joints(top, _rigid_pairs(groups), units, tdata.dim))
+        return top, fixed, groups
+
+    def population(self, x: np.ndarray, targets: Sequence[str], *, forces: bool = False) -> tuple[Plan, Any]:
+        """The plan of ``len(x)`` designs at once (every free number a (C, 1) array), and with
+        ``forces`` the force layer of those designs (their bodies' frames from their own
+        lengths; None when the template names no bodies or loads)."""
+        top, fixed, groups = self._parts(x)
+        model = None
+        if forces and self.template_scene.forces is not None:
+            spec = parse_forces(top, self.units, fixed, groups)
+            model = None if spec is None else ForceModel(spec, self.template_scene.inputs)
+            targets = (*targets, *(() if model is None else model.targets))
         ordered = order_groups(groups, fixed, file=self.file)
-        return build_plan(ordered, fixed, targets)
+        return build_plan(ordered, fixed, targets), model
 
 
 def _plain(data: Any) -> Any:
