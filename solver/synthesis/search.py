@@ -22,9 +22,9 @@ from typing import Any
 import numpy as np
 from scipy.optimize import differential_evolution
 
-from .polish import Polished, polish
+from .polish import Polished, polish, residuals
 from ..tolerances import EXACT_MISS
-from .population import INFEASIBLE, Goal, evaluate, objective
+from .population import INFEASIBLE, Goal, evaluate, objective, run
 from .template import Template
 
 __all__ = ["Options", "StartResult", "run_start", "sweep"]
@@ -108,8 +108,37 @@ def run_start(template: Template, goal: Goal, seed: int, index: int, options: Op
         if deadline is not None and time.monotonic() > deadline and out:
             expired[0] = True
             break
-        out.append(polish(template, goal, x, ph))
+        p = polish(template, goal, x, ph)
+        if goal.at is None and math.sqrt(2.0 * p.cost) * goal.scale > EXACT_MISS:
+            p = _reseed(template, goal, p)
+        out.append(p)
     return StartResult(index, out, history, expired[0], int(de.nit))
+
+
+def _reseed(template: Template, goal: Goal, p: Polished, tries: int = 3) -> Polished:
+    """A polish that stopped short of zero, tried again with the worst target moved to another
+    place where the curve passes near it (another local minimum of its distance along the sweep):
+    a polish started from the nearest sample can settle with two targets on one arc of the curve."""
+    ctx = run(template, p.x[None], goal.sweep, goal.names)
+    z = np.broadcast_to(ctx.values[goal.point].value, (1, goal.sweep.size))[0]  # type: ignore[index]
+    bad = np.broadcast_to(np.asarray(ctx.invalid, bool), (1, goal.sweep.size))[0]
+    t = goal.targets
+    r = residuals(template, goal, p.x[None], p.phases)[0][0]
+    k_count = len(t)
+    miss = np.hypot(r[:k_count], r[k_count : 2 * k_count])
+    best = p
+    for k in np.argsort(miss)[::-1][:2]:
+        d = np.where(bad, np.inf, np.abs(z - complex(t[k, 0], t[k, 1])))
+        minima = np.flatnonzero((d <= np.roll(d, 1)) & (d <= np.roll(d, -1)) & np.isfinite(d))
+        for i in minima[np.argsort(d[minima])][:tries]:
+            start = p.phases.copy()
+            start[k] = goal.sweep[i]
+            q = polish(template, goal, p.x, start)
+            if q.cost < best.cost:
+                best = q
+            if math.sqrt(2.0 * best.cost) * goal.scale <= EXACT_MISS:
+                return best
+    return best
 
 
 def _exact_and_feasible(template: Template, goal: Goal, p: Polished) -> bool:
