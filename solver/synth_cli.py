@@ -77,7 +77,8 @@ def _parser() -> Parser:
     p.add_argument("--min-transmission", type=finite, default=30.0, metavar="DEG",
                    help="smallest transmission angle of every dyad, degrees (default 30)")
     p.add_argument("--max-ratio", type=positive, help="longest link over the shortest at most this")
-    p.add_argument("--input-range", metavar="LO,HI", help="the range the input must turn through, rad (default a full turn)")
+    p.add_argument("--input-range", metavar="LO,HI",
+                   help="the range the input must turn through, rad (default a full turn)")
     p.add_argument("--dask", metavar="ADDRESS", help="run the starts on this dask.distributed scheduler")
     p.add_argument("--all", action="store_true", help="list every distinct design found, not only the best")
     return p
@@ -89,7 +90,8 @@ def _angles(text: str, what: str) -> np.ndarray:
     try:
         return np.array([float(v) for v in text.split(",")])
     except ValueError:
-        raise SynthesisError(f"{what} must be a file or numbers separated by commas, got {one_line(text, 60)!r}") from None
+        raise SynthesisError(f"{what} must be a file or numbers separated by commas, "
+                             f"got {one_line(text, 60)!r}") from None
 
 
 class _Bar:

@@ -216,7 +216,8 @@ class SynthesisResult:
         for g in d.scene.ordered:
             mu = classify.transmission_range(d.scene, g)
             if mu is not None:
-                lines.append(f"  transmission angle of {g.name}: {math.degrees(mu[0]):.2f}° … {math.degrees(mu[1]):.2f}°")
+                lo, hi = math.degrees(mu[0]), math.degrees(mu[1])
+                lines.append(f"  transmission angle of {g.name}: {lo:.2f}° … {hi:.2f}°")
             gr = classify.grashof(d.scene, g)
             if gr is not None:
                 lines.append(f"  four-bar {g.name}: {gr}")

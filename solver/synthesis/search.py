@@ -1,14 +1,15 @@
 """The global search and the multi-start sweep: scipy's differential evolution, then the polish.
 
-One *start* (seeded by ``seed + i``): ``differential_evolution`` with ``vectorized=True`` over the
-free values within their bounds, every generation's whole population one array evaluation
+One *start* (seeded by ``seed + i``): ``differential_evolution`` with ``vectorized=True`` over
+the free values within their bounds, every generation's whole population one array evaluation
 (:func:`~.population.evaluate`, candidates × samples); it stops at its own convergence, at
-``maxiter``, when it stalls (``Options.stall``), when its best figure is below ``Options.good_enough`` (the polish finishes from there), or at
-the deadline. Then the best distinct members of its final population are polished
-(:func:`~.polish.polish`). Starts run in order until one yields an exact design or ``starts`` are
-spent; on a Dask client (``workers=``) a batch of starts runs at once, and the results are read in
-start order with the same stopping rule, so whatever runs them the answer is the same (only an
-expiring time limit depends on the machine).
+``maxiter``, when it stalls (``Options.stall``), when its best figure is below
+``Options.good_enough`` (the polish finishes from there), or at the deadline. Then the best
+distinct members of its final population are polished (:func:`~.polish.polish`). Starts run in
+order until one yields an exact design or ``starts`` are spent; on a Dask client
+(``workers=``) a batch of starts runs at once, and the results are read in start order with the
+same stopping rule, so whatever runs them the answer is the same (only an expiring time limit
+depends on the machine).
 """
 
 from __future__ import annotations
@@ -22,8 +23,8 @@ from typing import Any
 import numpy as np
 from scipy.optimize import differential_evolution
 
-from .polish import Polished, polish, residuals
 from ..tolerances import EXACT_MISS
+from .polish import Polished, polish, residuals
 from .population import INFEASIBLE, Goal, evaluate, objective, run
 from .template import Template
 
@@ -156,7 +157,7 @@ def sweep(template: Template, goal: Goal, *, seed: int, options: Options, time_l
     """Starts 0, 1, … in order until ``done(result)`` or ``options.starts`` (module docstring)."""
     t0 = time.monotonic()
     results: list[StartResult] = []
-    batch = 1 if workers is None else max(1, len(getattr(workers, "scheduler_info", lambda: {})().get("workers", {})))
+    batch = 1 if workers is None else max(1, len(workers.scheduler_info().get("workers", {})))
     i = 0
     shared = None
     while i < options.starts:

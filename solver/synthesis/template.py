@@ -31,9 +31,9 @@ from .._fields import MISSING, Entry, Units, show, suggest
 from .._loader import SceneData, _joints, _rigid_pairs, _units, parse_scene
 from .._yaml import line_of, load_yaml
 from ..errors import SceneError
-from ..groups import GROUP_TYPES, RRR, Group
 from ..forces import ForceModel
 from ..forces.parse import parse_forces
+from ..groups import GROUP_TYPES, RRR, Group
 from ..plan import Plan, build_plan, order_groups
 from ..scene import Scene, find_scene
 
@@ -192,20 +192,20 @@ class Template:
     def places(self) -> tuple[str, ...]:
         return tuple(f.place for f in self.free)
 
-    def values_of(self, x: Sequence[float]) -> dict[str, float]:
+    def values_of(self, x: Sequence[float] | np.ndarray) -> dict[str, float]:
         return {f.place: float(v) for f, v in zip(self.free, x)}
 
-    def filled(self, x: Sequence[float]) -> Any:
+    def filled(self, x: Sequence[float] | np.ndarray) -> Any:
         """The file's data with the free values set to ``x`` (scene units)."""
         data = _plain(self.data)
         for f, v in zip(self.free, x):
             _set(data, f.path, float(v))
         return data
 
-    def scene_data(self, x: Sequence[float]) -> SceneData:
+    def scene_data(self, x: Sequence[float] | np.ndarray) -> SceneData:
         return parse_scene(self.filled(x), file=self.file, default_name=Path(self.file or "template").stem)
 
-    def scene(self, x: Sequence[float]) -> Scene:
+    def scene(self, x: Sequence[float] | np.ndarray) -> Scene:
         """The loaded scene of one design (every free value set, every loader check applied)."""
         return Scene(self.scene_data(x))
 

@@ -114,5 +114,6 @@ def test_the_groups_never_reach_for_the_plan_the_singular_analysis_or_the_scene(
 def test_every_solver_module_has_a_layer_or_is_at_the_top() -> None:
     tops = {_module(p) for p in MODULES if _layer(_module(p)) == 9}
     tops = {t for t in tops if not t.startswith("solver.synthesis")}  # synthesis: on top of the scene
-    assert tops <= {"solver.synth_cli", "solver", "solver.classify", "solver.summary", "solver._extremes", "solver._cmdline",
+    assert tops <= {"solver.synth_cli",
+                    "solver", "solver.classify", "solver.summary", "solver._extremes", "solver._cmdline",
                     "solver.cli", "solver.cli_inputs"}, tops

@@ -39,12 +39,15 @@ def test_cli_writes_a_scene_and_says_exact(tmp_path: Path, capsys: pytest.Captur
 @pytest.mark.parametrize(
     ("args", "content", "message"),
     [
-        (["--point", "P", "--through", "{csv}"], "x,y\n0.1, 0.2\n0.1\n", r"targets\.csv:3: 1 numbers, the rows above have 2"),
-        (["--point", "P", "--through", "{csv}"], "# x, y\n50, 0\n", r"target 0 \(50, 0\) m is out of any reachable range"),
+        (["--point", "P", "--through", "{csv}"], "x,y\n0.1, 0.2\n0.1\n",
+         r"targets\.csv:3: 1 numbers, the rows above have 2"),
+        (["--point", "P", "--through", "{csv}"], "# x, y\n50, 0\n",
+         r"target 0 \(50, 0\) m is out of any reachable range"),
         (["--point", "P", "--through", "{csv}"], "0.1, 0.2\n0.3, abc\n", r"targets\.csv:2: not a row of numbers"),
         (["--point", "Q", "--through", "{csv}"], "0.1, 0.2\n", r"point= must name a point of the template, got 'Q'"),
         (["--point", "P", "--through", "{csv}", "--at", "1,2"], "0.1, 0.2\n", r"at= must give one finite input angle"),
-        (["--point", "P", "--through", "{csv}", "-o", "/nonexistent/dir/x.yaml"], "0.1, 0.2\n", r"the folder /nonexistent/dir does not exist"),
+        (["--point", "P", "--through", "{csv}", "-o", "/nonexistent/dir/x.yaml"], "0.1, 0.2\n",
+         r"the folder /nonexistent/dir does not exist"),
     ],
 )
 def test_cli_faults_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str], args: list[str], content: str,
