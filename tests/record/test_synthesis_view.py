@@ -12,7 +12,7 @@ from solver.synthesis import load_template
 
 pytest.importorskip("rerun")
 
-from linkage_ros.record.synthesis_view import write_synthesis_rrd  # noqa: E402
+from linkage_ros.record.synthesis_view import write_synthesis_rrd
 
 TEMPLATE = Path(__file__).parents[1] / "synthesis" / "templates" / "slider_crank_path.yaml"
 
