@@ -56,7 +56,7 @@ setup(
             "distributed>=2024.1",
         ],
         # dimensional synthesis on a Dask cluster (solver.synthesize(workers=...), linkage-synth --dask)
-        "synth": ["scipy>=1.11", "distributed>=2024.1"],
+        "synth": ["scipy>=1.16", "distributed>=2024.1"],
         "bench": ["matplotlib>=3.8", "pylinkage==1.3.0", "numba>=0.60", "kinepy==0.1.7"],
     },
     zip_safe=True,

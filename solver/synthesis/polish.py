@@ -18,7 +18,8 @@ First ``trf`` without bounds (quadratic convergence on the four-bar and six-bar 
 evaluations); where that leaves a free value's range, ``dogbox`` within the bounds (rectangular
 trust regions; ``trf``'s bound scaling took hundreds of evaluations) from the same start, and
 the better of it and the unbounded answer clipped into the bounds.
-An exact problem (no more equations than unknowns) ends at round-off.
+An exact problem (no more equations than unknowns) ends at round-off: the polish stops once
+½‖r‖² is at ``ROUND_OFF`` ulps per residual (``least_squares``' callback, scipy ≥ 1.16).
 """
 
 from __future__ import annotations
@@ -29,12 +30,15 @@ from typing import Any
 import numpy as np
 from scipy.optimize import least_squares
 
+from ..tolerances import EPS
 from .population import Goal, run, wrap
 from .template import Template
 
 __all__ = ["Polished", "polish", "residuals"]
 
-_STEP = float(np.finfo(float).eps) ** (1.0 / 3.0)
+_STEP = EPS ** (1.0 / 3.0)
+#: The polish stops once every residual (relative to the targets' size) is about this many ulps.
+ROUND_OFF = 16.0
 
 
 @dataclass
@@ -113,11 +117,16 @@ def polish(template: Template, goal: Goal, x0: np.ndarray, phases0: np.ndarray, 
         z0[n:] = np.clip(z0[n:], ph_lo, ph_hi)
     bounds_lo = np.concatenate([lo, np.full(k, ph_lo)]) if free_phases else lo
     bounds_hi = np.concatenate([hi, np.full(k, ph_hi)]) if free_phases else hi
+    floor = 0.5 * (ROUND_OFF * EPS) ** 2 * (2 * k + n)  # ½‖r‖² at round-off: nothing left to gain
+
+    def stop(intermediate_result: Any) -> bool:
+        return bool(intermediate_result.cost <= floor)
+
     def solve(bounds: tuple[np.ndarray, np.ndarray] | tuple[float, float], method: str) -> Any:
         with np.errstate(all="ignore"):
             return least_squares(
                 lambda z: both(z)[0], z0, jac=lambda z: both(z)[1], bounds=bounds, method=method,
-                x_scale="jac", ftol=1e-15, xtol=1e-15, gtol=1e-15, max_nfev=max_nfev,
+                x_scale="jac", ftol=1e-15, xtol=1e-15, gtol=1e-15, max_nfev=max_nfev, callback=stop,
             )
 
     out = solve((-np.inf, np.inf), "trf")

@@ -192,3 +192,14 @@ def test_effort_weight_lowers_the_peak_effort() -> None:
     assert "peak input effort" in res.summary()
     with pytest.raises(SynthesisError, match=r"effort_weight and pin_weight need a template with bodies"):
         solver.synthesize(FOUR_BAR, point="P", through=[[0.1, 0.2]], effort_weight=1.0)
+
+
+def test_input_range_and_link_ratio_constraints() -> None:
+    """The input needs to turn only through the given range; the links stay within the ratio."""
+    t = load_template(HERE / "slider_crank_path.yaml")
+    targets = _points(t.scene([0.05, 0.25, 0.02, 0.1, 20.0]), "P", np.array([0.4, 1.0, 1.6, 2.2]))
+    res = solver.synthesize(t, point="P", through=targets, seed=0, input_range=(0.2, 2.5), max_ratio=8.0)
+    _check_hits(res, "P", targets)
+    assert np.all((res.phases >= 0.2) & (res.phases <= 2.5))
+    crank, rod = res.values["groups[0].length"], res.values["groups[1].length"]
+    assert max(crank, rod) / min(crank, rod) <= 8.0
