@@ -41,6 +41,7 @@ class Options:
     #: below this best figure, every ``try_every`` generations, the best is polished on trial
     try_below: float = 5e-2
     try_every: int = 5
+    trial_count: int = 3  # distinct best members polished on trial
     #: a start that improved its best figure by less than 5 % in this many generations is stuck
     #: (a local minimum): it ends, and the next start begins elsewhere
     stall: int = 40
@@ -69,6 +70,7 @@ def run_start(template: Template, goal: Goal, seed: int, index: int, options: Op
         return objective(goal, evaluate(template, goal, xt.T))
 
     trials: list[Polished] = []
+    width = template.hi - template.lo
 
     def callback(intermediate_result: Any) -> bool:
         best = float(intermediate_result.fun)
@@ -77,11 +79,15 @@ def run_start(template: Template, goal: Goal, seed: int, index: int, options: Op
             expired[0] = True
             return True
         if best < options.try_below and len(history) % options.try_every == 0:
-            # hand the best over to the polish now; stop the search if it ends exact and feasible
-            x = np.asarray(intermediate_result.x, float)
-            p = polish(template, goal, x, evaluate(template, goal, x[None]).phases[0])
-            if _exact_and_feasible(template, goal, p):
-                trials.append(p)
+            # hand the best few over to the polish now; stop the search if one ends exact and feasible
+            energies = np.asarray(intermediate_result.population_energies)
+            members = _distinct(np.asarray(intermediate_result.population)[np.argsort(energies)], width,
+                                options.trial_count)
+            for x, ph in zip(members, evaluate(template, goal, members).phases):
+                p = polish(template, goal, x, ph)
+                if _exact_and_feasible(template, goal, p):
+                    trials.append(p)
+            if trials:
                 return True
         stalled = len(history) > options.stall and best > (1.0 - 0.05) * history[-options.stall]
         return bool(best < options.good_enough or stalled)
@@ -93,16 +99,9 @@ def run_start(template: Template, goal: Goal, seed: int, index: int, options: Op
             seed=rng, polish=False, init="latinhypercube", callback=callback,
             tol=1e-12, mutation=(0.5, 1.0), recombination=0.9,
         )
-    order = np.argsort(de.population_energies)
-    pop = de.population[order]
-    picked: list[np.ndarray] = []
-    width = template.hi - template.lo
-    for member in pop:  # distinct members: apart by 1 % of a range in some value
-        if len(picked) >= options.polish_count:
-            break
-        if all(np.max(np.abs(member - p) / np.maximum(width, 1e-300)) > 1e-2 for p in picked):
-            picked.append(member)
-    xs = np.array(picked)
+    if trials:  # the search ended on an exact design: the polish of the final members is not needed
+        return StartResult(index, trials, history, expired[0], int(de.nit))
+    xs = _distinct(de.population[np.argsort(de.population_energies)], width, options.polish_count)
     ev = evaluate(template, goal, xs)
     out = list(trials)
     for x, ph in zip(xs, ev.phases):
@@ -114,6 +113,17 @@ def run_start(template: Template, goal: Goal, seed: int, index: int, options: Op
             p = _reseed(template, goal, p)
         out.append(p)
     return StartResult(index, out, history, expired[0], int(de.nit))
+
+
+def _distinct(members: np.ndarray, width: np.ndarray, count: int) -> np.ndarray:
+    """The first ``count`` members (best first) apart by 1 % of a range in some value."""
+    picked: list[np.ndarray] = []
+    for member in members:
+        if len(picked) >= count:
+            break
+        if all(np.max(np.abs(member - p) / np.maximum(width, 1e-300)) > 1e-2 for p in picked):
+            picked.append(member)
+    return np.array(picked)
 
 
 def _reseed(template: Template, goal: Goal, p: Polished, tries: int = 3) -> Polished:
