@@ -19,6 +19,7 @@ import numpy as np
 
 from ..errors import SynthesisError
 from ..tolerances import EXACT_MISS
+from .polish import polish
 from .population import Goal
 from .result import Design, SynthesisResult, check_design, distinct
 from .search import Options, StartResult, sweep
@@ -28,6 +29,10 @@ __all__ = ["synthesize", "SAMPLES"]
 
 #: Input angles per candidate in the global search (the sweep of the required range).
 SAMPLES = 180
+#: Designs compared for distinct curves (the best, feasible first): the comparison is pairwise.
+MAX_DESIGNS = 40
+#: Evaluations of the last polish of the best designs when none is exact.
+FINAL_NFEV = 400
 
 
 def synthesize(
@@ -86,7 +91,16 @@ def synthesize(
     results = sweep(tpl, goal, seed=seed, options=options, time_limit=time_limit, workers=workers, done=done,
                     progress=progress)
     expired = any(r.expired for r in results)
-    designs = distinct([d for d in found if d.feasible] or found, goal)  # solutions: the feasible designs
+    found.sort(key=lambda d: (not d.feasible, d.error))
+    if found and found[0].feasible and found[0].error > EXACT_MISS:
+        # a last, longer polish of the best few (the search's polishes are kept short)
+        for d in list(found[:3]):
+            p = polish(tpl, goal, d.x, d.phases, max_nfev=FINAL_NFEV)
+            again = check_design(tpl, goal, p.x, p.phases)
+            if again is not None:
+                found.append(again)
+        found.sort(key=lambda d: (not d.feasible, d.error))
+    designs = distinct(([d for d in found if d.feasible] or found)[:MAX_DESIGNS], goal)  # solutions: the feasible designs
     if not designs or (not designs[0].feasible and not expired):
         what = "assembles over the required input range with every transmission angle ≥ " \
                f"{math.degrees(goal.min_transmission):g}°" + (f" and links within {max_ratio:g}:1" if max_ratio else "")

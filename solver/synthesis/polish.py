@@ -84,10 +84,13 @@ class _Clipped:
 def polish(template: Template, goal: Goal, x0: np.ndarray, phases0: np.ndarray, *, max_nfev: int = 60) -> Polished:
     """Least squares from (x0, phases0) to the nearest zero of the residuals (module docstring)."""
     n, k = x0.size, len(goal.targets)
-    lo, hi = template.lo, template.hi
+    period = template.periods  # an angle free over a whole turn has no bounds: it wraps
+    round_ = np.isfinite(period)
+    lo = np.where(round_, -np.inf, template.lo)
+    hi = np.where(round_, np.inf, template.hi)
     free_phases = goal.at is None
-    width = np.maximum(hi - lo, 1e-12)
-    x0 = np.clip(x0, lo + 1e-9 * width, hi - 1e-9 * width)
+    width = np.maximum(template.hi - template.lo, 1e-12)
+    x0 = np.clip(x0, template.lo + 1e-9 * width, template.hi - 1e-9 * width)
     z0 = np.concatenate([x0, phases0]) if free_phases else x0.copy()
     h = _STEP * np.maximum(np.abs(x0), width / 100.0)
     eye = np.eye(n)
@@ -132,7 +135,8 @@ def polish(template: Template, goal: Goal, x0: np.ndarray, phases0: np.ndarray, 
     out = solve((-np.inf, np.inf), "trf")
     if not (np.all(out.x[:n] >= lo) and np.all(out.x[:n] <= hi)) or (free_phases and not goal.full_turn):
         bounded = solve((bounds_lo, bounds_hi), "dogbox")
-        inside = np.clip(out.x, bounds_lo, bounds_hi)
+        inside = np.clip(out.x, bounds_lo, bounds_hi)  # (a wrapping angle is never out of its bounds)
         out = bounded if bounded.cost <= 0.5 * float(np.sum(both(inside)[0] ** 2)) else _Clipped(inside, both)
     x, ph = _split(goal, out.x, n)
+    x = np.where(round_, template.lo + np.mod(x - template.lo, np.where(round_, period, 1.0)), x)
     return Polished(np.asarray(x, float), np.asarray(ph, float), float(out.cost))

@@ -110,7 +110,7 @@ def run_start(template: Template, goal: Goal, seed: int, index: int, options: Op
             break
         p = polish(template, goal, x, ph)
         if goal.at is None and math.sqrt(2.0 * p.cost) * goal.scale > EXACT_MISS:
-            p = _reseed(template, goal, p)
+            p = _reseed(template, goal, p, deadline)
         out.append(p)
     return StartResult(index, out, history, expired[0], int(de.nit))
 
@@ -126,7 +126,7 @@ def _distinct(members: np.ndarray, width: np.ndarray, count: int) -> np.ndarray:
     return np.array(picked)
 
 
-def _reseed(template: Template, goal: Goal, p: Polished, tries: int = 3) -> Polished:
+def _reseed(template: Template, goal: Goal, p: Polished, deadline: float | None, tries: int = 3) -> Polished:
     """A polish that stopped short of zero, tried again with the worst target moved to another
     place where the curve passes near it (another local minimum of its distance along the sweep):
     a polish started from the nearest sample can settle with two targets on one arc of the curve."""
@@ -142,6 +142,8 @@ def _reseed(template: Template, goal: Goal, p: Polished, tries: int = 3) -> Poli
         d = np.where(bad, np.inf, np.abs(z - complex(t[k, 0], t[k, 1])))
         minima = np.flatnonzero((d <= np.roll(d, 1)) & (d <= np.roll(d, -1)) & np.isfinite(d))
         for i in minima[np.argsort(d[minima])][:tries]:
+            if deadline is not None and time.monotonic() > deadline:
+                return best
             start = p.phases.copy()
             start[k] = goal.sweep[i]
             q = polish(template, goal, p.x, start)

@@ -189,6 +189,14 @@ class Template:
         self.template_scene: Scene = self.scene(0.5 * (self.lo + self.hi))  # the rest of the file checked
 
     @property
+    def periods(self) -> np.ndarray:
+        """Per free value, its period in scene units where it is an angle free over a whole turn
+        (the polish lets it wrap instead of stopping at a bound), else inf."""
+        turn = 2.0 * math.pi / self.units.angle
+        return np.array([turn if f.kind == "angle" and f.hi - f.lo >= turn * (1.0 - 1e-12) else np.inf
+                         for f in self.free])
+
+    @property
     def places(self) -> tuple[str, ...]:
         return tuple(f.place for f in self.free)
 
