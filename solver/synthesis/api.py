@@ -100,7 +100,7 @@ def synthesize(
             if again is not None:
                 found.append(again)
         found.sort(key=lambda d: (not d.feasible, d.error))
-    designs = distinct(([d for d in found if d.feasible] or found)[:MAX_DESIGNS], goal)  # solutions: the feasible designs
+    designs = distinct(([d for d in found if d.feasible] or found)[:MAX_DESIGNS], goal)  # the feasible ones
     if not designs or (not designs[0].feasible and not expired):
         what = "assembles over the required input range with every transmission angle ≥ " \
                f"{math.degrees(goal.min_transmission):g}°" + (f" and links within {max_ratio:g}:1" if max_ratio else "")
