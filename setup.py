@@ -53,7 +53,10 @@ setup(
             "yourdfpy>=0.0.56",
             "pillow",
             "colcon-common-extensions",
+            "distributed>=2024.1",
         ],
+        # dimensional synthesis on a Dask cluster (solver.synthesize(workers=...), linkage-synth --dask)
+        "synth": ["distributed>=2024.1"],
         "bench": ["matplotlib>=3.8", "pylinkage==1.3.0", "numba>=0.60", "kinepy==0.1.7", "mujoco>=3", "exudyn>=1.13"],
     },
     zip_safe=True,
@@ -64,6 +67,7 @@ setup(
     entry_points={
         "console_scripts": [
             "linkage-solve = solver.cli:main",
+            "linkage-synth = solver.synth_cli:main",
             "mechanism_node = linkage_ros.node:main",
             "linkage-run = linkage_ros.cli:run_main",
             "linkage-view = linkage_ros.cli:view_main",

@@ -1,16 +1,19 @@
 """linkage_ros' solver: exact closed-form kinematics of linkage mechanisms from scene files.
 
-Pure numpy + PyYAML. ``scene = load_scene(path)``; ``k = scene.solve(phi, omega=..., epsilon=...)``;
-``k.point("C").position / .velocity / .acceleration``; ``k.joint("finger")...``.
+numpy + PyYAML, and scipy for dynamics and synthesis (imported on first use). ``scene =
+load_scene(path)``; ``k = scene.solve(phi, omega=..., epsilon=...)``; ``k.point("C").position /
+.velocity / .acceleration``; ``k.joint("finger")...``; ``scene.simulate(t_end, ...)``;
+``solver.synthesize(template, ...)``.
 """
 
 from __future__ import annotations
 
-from . import dynamics  # noqa: F401  (opens Scene.simulate and Scene.reduced, docs/dynamics.md)
+from typing import Any
+
 from . import vectors as _vectors  # noqa: F401  (registers the vector-loop scene section, seed 004)
-from .errors import AssemblyError, DynamicsError, SceneError, SolverError
+from .errors import AssemblyError, DynamicsError, SceneError, SolverError, SynthesisError
 from .kinematics import Kinematics, Motion
-from .scene import Link, Scene, find_scene, load_scene, shipped_scenes
+from .scene import DOORS, Link, Scene, find_scene, load_scene, shipped_scenes
 
 __all__ = [
     "AssemblyError",
@@ -21,8 +24,34 @@ __all__ = [
     "Scene",
     "SceneError",
     "SolverError",
+    "SynthesisError",
     "find_scene",
     "load_scene",
     "shipped_scenes",
+    "synthesize",
 ]
 __version__ = "0.1.0"
+
+
+def synthesize(template: Any, **task: Any) -> Any:
+    """Path, function or motion generation from a template scene: ``solver.synthesis.synthesize``
+    (docs/synthesis.md); imported on first use, so that ``import solver`` does not load scipy."""
+    from .synthesis import synthesize as run
+
+    return run(template, **task)
+
+
+def _simulate(scene: Scene, t_end: float, **options: Any) -> Any:
+    from .dynamics import simulate
+
+    return simulate(scene, t_end, **options)
+
+
+def _reduced(scene: Scene) -> Any:
+    from .dynamics import reduced_model
+
+    return reduced_model(scene)
+
+
+# Scene.simulate and Scene.reduced (docs/dynamics.md): solver.dynamics, imported on first use
+DOORS.update(simulate=_simulate, reduced=_reduced)

@@ -91,7 +91,7 @@ class Entry:
         return SceneError(message, file=self.file, entry=entry or None, line=line)
 
     def child(self, key: str, data: Any) -> Entry:
-        return Entry(
+        return type(self)(  # (a subclass's children are of its kind: solver.synthesis reads arrays)
             data,
             file=self.file,
             where=f"{self.where}.{key}" if self.where else key,

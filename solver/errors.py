@@ -12,7 +12,10 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["SolverError", "SceneError", "AssemblyError", "SampleAssemblyError", "DynamicsError", "format_intervals"]
+__all__ = [
+    "SolverError", "SceneError", "AssemblyError", "SampleAssemblyError", "DynamicsError", "SynthesisError",
+    "format_intervals",
+]
 
 
 class SolverError(ValueError):
@@ -148,3 +151,8 @@ class DynamicsError(SolverError):
         if group:
             parts.append(f"group '{group}'")
         super().__init__(f"{', '.join(parts)}: {message}" if parts else message)
+
+
+class SynthesisError(SolverError):
+    """A synthesis task that cannot be posed or has no feasible answer (solver.synthesis): the
+    message names the argument (``through[3]``, ``pairs``) or the constraint that no design met."""

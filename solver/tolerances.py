@@ -23,6 +23,7 @@ __all__ = [
     "CLOSURE_ROUNDING",
     "ZERO_TO_ROUNDING",
     "DYNAMICS_TOGGLE",
+    "EXACT_MISS",
 ]
 
 #: Machine epsilon of float64.
@@ -99,3 +100,8 @@ ZERO_TO_ROUNDING: float = 1e-12
 #: still well resolved in double precision (M within about 1e6 of its typical size), so the
 #: integrator's event locates the stop to its tolerance instead of failing on a stiff step.
 DYNAMICS_TOGGLE: float = NEAR_SINGULAR
+
+#: Synthesis (solver.synthesis): a design whose largest miss of its targets, checked by solving the
+#: returned scene, is at most this (m, or the joint's unit: rad, m) is "exact" — the round-off of
+#: the closed forms at a linkage of about 1 m is ~1e-16·(a few hundred operations) ≪ this.
+EXACT_MISS: float = 1e-9

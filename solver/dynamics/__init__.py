@@ -4,12 +4,12 @@ The effort of the kinetostatics is affine in the input accelerations, Q = M(q)·
 (solver.dynamics.reduced); forward dynamics integrates q̈ = M⁻¹(Q_drive − h) with scipy
 (solver.dynamics.integrate); machine dynamics (one input) finds the steady periodic motion under
 a motor and a cyclic load, the coefficient of speed fluctuation, the flywheel for a requested one
-and the run-up time (solver.dynamics.machine). ``Scene.simulate`` is the door into ``simulate``.
+and the run-up time (solver.dynamics.machine). ``Scene.simulate`` and ``Scene.reduced`` are doors
+into ``simulate`` and ``reduced_model`` (opened by ``solver/__init__``, imported on first use).
 """
 
 from __future__ import annotations
 
-from ..scene import DOORS
 from .drive import make_drive, motor_torque
 from .integrate import Equation, Stepper, Trajectory, simulate
 from .machine import RunUp, SteadyState, flywheel_for, run_up, steady_state
@@ -30,6 +30,3 @@ __all__ = [
     "simulate",
     "steady_state",
 ]
-
-DOORS["simulate"] = simulate
-DOORS["reduced"] = reduced_model

@@ -19,6 +19,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from .._backend import Backend
 from .._fields import Entry, Units
 from ..jet import Jet, direction, sub, turning
@@ -66,7 +68,10 @@ class Attached(Group):
         r = sub(vals[self.along[1]], vals[self.along[0]])
         z = r.value
         ctx.require(self, z.real * z.real + z.imag * z.imag > 0.0, reason="has a link of zero length")
-        offset = self.distance * complex(xp.cos(self.angle), xp.sin(self.angle))
+        if isinstance(self.angle, np.ndarray):  # a population of designs (solver.synthesis): one per row
+            offset = self.distance * (np.cos(self.angle) + 1j * np.sin(self.angle))
+        else:
+            offset = self.distance * complex(xp.cos(self.angle), xp.sin(self.angle))
         (p,), _ = points_on_link(vals[self.base], r, (offset,), xp)
         vals[self.point] = p
 

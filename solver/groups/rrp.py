@@ -28,6 +28,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
+import numpy as np
+
 from .._backend import abs2, cross, dot
 from .._fields import Entry, Units
 from ..jet import Jet
@@ -112,8 +114,12 @@ class RRP(Group):
         angle = g.angle("angle", units, 0.0)
         offset = g.length("offset", units, positive=False, default=0.0)
         g.done()
-        direction = complex(math.cos(angle), math.sin(angle))
-        origin = complex(fixed[through]) + offset * 1j * direction
+        if isinstance(angle, np.ndarray):  # a population of designs (solver.synthesis): one per row
+            direction: Any = np.cos(angle) + 1j * np.sin(angle)
+        else:
+            direction = complex(math.cos(angle), math.sin(angle))
+        at = fixed[through]
+        origin = (at if isinstance(at, np.ndarray) else complex(at)) + offset * 1j * direction
         joint = e.raw("joint", None)
         return cls(
             name=e.name("name"),

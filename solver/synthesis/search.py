@@ -1,0 +1,198 @@
+"""The global search and the multi-start sweep: scipy's differential evolution, then the polish.
+
+One *start* (seeded by ``seed + i``): ``differential_evolution`` with ``vectorized=True`` over
+the free values within their bounds, every generation's whole population one array evaluation
+(:func:`~.population.evaluate`, candidates × samples); it stops at its own convergence, at
+``maxiter``, when it stalls (``Options.stall``), when its best figure is below
+``Options.good_enough`` (the polish finishes from there), or at the deadline. Then the best
+distinct members of its final population are polished (:func:`~.polish.polish`). Starts run in
+order until one yields an exact design or ``starts`` are spent; on a Dask client
+(``workers=``) a batch of starts runs at once, and the results are read in start order with the
+same stopping rule, so whatever runs them the answer is the same (only an expiring time limit
+depends on the machine).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.optimize import differential_evolution
+
+from ..tolerances import EXACT_MISS
+from .polish import Polished, polish, residuals
+from .population import INFEASIBLE, Goal, evaluate, objective, run
+from .template import Template
+
+__all__ = ["Options", "StartResult", "run_start", "sweep"]
+
+
+
+@dataclass(frozen=True)
+class Options:
+    popsize: int = 20  # scipy's multiplier: popsize × n candidates per generation
+    maxiter: int = 300
+    polish_count: int = 8  # distinct final members polished per start
+    starts: int = 8
+    #: below this best figure, every ``try_every`` generations, the best is polished on trial
+    try_below: float = 5e-2
+    try_every: int = 5
+    trial_count: int = 3  # distinct best members polished on trial
+    #: a start that improved its best figure by less than 5 % in this many generations is stuck
+    #: (a local minimum): it ends, and the next start begins elsewhere
+    stall: int = 40
+    #: a best figure (RMS miss over the task's size) at which the search hands over to the polish
+    good_enough: float = 1e-3
+
+
+@dataclass
+class StartResult:
+    index: int
+    polished: list[Polished]
+    history: list[float] = field(default_factory=list)  # best figure per generation
+    expired: bool = False
+    generations: int = 0
+
+
+def run_start(template: Template, goal: Goal, seed: int, index: int, options: Options,
+              remaining: float | None) -> StartResult:
+    """One start (module docstring); ``remaining`` seconds or None for no limit."""
+    deadline = None if remaining is None else time.monotonic() + remaining
+    bounds = list(zip(template.lo, template.hi))
+    history: list[float] = []
+    expired = [False]
+
+    def f(xt: np.ndarray) -> np.ndarray:
+        return objective(goal, evaluate(template, goal, xt.T))
+
+    trials: list[Polished] = []
+    width = template.hi - template.lo
+
+    def callback(intermediate_result: Any) -> bool:
+        best = float(intermediate_result.fun)
+        history.append(best)
+        if deadline is not None and time.monotonic() > deadline:
+            expired[0] = True
+            return True
+        if best < options.try_below and len(history) % options.try_every == 0:
+            # hand the best few over to the polish now; stop the search if one ends exact and feasible
+            energies = np.asarray(intermediate_result.population_energies)
+            members = _distinct(np.asarray(intermediate_result.population)[np.argsort(energies)], width,
+                                options.trial_count)
+            for x, ph in zip(members, evaluate(template, goal, members).phases):
+                p = polish(template, goal, x, ph)
+                if _exact_and_feasible(template, goal, p):
+                    trials.append(p)
+            if trials:
+                return True
+        stalled = len(history) > options.stall and best > (1.0 - 0.05) * history[-options.stall]
+        return bool(best < options.good_enough or stalled)
+
+    rng = np.random.default_rng([seed, index])
+    with np.errstate(all="ignore"):
+        de = differential_evolution(
+            f, bounds, vectorized=True, updating="deferred", popsize=options.popsize, maxiter=options.maxiter,
+            seed=rng, polish=False, init="latinhypercube", callback=callback,
+            tol=1e-12, mutation=(0.5, 1.0), recombination=0.9,
+        )
+    if trials:  # the search ended on an exact design: the polish of the final members is not needed
+        return StartResult(index, trials, history, expired[0], int(de.nit))
+    xs = _distinct(de.population[np.argsort(de.population_energies)], width, options.polish_count)
+    ev = evaluate(template, goal, xs)
+    out = list(trials)
+    for x, ph in zip(xs, ev.phases):
+        if deadline is not None and time.monotonic() > deadline and out:
+            expired[0] = True
+            break
+        p = polish(template, goal, x, ph)
+        if goal.at is None and math.sqrt(2.0 * p.cost) * goal.scale > EXACT_MISS:
+            p = _reseed(template, goal, p, deadline)
+        out.append(p)
+    return StartResult(index, out, history, expired[0], int(de.nit))
+
+
+def _distinct(members: np.ndarray, width: np.ndarray, count: int) -> np.ndarray:
+    """The first ``count`` members (best first) apart by 1 % of a range in some value."""
+    picked: list[np.ndarray] = []
+    for member in members:
+        if len(picked) >= count:
+            break
+        if all(np.max(np.abs(member - p) / np.maximum(width, 1e-300)) > 1e-2 for p in picked):
+            picked.append(member)
+    return np.array(picked)
+
+
+def _reseed(template: Template, goal: Goal, p: Polished, deadline: float | None, tries: int = 3) -> Polished:
+    """A polish that stopped short of zero, tried again with the worst target moved to another
+    place where the curve passes near it (another local minimum of its distance along the sweep):
+    a polish started from the nearest sample can settle with two targets on one arc of the curve."""
+    ctx = run(template, p.x[None], goal.sweep, goal.names)
+    z = np.broadcast_to(ctx.values[goal.point].value, (1, goal.sweep.size))[0]  # type: ignore[index]
+    bad = np.broadcast_to(np.asarray(ctx.invalid, bool), (1, goal.sweep.size))[0]
+    t = goal.targets
+    r = residuals(template, goal, p.x[None], p.phases)[0][0]
+    k_count = len(t)
+    miss = np.hypot(r[:k_count], r[k_count : 2 * k_count])
+    best = p
+    for k in np.argsort(miss)[::-1][:2]:
+        d = np.where(bad, np.inf, np.abs(z - complex(t[k, 0], t[k, 1])))
+        minima = np.flatnonzero((d <= np.roll(d, 1)) & (d <= np.roll(d, -1)) & np.isfinite(d))
+        for i in minima[np.argsort(d[minima])][:tries]:
+            if deadline is not None and time.monotonic() > deadline:
+                return best
+            start = p.phases.copy()
+            start[k] = goal.sweep[i]
+            q = polish(template, goal, p.x, start)
+            if q.cost < best.cost:
+                best = q
+            if math.sqrt(2.0 * best.cost) * goal.scale <= EXACT_MISS:
+                return best
+    return best
+
+
+def _exact_and_feasible(template: Template, goal: Goal, p: Polished) -> bool:
+    """A polished design's residual at round-off and its sweep feasible (the population's own
+    figures; the returned designs are checked again on their loaded scenes)."""
+    if math.sqrt(2.0 * p.cost) * goal.scale > EXACT_MISS:
+        return False
+    ev = evaluate(template, goal, p.x[None])
+    return bool(objective(goal, ev)[0] < INFEASIBLE)
+
+
+def sweep(template: Template, goal: Goal, *, seed: int, options: Options, time_limit: float | None,
+          workers: Any, done: Callable[[StartResult], bool],
+          progress: Callable[[int, int, float], None] | None = None) -> list[StartResult]:
+    """Starts 0, 1, … in order until ``done(result)`` or ``options.starts`` (module docstring)."""
+    t0 = time.monotonic()
+    results: list[StartResult] = []
+    batch = 1 if workers is None else max(1, len(workers.scheduler_info().get("workers", {})))
+    i = 0
+    shared = None
+    while i < options.starts:
+        remaining = None if time_limit is None else time_limit - (time.monotonic() - t0)
+        if remaining is not None and remaining <= 0.0:
+            if results:
+                results[-1].expired = True
+            break
+        idx = list(range(i, min(i + batch, options.starts)))
+        if workers is None:
+            got = [run_start(template, goal, seed, j, options, remaining) for j in idx]
+        else:
+            if shared is None:
+                shared = workers.scatter([template, goal], broadcast=True)
+            futures = [workers.submit(run_start, shared[0], shared[1], seed, j, options, remaining, pure=False)
+                       for j in idx]
+            got = workers.gather(futures)
+        for r in got:
+            results.append(r)
+            if progress is not None:
+                best = min((h for s in results for h in s.history[-1:]), default=float("inf"))
+                progress(len(results), options.starts, best)
+            if r.expired or done(r):
+                return results
+        i += batch
+    return results
