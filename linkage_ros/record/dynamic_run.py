@@ -172,14 +172,28 @@ def _drive_text(scene: Any, trajectory: Any) -> str:
     return "free (the loads alone)"
 
 
-def _last_cycle(t: np.ndarray, phi: np.ndarray, omega: np.ndarray, cycle: float) -> tuple[float, float, float] | None:
-    """(t_start, ω_min, ω_max) over the last full load cycle of the run (|Δφ| = cycle), or None."""
-    turned = np.abs(phi - phi[-1])
-    full = np.flatnonzero(turned >= cycle)
-    if not full.size:
+#: Samples of the dense output over the last cycle for ω's extremes (between the ticks).
+CYCLE_SAMPLES = 4001
+
+
+def _last_cycle(trajectory: Any, cycle: float) -> tuple[float, float, float] | None:
+    """(t_start, ω_min, ω_max) over the last full load cycle of a one-input run (|Δφ| = cycle):
+    its start found on the integrator's dense output (brentq), ω's extremes on that output too,
+    not only at the ticks (a 720° cycle at 200 rad/s spans a handful of 100 Hz ticks)."""
+    from scipy.optimize import brentq
+
+    t = np.asarray(trajectory.t, float)
+    phi = np.asarray(trajectory.phi, float)
+    if t.size < 2 or abs(phi[-1] - phi[0]) < cycle:
         return None
-    i = int(full[-1])
-    return float(t[i]), float(np.min(omega[i:])), float(np.max(omega[i:]))
+    target = phi[-1] - math.copysign(cycle, phi[-1] - phi[0])
+    crossed = np.flatnonzero((phi[:-1] - target) * (phi[1:] - target) <= 0.0)
+    if not crossed.size:
+        return None
+    i = int(crossed[-1])
+    t0 = float(brentq(lambda s: float(trajectory.at(s)[0]) - target, t[i], t[i + 1], xtol=1e-15))
+    w = trajectory.at(np.linspace(t0, t[-1], CYCLE_SAMPLES))[1]
+    return t0, float(np.min(w)), float(np.max(w))
 
 
 def dynamics_lines(scene: Any, trajectory: Any, *, phi0: Any, run_up: bool = True) -> list[str]:
@@ -215,7 +229,7 @@ def dynamics_lines(scene: Any, trajectory: Any, *, phi0: Any, run_up: bool = Tru
             cycle = cycle_of(scene)
         except SolverError:
             cycle = 2 * math.pi
-        last = _last_cycle(tr.t, phi[:, 0], omega[:, 0], cycle)
+        last = _last_cycle(tr, cycle)
         if last is None:
             lines.append(f"  δ: no full cycle ({math.degrees(cycle):.0f}°) of the input in the run")
         else:
@@ -223,7 +237,7 @@ def dynamics_lines(scene: Any, trajectory: Any, *, phi0: Any, run_up: bool = Tru
             mean = cycle / (float(tr.t[-1]) - t0)
             lines.append(f"  δ = (ω_max − ω_min)/ω_mean = {(hi - lo) / mean:.6g} over the last full "
                          f"{math.degrees(cycle):.0f}° cycle (t = {t0:.6g} … {float(tr.t[-1]):.6g} s, ω_mean {mean:.6g} "
-                         "rad/s, read off the ticks)")
+                         "rad/s, on the integrator's dense output)")
     if tr.drive != "free":
         who = "motor" if tr.drive == "motor" else "drive"
         for i, q in enumerate(scene.inputs):
