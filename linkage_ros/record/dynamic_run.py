@@ -216,7 +216,6 @@ def dynamics_lines(scene: Any, trajectory: Any, *, phi0: Any, run_up: bool = Tru
         except SolverError as error:
             lines.append(f"  run-up: none ({getattr(error, 'reason', error)})")
     omega = np.asarray(tr.omega, dtype=float).reshape(tr.t.size, k)
-    phi = np.asarray(tr.phi, dtype=float).reshape(tr.t.size, k)
     effort = np.asarray(tr.effort, dtype=float).reshape(tr.t.size, k)
     span = float(tr.t[-1] - tr.t[0])
     for i, q in enumerate(scene.inputs):
