@@ -321,8 +321,8 @@ def _accelerations(m: Mechanism, at: Callable[[mpf], dict]) -> dict[str, tuple[V
 
 
 def _joint(m: Mechanism, joint: str, pts: dict[str, Vec], q: Sequence[mpf]) -> mpf:
-    """A joint's coordinate (rad or m): an input, or a read-out of the scene's ``joints``
-    (a ``revolute`` one as s·Δ + q₀, not wrapped: a rate or a table's wrap follows)."""
+    """A joint's coordinate (rad or m): an input, or a read-out of the scene's ``joints`` (a
+    ``revolute`` one s·Δ + q₀ in (−π, π], Δ the child line's angle from the parent line's)."""
     if joint in m.inputs:
         return q[m.inputs.index(joint)]
     ((kind, arg),) = dict(m.joints[joint]).items()
@@ -332,7 +332,8 @@ def _joint(m: Mechanism, joint: str, pts: dict[str, Vec], q: Sequence[mpf]) -> m
         (p0, p1), (c0, c1) = arg["parent"], arg["child"]
         u, v = _sub(pts[p1], pts[p0]), _sub(pts[c1], pts[c0])
         turn = mp.atan2(_cross(u, v), u[0] * v[0] + u[1] * v[1])
-        return int(arg.get("sign", 1)) * turn + _n(arg.get("offset", 0)) * m.angle
+        value = int(arg.get("sign", 1)) * turn + _n(arg.get("offset", 0)) * m.angle
+        return value - 2 * mp.pi * mp.ceil((value - mp.pi) / (2 * mp.pi))  # into (−π, π], as read out
     d = _sub(pts[arg[1]], pts[arg[0]])
     if kind == "distance":
         return mp.hypot(*d)
