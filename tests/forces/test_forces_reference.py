@@ -16,8 +16,9 @@ instants of a file in one call) and on its one-instant path (plain floats), must
   instant's loads instead of to a relative error of a tiny number.
 
 Each file also names the scene file and the SHA-256 of its mechanics (units, fixed points, groups,
-joints, bodies, gravity, loads, and flywheel and damping where the scene has them): a scene whose mechanics changed after its reference was made fails
-here with the command that regenerates it (descriptions and comments may change freely).
+joints, bodies, gravity, loads, and flywheel and damping where the scene has them): a scene whose
+mechanics changed after its reference was made fails here with the command that regenerates it
+(descriptions and comments may change freely).
 """
 
 from __future__ import annotations
