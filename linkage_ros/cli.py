@@ -246,10 +246,11 @@ def _dynamic_start_line(scene: Any, duration: float, rate: float, ticks: int, st
 
 
 def _load_rule(scales: dict[str, float]) -> LoadArrows:
-    """The load arrows' rule from a run's arrow scales (``load``, and ``load_knee`` with a knee)."""
+    """The load arrows' rule from a run's arrow scales (``load``, and ``load_knee`` with a knee,
+    ``load_decade`` where a tenfold adds less than a knee length)."""
     from .forces import LoadArrows
 
-    return LoadArrows(scales["load"], scales.get("load_knee", math.inf))
+    return LoadArrows(scales["load"], scales.get("load_knee", math.inf), decade=scales.get("load_decade"))
 
 
 @quiet_pipe

@@ -21,11 +21,12 @@ every message is as before.
 How long a load's arrow is drawn (the node's ``markers`` and the rerun view alike) is one rule,
 :class:`LoadArrows` chosen by :func:`load_arrows` from the loads of one cycle: proportional,
 ``scale`` m per N, up to a ``knee``; beyond it each further tenfold of the load adds one knee
-length (ℓ = s·F_k·(1 + log10(F/F_k))), so that a peak far above the typical loads (the engine's
-gas force at top dead centre: 25 × the median) stays inside the drawing while the typical loads
-stay visible. Runs whose peak fits proportionally have no knee (``knee`` = inf). A load that is
-not zero is drawn at least :data:`FLOOR_FRACTION` of the drawing long, so that its direction
-shows.
+length (ℓ = s·F_k·(1 + log10(F/F_k))), or less where the peak is more than a tenfold above the
+knee (``decade``: then the peak is drawn :data:`MAX_FRACTION` of the drawing long), so that a
+peak far above the typical loads (the engine's gas force near firing top dead centre: 15.6 kN,
+180 × the median) stays inside the drawing while the typical loads stay visible. Runs whose peak
+fits proportionally have no knee (``knee`` = inf). A load that is not zero is drawn at least
+:data:`FLOOR_FRACTION` of the drawing long, so that its direction shows.
 """
 
 from __future__ import annotations
@@ -75,14 +76,21 @@ small loads near 140° were stubs of a few pixels: issue 24)."""
 
 class LoadArrows(NamedTuple):
     """How long a load's arrow is: ``scale`` m per N up to ``knee`` N (a length of
-    ``scale · knee``), then each further tenfold of the load adds that length again:
-    ℓ(F) = s·F for F ≤ F_k, s·F_k·(1 + log10(F/F_k)) above (continuous, increasing); and never
-    shorter than ``floor`` m for a load that is not zero (a small load keeps a visible arrow that
-    shows its direction; a zero load has none)."""
+    ``scale · knee``), then each further tenfold of the load adds :attr:`step` m (``decade``, or
+    that knee length again when ``decade`` is None): ℓ(F) = s·F for F ≤ F_k, s·F_k +
+    step·log10(F/F_k) above (continuous, increasing); and never shorter than ``floor`` m for a
+    load that is not zero (a small load keeps a visible arrow that shows its direction; a zero
+    load has none)."""
 
     scale: float
     knee: float = math.inf
     floor: float = 0.0
+    decade: float | None = None
+
+    @property
+    def step(self) -> float:
+        """The length (m) each tenfold of the load above the knee adds."""
+        return self.scale * self.knee if self.decade is None else self.decade
 
     def factor(self, force: Any) -> Any:
         """Arrow length per N of load at magnitude ``force`` (a float or an array): the arrow is
@@ -90,13 +98,13 @@ class LoadArrows(NamedTuple):
         if isinstance(force, np.ndarray):
             fs = np.asarray(force, dtype=np.float64)
             with np.errstate(divide="ignore", invalid="ignore"):
-                bent = self.scale * self.knee * (1.0 + np.log10(fs / self.knee)) / fs
+                bent = (self.scale * self.knee + self.step * np.log10(fs / self.knee)) / fs
                 least = self.floor / fs
             out = np.where(fs > self.knee, bent, np.where(np.isnan(fs), np.nan, self.scale))
             return np.where((fs > 0.0) & (out * fs < self.floor), least, out)
         f = float(force)
         if f > self.knee:
-            return self.scale * self.knee * (1.0 + math.log10(f / self.knee)) / f
+            return (self.scale * self.knee + self.step * math.log10(f / self.knee)) / f
         if f != f:
             return math.nan
         return self.floor / f if 0.0 < f and self.scale * f < self.floor else self.scale
@@ -114,7 +122,7 @@ class LoadArrows(NamedTuple):
         +0.065 m per ×10``."""
         text = f"× {self.scale:g} {per}"
         if math.isfinite(self.knee):
-            text += f" up to {self.knee:.3g} N, then +{self.scale * self.knee:.3g} m per ×10"
+            text += f" up to {self.knee:.3g} N, then +{self.step:.3g} m per ×10"
         if self.floor > 0.0:
             text += f", at least {self.floor:.2g} m"
         return text
@@ -125,8 +133,10 @@ def load_arrows(samples: Mapping[str, NDArray[np.float64]], extent: float) -> Lo
     ``extent`` m: a round scale (1, 2 or 5 × 10^k m/N) that draws a long load
     (:data:`TYPICAL_RATIO`) at about a quarter of ``extent``; if the largest load would then be
     longer than :data:`MAX_FRACTION` of ``extent``, a knee where the proportional part reaches a
-    quarter of ``extent``. Every rule has a floor of :data:`FLOOR_FRACTION` of ``extent``.
-    Non-finite samples are left out; no load at all gives scale 1."""
+    quarter of ``extent``, with one knee length per tenfold above it — or less, so that the peak
+    is drawn MAX_FRACTION of ``extent`` long, where it is more than a tenfold above the knee.
+    Every rule has a floor of :data:`FLOOR_FRACTION` of ``extent``. Non-finite samples are left
+    out; no load at all gives scale 1."""
     parts = [np.linalg.norm(np.asarray(v, dtype=np.float64)[:, :2], axis=1) for v in samples.values() if v.size]
     f = np.concatenate(parts) if parts else np.zeros(0)
     f = f[np.isfinite(f)]
@@ -139,9 +149,14 @@ def load_arrows(samples: Mapping[str, NDArray[np.float64]], extent: float) -> Lo
         reference = float(f.max())
     scale = nice_scale(ARROW_FRACTION * extent / reference)
     floor = FLOOR_FRACTION * extent
-    if scale * float(f.max()) <= MAX_FRACTION * extent:
+    peak, most = float(f.max()), MAX_FRACTION * extent
+    if scale * peak <= most:
         return LoadArrows(scale, floor=floor)
-    return LoadArrows(scale, ARROW_FRACTION * extent / scale, floor)
+    knee = ARROW_FRACTION * extent / scale
+    bent = LoadArrows(scale, knee, floor)
+    if bent.length(peak) <= most:
+        return bent
+    return bent._replace(decade=(most - scale * knee) / math.log10(peak / knee))  # the peak at `most`
 
 
 class LoadPair(NamedTuple):

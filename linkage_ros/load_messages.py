@@ -103,7 +103,7 @@ class LoadMessages:
         self._Marker = c["visualization_msgs/msg/Marker"]
         self._zero = self._Vector3(x=0.0, y=0.0, z=0.0)
         #: How long a load's arrow is (:func:`~linkage_ros.forces.load_arrows` over one cycle at
-        #: the starting motion): ``scale`` m per N, above ``knee`` N one knee length per tenfold.
+        #: the starting motion): ``scale`` m per N, above ``knee`` N ``rule.step`` m per tenfold.
         self.rule: LoadArrows = load_arrows(engine.load_samples, size)
         self.scale: float = self.rule.scale
         bent = math.isfinite(self.rule.knee) or self.rule.floor > 0.0

@@ -17,7 +17,8 @@ The rule is the node's (:func:`linkage_ros.forces.load_arrows`, docs/ros.md "For
 scale (1, 2 or 5 × 10^k m/N) that draws a long load (the 95th percentile of all pin loads of the
 run, at most 1.5 × their median) at about a quarter of the mechanism's extent; when the largest
 load would then be longer than half the extent, loads above a knee (drawn at a quarter of the
-extent) grow by one knee length per tenfold (the engine: 2e-4 m/N up to ~330 N).
+extent) grow by one knee length per tenfold, or less so that the peak is drawn half the extent
+long (the engine: 5e-4 m/N up to 131 N, then +0.031 m per ×10: its 15.6 kN peak 0.13 m long).
 """
 
 from __future__ import annotations

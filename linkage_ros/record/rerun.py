@@ -325,6 +325,7 @@ def log_run(rec: Any, data: RunData) -> dict[str, float]:
     if data.loads or data.efforts:  # scenes with forces: arrows at the pins, efforts (.forces)
         rule = log_forces(rec, data, times, radius=radius)
         knee = {"load_knee": rule.knee} if math.isfinite(rule.knee) else {}
+        knee |= {"load_decade": rule.decade} if rule.decade is not None else {}
         return {"velocity": v_scale, "acceleration": a_scale, "load": rule.scale, **knee}
     return {"velocity": v_scale, "acceleration": a_scale}
 

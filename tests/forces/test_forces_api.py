@@ -269,10 +269,16 @@ def massless_effort_line(scene: solver.Scene, phi: np.ndarray) -> str:
 def test_a_slide_line_says_how_often_the_block_changes_side_and_leaves_out_a_couple_that_is_zero() -> None:
     scene = solver.load_scene("engine")
     phi = np.linspace(0.0, 2 * math.pi, 360, endpoint=False)
-    line = next(x for x in force_lines(scene, scene.solve(phi, omega=100.0)) if x.startswith("  slide "))
+    k = scene.solve(phi, omega=100.0)
+    line = next(x for x in force_lines(scene, k) if x.startswith("  slide "))
     assert "couple" not in line  # the piston's load acts at its pin: the couple is 0 at every sample
+    # the count, read here off the guide's normal force (y: the cylinder is along x), the turn closed
+    normal = np.sign(np.asarray(k.slide_reaction("piston").force)[:, 1])
+    normal = normal[normal != 0.0]
+    changes = int(np.count_nonzero(normal != np.roll(normal, 1)))
+    assert changes >= 2 and changes % 2 == 0  # a closed turn: as many changes there as back
     assert re.search(r"peak normal force [\d.]+ N at φ = [\d.]+°, RMS [\d.]+ N; changes the side of the guide "
-                     r"it presses on 2 times a turn$", line), line
+                     rf"it presses on {changes} times a turn$", line), line
     part = scene.solve(np.radians([10.0, 20.0, 30.0]), omega=100.0)
     line = next(x for x in force_lines(scene, part) if x.startswith("  slide "))
     assert line.endswith("; presses on one side of the guide throughout")

@@ -6,6 +6,9 @@ Q = −J_Pᵀ·F, a point mass on a massless chain Q = J_Pᵀ·m·(a_P − g), t
 Σ Q·ω = dT/dt + dV/dt − P_loads, a millimetre scene equal to the metre scene, and the per-tick
 path equal to the vectorised one. Bodies' motion is recomputed here from the points' real
 motion (θ̇ = r × ṙ/|r|², θ̈ = r × r̈/|r|² − 2(r·ṙ)(r × ṙ)/|r|⁴), not from the solver's frames.
+A damper (issue 22) is a viscous couple −c·(θ̇_body − θ̇_other) on its body and the opposite on
+the other (ground: θ̇ = 0), from those recomputed rates; a flywheel must be in its crank body's
+inertia as ``scene.bodies`` reports it (the file's inertia plus the flywheel's).
 Hypothesis draws (φ, ω, ε) and geometries on bounded finite ranges.
 """
 
@@ -21,6 +24,7 @@ from scene_builders import build
 
 import solver
 from solver.forces import PointForce, Spring, TableForce, Torque
+from solver.forces.spec import Damper
 from solver.forces.virtual import virtual_efforts
 
 #: relative to the instant's largest load: rounding of a few dozen operations
@@ -30,16 +34,26 @@ SHIPPED = ["four_bar_loaded", "engine", "harvester_finger", "five_bar", "harvest
 
 
 def _scene(name: str) -> solver.Scene:
-    """A shipped scene, or the harvester finger with a massive eyelet block and a return spring."""
-    if name != "harvester_block_spring":
-        return solver.load_scene(name)
+    """A shipped scene, or the harvester finger with a massive eyelet block, a return spring, a
+    flywheel on the drum and dampers in an angle joint (finger against ground) and a revolute
+    joint between two bodies (finger against drum, its sign reversed)."""
+    return solver.load_scene(name) if name != "harvester_block_spring" else build(_data(name))
+
+
+def _data(name: str) -> dict[str, Any]:
+    """The scene file's data (_scene's, of its harvester variant)."""
     import yaml
 
-    data = yaml.safe_load(solver.find_scene("harvester_finger").read_text(encoding="utf-8"))
+    data = yaml.safe_load(solver.find_scene(name.replace("_block_spring", "_finger")).read_text(encoding="utf-8"))
+    if name != "harvester_block_spring":
+        return dict(data)
     data["bodies"]["eyelet"] = {"points": ["B"], "mass": 0.1, "center": [0.01, 0.02], "inertia": 1.0e-4}
     data["loads"].append({"spring": [["finger", "E"], ["ground", "O"]], "stiffness": 150.0, "free_length": 0.05})
     data["loads"].append({"body": "eyelet", "torque": 0.3})
-    return build(data)
+    data["joints"]["knuckle"] = {"revolute": {"parent": ["O", "B"], "child": ["A", "C"], "sign": -1}}
+    data["flywheel"] = {"drum": 0.07}
+    data["damping"] = {"finger": 0.4, "knuckle": 0.25, "drum": 0.1}
+    return dict(data)
 
 rate = st.floats(-20.0, 20.0)
 angle = st.floats(0.0, 2 * math.pi)
@@ -85,11 +99,18 @@ def _body_state(body: Any, m: Motion) -> tuple[Any, ...]:
     return m.p[o] + cu, m.v[o] + 1j * w * cu, m.a[o] + (1j * alpha - w * w) * cu, w, alpha
 
 
+def _spins(scene: solver.Scene, m: Motion) -> dict[str, Any]:
+    """θ̇ of every body (ground: 0) from the points' real motion."""
+    spec = scene.forces.spec  # type: ignore[union-attr]
+    return {"ground": 0.0, **{b.name: _body_state(b, m)[3] for b in spec.bodies}}
+
+
 def _loads_on(scene: solver.Scene, m: Motion) -> dict[str, list[tuple[Any, Any]]]:
     """Per body: (force, moment about the origin) of every applied load."""
     spec = scene.forces.spec  # type: ignore[union-attr]
     out: dict[str, list[tuple[Any, Any]]] = {b.name: [] for b in spec.bodies}
     out["ground"] = []
+    spin = _spins(scene, m)
     for ld in spec.loads:
         if isinstance(ld, PointForce):
             out[ld.body].append((ld.force, _cross(m.p[ld.point], ld.force)))
@@ -106,7 +127,23 @@ def _loads_on(scene: solver.Scene, m: Motion) -> dict[str, list[tuple[Any, Any]]
             f = ld.stiffness * (length - ld.free_length) * d / length
             out[b0].append((f, _cross(m.p[p0], f)))
             out[b1].append((-f, _cross(m.p[p1], -f)))
+        elif isinstance(ld, Damper):  # viscous: against the relative turn of the two bodies
+            couple = ld.coefficient * (spin[ld.body] - spin[ld.other])
+            out[ld.body].append((0.0, -couple))
+            out[ld.other].append((0.0, couple))
     return out
+
+
+def _check_inertias(name: str, scene: solver.Scene) -> None:
+    """Every body's inertia as ``scene.bodies`` reports it: the file's, plus the flywheel of the
+    input crank whose centre and point it carries (a massless disc about the pivot), else 0."""
+    data = _data(name)
+    want = {str(b): float(v.get("inertia", 0.0)) for b, v in (data.get("bodies") or {}).items()}
+    for joint, extra in (data.get("flywheel") or {}).items():
+        crank = next(g for g in data["groups"] if g["type"] == "crank" and g.get("joint", g["name"]) == joint)
+        body = next(b for b in scene.bodies if {crank["center"], crank["point"]} <= set(b.points))
+        want[body.name] = want.get(body.name, 0.0) + float(extra)
+    assert {b.name: b.inertia for b in scene.bodies} == {b.name: want.get(b.name, 0.0) for b in scene.bodies}
 
 
 def _check_equilibrium(scene: solver.Scene, k: solver.Kinematics) -> None:
@@ -165,6 +202,7 @@ def _samples(scene: solver.Scene, data: st.DataObject, n: int = 16) -> tuple[Any
 @given(st.sampled_from(SHIPPED), st.data())
 def test_every_body_is_in_equilibrium_and_the_third_law_holds_at_every_pin(name: str, data: st.DataObject) -> None:
     scene = _scene(name).everything()
+    _check_inertias(name, scene)
     phi, w, e = _samples(scene, data)
     k = scene.solve(phi, omega=w, epsilon=e, mask=True)
     assume(k.valid.all() and not k.singular.any())
@@ -280,7 +318,7 @@ def _power_terms(scene: solver.Scene, k: solver.Kinematics) -> tuple[Any, Any]:
     spec = scene.forces.spec  # type: ignore[union-attr]
     g = spec.gravity
     rhs: Any = 0.0
-    omega = {b.name: _body_state(b, m)[3] for b in spec.bodies}
+    omega = spin = _spins(scene, m)
     for b in spec.bodies:
         _, v_g, a_g, w, alpha = _body_state(b, m)
         rhs = rhs + b.mass * _dot(v_g, a_g) + b.inertia * w * alpha - b.mass * _dot(g, v_g)
@@ -297,6 +335,8 @@ def _power_terms(scene: solver.Scene, k: solver.Kinematics) -> tuple[Any, Any]:
             d, vd = m.p[p1] - m.p[p0], m.v[p1] - m.v[p0]
             length = np.abs(d)
             rhs = rhs + ld.stiffness * (length - ld.free_length) * _dot(d, vd) / length
+        elif isinstance(ld, Damper):  # the damper's power −c·(θ̇_body − θ̇_other)², dissipated
+            rhs = rhs + ld.coefficient * (spin[ld.body] - spin[ld.other]) ** 2
     w_in = np.atleast_2d(np.asarray(k.omega).T).T if len(scene.inputs) > 1 else np.asarray(k.omega)
     lhs: Any = 0.0
     for i, q in enumerate(scene.inputs):
@@ -321,6 +361,9 @@ def test_a_millimetre_scene_gives_the_forces_of_the_metre_scene(phi: float, w: f
     import yaml
 
     data = yaml.safe_load(solver.find_scene("engine").read_text(encoding="utf-8"))
+    # the gas table is of the crank angle: a table of the piston's position (mm) is scaled too
+    piston_table = {"of": "piston_x", "at": [110.0, 150.0, 200.0], "force": [0.0, 300.0, 500.0]}
+    data["loads"].append({"body": "piston", "point": "B", "direction": [-1.0, 0.0], "table": piston_table})
     metres = yaml.safe_load(yaml.safe_dump(data))
     metres["units"]["length"] = "m"
     metres["groups"][0]["length"] /= 1000.0
@@ -328,7 +371,12 @@ def test_a_millimetre_scene_gives_the_forces_of_the_metre_scene(phi: float, w: f
     for body in metres["bodies"].values():
         if "center" in body:
             body["center"] = [x / 1000.0 for x in body["center"]]
-    metres["loads"][0]["table"]["at"] = [x / 1000.0 for x in metres["loads"][0]["table"]["at"]]
+    for load in metres["loads"]:  # a table of a length joint is in mm; of an angle, unchanged
+        table = load.get("table")
+        joint = metres.get("joints", {}).get(table["of"]) if table else None
+        if joint is not None and not {"angle", "revolute"} & set(joint):
+            table["at"] = [x / 1000.0 for x in table["at"]]
+    assert [ld["table"]["at"][-1] for ld in metres["loads"]] == [720, 0.2]
     mm, m = build(data), build(metres)
     a, b = mm.solve(phi, omega=w, epsilon=e), m.solve(phi, omega=w, epsilon=e)
     scale = max(1.0, abs(b.effort("crankshaft")))

@@ -16,8 +16,9 @@ instants of a file in one call) and on its one-instant path (plain floats), must
   instant's loads instead of to a relative error of a tiny number.
 
 Each file also names the scene file and the SHA-256 of its mechanics (units, fixed points, groups,
-joints, bodies, gravity, loads): a scene whose mechanics changed after its reference was made fails
-here with the command that regenerates it (descriptions and comments may change freely).
+joints, bodies, gravity, loads, and flywheel and damping where the scene has them): a scene whose
+mechanics changed after its reference was made fails here with the command that regenerates it
+(descriptions and comments may change freely).
 """
 
 from __future__ import annotations
@@ -163,11 +164,13 @@ def test_the_reference_covers_the_scenes_issue_17_names() -> None:
     with forces, and test scenes beyond them (tests/forces/scenes/): a massive piston with a
     constant force and a table, a ternary link (attached point) with springs and radians, a
     slotted link with a return spring, a massive slot block, three bodies on one pin (six-bar),
-    an angle table, a scene in millimetres."""
+    an angle table, a scene in millimetres, a flywheel and dampers in every kind of revolute joint
+    with tables of a 720° period and of a revolute joint (issue 22)."""
     scenes = {json.loads(p.read_text())["scene"] for p in FILES}
     assert {"four_bar_loaded", "engine", "harvester_finger", "five_bar"} <= scenes
     assert {"ref_four_bar_loaded", "ref_engine", "ref_harvester_finger", "ref_five_bar_payload"} <= scenes
     assert {"ref_gripper", "ref_four_bar_loaded_mm", "ref_six_bar", "ref_slotted_block"} <= scenes
+    assert "ref_four_bar_damped" in scenes
 
 
 @pytest.mark.parametrize("path", FILES[:2], ids=[p.stem for p in FILES[:2]])

@@ -8,7 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from linkage_ros.forces import LoadArrows
+from linkage_ros.forces import MAX_FRACTION as FORCES_MAX_FRACTION
+from linkage_ros.forces import LoadArrows, load_arrows
 from linkage_ros.record._drawing import plot_range as _range
 from linkage_ros.record.forces import arrow_vectors, load_rule
 from linkage_ros.record.rerun import WINDOW_PX, legend_share, legend_text, plot_columns
@@ -40,8 +41,13 @@ def test_the_engines_load_arrows_are_visible_for_most_of_a_turn_and_never_huge(e
     longest = np.max([np.linalg.norm(arrow_vectors(rule, v, 2), axis=1) for v in engine.loads.values()], axis=0)
     assert np.mean(longest >= MIN_FRACTION * extent) >= 0.75
     assert float(np.max(longest)) <= MAX_FRACTION * extent
-    # the peak (4.5 kN at top dead centre) is above the knee: proportional would be 0.9 m
-    assert math.isfinite(rule.knee) and rule.scale * 4.4e3 > MAX_FRACTION * extent
+    # the peak (the gas force near firing top dead centre, ~15.6 kN: 2 decades above the knee) is
+    # drawn, not 7.8 m proportionally nor 3 knee lengths on one knee length per tenfold, but half
+    # the drawing long: a tenfold adds less than a knee length (linkage_ros.forces.load_arrows)
+    peak = max(float(np.max(np.linalg.norm(v[:, :2], axis=1))) for v in engine.loads.values())
+    assert peak > 100.0 * rule.knee and rule.scale * peak > MAX_FRACTION * extent
+    assert rule.decade is not None and rule.decade < rule.scale * rule.knee
+    assert float(np.max(longest)) == pytest.approx(FORCES_MAX_FRACTION * extent, rel=1e-12)
 
 
 def test_the_arrow_length_is_proportional_to_the_knee_then_one_knee_length_per_tenfold() -> None:
@@ -52,6 +58,21 @@ def test_the_arrow_length_is_proportional_to_the_knee_then_one_knee_length_per_t
     assert [rule.factor(float(f)) for f in forces[:5]] == pytest.approx(list(rule.factor(forces[:5])), rel=1e-15)
     assert math.isnan(rule.factor(math.nan)) and np.isnan(rule.factor(forces)[-1])
     assert LoadArrows(0.005).length(1e6) == pytest.approx(5e3)  # no knee: proportional
+    short = rule._replace(decade=0.03)  # a tenfold adds 0.03 m, not a knee length (0.06 m)
+    assert short.length(forces[2:5]) == pytest.approx([0.06, 0.09, 0.12])
+    assert short.factor(3000.0) == pytest.approx(float(short.factor(np.array([3000.0]))[0]), rel=1e-15)
+    assert short.describe() == "× 0.0002 m/N up to 300 N, then +0.03 m per ×10"
+
+
+def test_a_peak_far_above_the_knee_is_drawn_at_most_the_largest_fraction_and_a_near_one_as_before() -> None:
+    extent = 1.0
+    loads = np.full((100, 2), [100.0, 0.0])
+    loads[0] = [2.0e5, 0.0]  # 3.2 decades above the knee (125 N at 2e-3 m/N)
+    rule = load_arrows({"P": loads}, extent)
+    assert rule.knee == pytest.approx(125.0) and rule.length(2.0e5) == pytest.approx(FORCES_MAX_FRACTION * extent)
+    loads[0] = [1.0e3, 0.0]  # less than a tenfold above the knee: one knee length per tenfold
+    near = load_arrows({"P": loads}, extent)
+    assert near.decade is None and near.length(1.0e3) < FORCES_MAX_FRACTION * extent
 
 
 @pytest.mark.parametrize(("lo", "hi", "marks"), [(-70.0, 88.0, (-100.0, 100.0)), (0.11, 0.2, (0.1, 0.2)),

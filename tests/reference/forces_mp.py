@@ -26,9 +26,19 @@ for an RRR's links, ``name.block`` for a block): topology is shared, formulas ar
 
 Loads: a force at a point, a torque, a spring ``[[body, point], [body, point]]`` (tension
 k·(ℓ − ℓ₀), ends on ground allowed), a force of fixed direction whose size is read off a table of a
-joint's coordinate (linear, constant beyond the ends; an angle wrapped into [at₀, at₀ + 2π)).
+joint's coordinate (linear, constant beyond the ends; an angle wrapped into [at₀, at₀ + period),
+``period`` in the scene's angle unit, one turn unless given: 720° for a four-stroke engine).
+
+Drive (issue 22; ``motor`` is ignored: it moves the mechanism in forward dynamics, and an effort
+is what the actuator must apply whoever it is): ``flywheel: {CRANK: I_F}`` is a massless disc
+turning with the input crank, so it adds I_F (kg·m²) to that body's rotational inertia and nothing
+else, wherever the body's centre is. ``damping: {JOINT: c}`` is a viscous couple in a revolute
+joint: −c·q̇ on the joint's moving body and +c·q̇ on the other, q̇ the joint's rate (rad/s), for an
+input crank (crank against ground), an ``angle`` joint (the link carrying both points against
+ground) and a ``revolute`` joint (child line's link against the parent line's link, or ground when
+the parent line is fixed; q = s·Δ + q₀ gives a couple −c·s·q̇ on the child, +c·s·q̇ on the parent).
 Every solve checks its equilibrium residual; :func:`power_residual` checks the efforts against
-an energy balance that uses no reaction and no moment equation.
+an energy balance that uses no reaction and no moment equation (a damper's power is −c·q̇²).
 
 Run ``python tests/reference/forces_mp.py SCENE.yaml [...]`` to (re)write
 ``tests/data/forces_<scene>.json`` (``--check`` compares with the stored files instead); the
@@ -116,6 +126,7 @@ class Mechanism:
     joints: dict[str, Any]  # the scene's read-out joints (for a table load's coordinate)
     gravity: Vec
     loads: list[dict[str, Any]]
+    dampers: list[tuple[str, str, str, mpf]] = field(default_factory=list)  # (joint, body, other, c)
 
 
 def _links(groups: list[dict[str, Any]], fixed: dict[str, Vec], angle: mpf) -> tuple[dict, dict, dict]:
@@ -184,12 +195,38 @@ def load(path: str | Path) -> Mechanism:
         if len(at) >= 2:
             pins[point] = at
     gravity = tuple(_n(x) for x in raw.get("gravity", [0, 0]))
-    return Mechanism(
+    m = Mechanism(
         name=str(raw.get("scene", path.stem)), file=path, length=length, angle=angle, fixed=fixed, groups=groups,
         inputs=list(cranks), cranks={j: rename.get(c, c) for j, c in cranks.items()}, links=named, pins=pins,
         slides={rename.get(b, b): rename.get(g, g) for b, g in slides.items()}, joints=dict(raw.get("joints") or {}),
         gravity=(gravity[0], gravity[1]), loads=list(raw.get("loads") or []),
     )  # fmt: skip
+    for joint, inertia in (raw.get("flywheel") or {}).items():  # a massless disc on the crank
+        m.links[m.cranks[str(joint)]].inertia += _n(inertia)
+    m.dampers = [(str(j), *_damped(m, str(j)), _n(c)) for j, c in (raw.get("damping") or {}).items()]
+    return m
+
+
+def _carrier(m: Mechanism, points: Sequence[str], ground_ok: bool = False) -> str:
+    """The link (not a block) carrying all ``points``; ground for fixed points when allowed."""
+    for name, li in m.links.items():
+        if not li.block and set(points) <= set(li.points):
+            return name
+    if ground_ok and set(points) <= set(m.fixed):
+        return GROUND
+    raise ValueError(f"{m.file}: no one link carries {', '.join(points)}")
+
+
+def _damped(m: Mechanism, joint: str) -> tuple[str, str]:
+    """(moving body, other body or ground) of a damped revolute joint."""
+    if joint in m.cranks:
+        return m.cranks[joint], GROUND
+    ((kind, arg),) = dict(m.joints[joint]).items()
+    if kind == "angle":
+        return _carrier(m, [str(p) for p in arg]), GROUND
+    if kind == "revolute":
+        return _carrier(m, [str(p) for p in arg["child"]]), _carrier(m, [str(p) for p in arg["parent"]], True)
+    raise ValueError(f"{m.file}: the reference damps no joint of kind '{kind}'")
 
 
 def positions(m: Mechanism, q: Sequence[mpf]) -> dict[str, Vec]:
@@ -284,12 +321,19 @@ def _accelerations(m: Mechanism, at: Callable[[mpf], dict]) -> dict[str, tuple[V
 
 
 def _joint(m: Mechanism, joint: str, pts: dict[str, Vec], q: Sequence[mpf]) -> mpf:
-    """A joint's coordinate (rad or m): an input, or a read-out of the scene's ``joints``."""
+    """A joint's coordinate (rad or m): an input, or a read-out of the scene's ``joints`` (a
+    ``revolute`` one s·Δ + q₀ in (−π, π], Δ the child line's angle from the parent line's)."""
     if joint in m.inputs:
         return q[m.inputs.index(joint)]
     ((kind, arg),) = dict(m.joints[joint]).items()
     if kind in ("x", "y"):
         return pts[arg][0 if kind == "x" else 1]
+    if kind == "revolute":
+        (p0, p1), (c0, c1) = arg["parent"], arg["child"]
+        u, v = _sub(pts[p1], pts[p0]), _sub(pts[c1], pts[c0])
+        turn = mp.atan2(_cross(u, v), u[0] * v[0] + u[1] * v[1])
+        value = int(arg.get("sign", 1)) * turn + _n(arg.get("offset", 0)) * m.angle
+        return value - 2 * mp.pi * mp.ceil((value - mp.pi) / (2 * mp.pi))  # into (−π, π], as read out
     d = _sub(pts[arg[1]], pts[arg[0]])
     if kind == "distance":
         return mp.hypot(*d)
@@ -298,15 +342,30 @@ def _joint(m: Mechanism, joint: str, pts: dict[str, Vec], q: Sequence[mpf]) -> m
     raise ValueError(f"{m.file}: the reference reads no joint of kind '{kind}'")
 
 
+def _joint_rate(m: Mechanism, joint: str, at: Callable[[mpf], dict], q: Sequence[mpf], omega: Sequence[mpf]) -> mpf:
+    """A joint's rate at t = 0: ω for an input, else mp.diff in time of its coordinate, unwound
+    about its value at t = 0 (an angle jumps by 2π at ±π)."""
+    if joint in m.inputs:
+        return omega[m.inputs.index(joint)]
+    q0 = _joint(m, joint, at(mpf(0)), q)
+
+    def unwound(t: mpf) -> mpf:
+        d = _joint(m, joint, at(t), q) - q0
+        return d - 2 * mp.pi * mp.nint(d / (2 * mp.pi))
+
+    return mp.diff(unwound, 0)
+
+
 def _table(load: dict[str, Any], value: mpf, angle: bool, m: Mechanism) -> mpf:
     """Linear interpolation in the table, constant beyond its ends; an angle wrapped into
-    [at₀, at₀ + 2π) first."""
+    [at₀, at₀ + period) first (``period`` in the scene's angle unit, one turn by default)."""
     scale = m.angle if angle else m.length
     at = [_n(x) * scale for x in load["table"]["at"]]
     force = [_n(x) for x in load["table"]["force"]]
     if angle:
-        value = at[0] + mp.fmod(value - at[0], 2 * mp.pi)
-        value += 2 * mp.pi if value < at[0] else 0
+        period = _n(load["table"]["period"]) * m.angle if "period" in load["table"] else 2 * mp.pi
+        value = at[0] + mp.fmod(value - at[0], period)
+        value += period if value < at[0] else 0
     if value <= at[0]:
         return force[0]
     for a0, a1, f0, f1 in zip(at, at[1:], force, force[1:]):
@@ -335,11 +394,24 @@ def _load_terms(m: Mechanism, load: dict[str, Any], pts: dict[str, Vec], q: Sequ
         return [(b0, f, p0, mpf(0)), (b1, (-f[0], -f[1]), p1, mpf(0))]
     if "table" in load:
         joint = str(load["table"]["of"])
-        angle = joint in m.inputs or next(iter(dict(m.joints[joint]))) == "angle"
+        angle = joint in m.inputs or next(iter(dict(m.joints[joint]))) in ("angle", "revolute")
         size = _table(load, _joint(m, joint, pts, q), angle, m)
         u = _unit((_n(load["direction"][0]), _n(load["direction"][1])))
         return [(str(load["body"]), (size * u[0], size * u[1]), str(load["point"]), mpf(0))]
     raise ValueError(f"{m.file}: the reference knows no load {load}")
+
+
+def _damper_terms(m: Mechanism, at: Callable[[mpf], dict], q: Sequence[mpf], omega: Sequence[mpf]) -> list[Term]:
+    """Every damper as its two couples: −c·q̇ on the moving body, +c·q̇ on the other (of a
+    ``revolute`` joint: the child's couple −c·s·q̇, the parent's +c·s·q̇)."""
+    out: list[Term] = []
+    zero = (mpf(0), mpf(0))
+    for joint, body, other, c in m.dampers:
+        spec = {} if joint in m.inputs else dict(m.joints[joint])
+        sign = int(spec["revolute"].get("sign", 1)) if "revolute" in spec else 1
+        couple = c * sign * _joint_rate(m, joint, at, q, omega)
+        out += [(body, zero, None, -couple), (other, zero, None, couple)]
+    return out
 
 
 def solve(m: Mechanism, q: Sequence[mpf], omega: Sequence[mpf], epsilon: Sequence[mpf]) -> Solution:
@@ -381,9 +453,8 @@ def solve(m: Mechanism, q: Sequence[mpf], omega: Sequence[mpf], epsilon: Sequenc
             mat[r + 1, j] += f[1]
             mat[r + 2, j] += _cross(_sub(p, o), f) + couple
     rhs = mp.matrix(size, 1)
-    applied = [
-        (b, f, pts[p] if p is not None else zero, c) for load in m.loads for b, f, p, c in _load_terms(m, load, pts, q)
-    ]
+    terms_applied = [t for load in m.loads for t in _load_terms(m, load, pts, q)] + _damper_terms(m, at, q, omega)
+    applied = [(b, f, pts[p] if p is not None else zero, c) for b, f, p, c in terms_applied]
     for b in bodies:
         li, r = m.links[b], row[b]
         o = _frame(m, li, pts)[0]
@@ -443,15 +514,15 @@ def power_residual(m: Mechanism, q: Sequence[mpf], omega: Sequence[mpf], epsilon
         d_energy += li.mass * (vx * ax + vy * ay) + li.inertia * spin * alpha
         d_energy -= li.mass * (m.gravity[0] * vx + m.gravity[1] * vy)
     load_power = mpf(0)
-    for load in m.loads:
-        for body, f, point, couple in _load_terms(m, load, pts, q):
-            if body == GROUND:
-                continue
-            if point is not None:
-                v = [mp.diff(lambda t, i=i, p=point: at(t)[p][i], 0) for i in range(2)]
-                load_power += f[0] * v[0] + f[1] * v[1]
-            if couple:
-                load_power += couple * _rates(m, at, m.links[body], 1)[2]
+    applied = [t for load in m.loads for t in _load_terms(m, load, pts, q)] + _damper_terms(m, at, q, omega)
+    for body, f, point, couple in applied:
+        if body == GROUND:
+            continue
+        if point is not None:
+            v = [mp.diff(lambda t, i=i, p=point: at(t)[p][i], 0) for i in range(2)]
+            load_power += f[0] * v[0] + f[1] * v[1]
+        if couple:
+            load_power += couple * _rates(m, at, m.links[body], 1)[2]
     inputs = sum((sol.effort[j] * w for j, w in zip(m.inputs, omega)), mpf(0))
     scale = max(abs(inputs), abs(d_energy), abs(load_power), mpf(1))
     return (inputs + load_power - d_energy) / scale
@@ -459,13 +530,16 @@ def power_residual(m: Mechanism, q: Sequence[mpf], omega: Sequence[mpf], epsilon
 
 MECHANICS_KEYS = ("units", "fixed", "groups", "joints", "bodies", "gravity", "loads")
 """What the forces depend on; descriptions, provenance and outputs do not."""
+DRIVE_KEYS = ("flywheel", "damping")
+"""Also mechanics (issue 22), counted only where a scene has them: the digests of scenes without
+them stay what they were (``motor`` does not change an effort)."""
 
 
 def digest(path: str | Path) -> str:
-    """SHA-256 of the scene's mechanics (MECHANICS_KEYS, canonical JSON): a reference is stale
-    when this changes, and only then."""
+    """SHA-256 of the scene's mechanics (MECHANICS_KEYS and any DRIVE_KEYS, canonical JSON): a
+    reference is stale when this changes, and only then."""
     raw = yaml.safe_load(Path(path).read_text())
-    mechanics = {k: raw.get(k) for k in MECHANICS_KEYS}
+    mechanics = {k: raw.get(k) for k in MECHANICS_KEYS} | {k: raw[k] for k in DRIVE_KEYS if k in raw}
     return hashlib.sha256(json.dumps(mechanics, sort_keys=True, default=str).encode()).hexdigest()
 
 

@@ -125,8 +125,9 @@ def build(path: str | Path, count: int = SAMPLES, *, date: str | None = None) ->
             f"{SCRIPT} (mpmath {mpmath.__version__}, mp.dps={DPS}, {DIGITS} digits written), {when}: "
             f"positions of {rel} in closed form in mpmath (never the solver), accelerations of centres and "
             "angular accelerations by mp.diff in time along q(t) = q + omega t + epsilon t^2/2, then the "
-            "Newton-Euler equations of every moving body solved as one linear system for all pin forces, "
-            "guide and slot actions and the input efforts; each sample's efforts also pass an energy "
+            "Newton-Euler equations of every moving body (with the scene's loads, gravity, flywheel inertia and "
+            "damping couples) solved as one linear system for all pin forces, guide and slot actions and the input "
+            "efforts; each sample's efforts also pass an energy "
             "(power balance) check. Random instants seeded by the scene name; q, omega, epsilon exact doubles."
         ),
         "scene": m.name,
