@@ -114,9 +114,8 @@ def _fmt(x: float) -> str:
 
 def plot_columns(data: RunData) -> list[list[tuple[str, list[str]]]]:
     """The plots, column by column, as ``(title, [entity paths of its series])``: the inputs'
-    φ, ω, ε (one plot each), then the joints' positions (but the inputs', which are their φ),
-    velocities, accelerations, one column per unit of the joints (angles in rad, slides in m:
-    :data:`UNIT_TITLES`), with at most
+    φ, ω, ε (one plot each), then the other joints' positions, velocities, accelerations, one
+    column per unit of the joints (angles in rad, slides in m: :data:`UNIT_TITLES`), with at most
     :data:`LEGEND_ROWS` joints a plot (more joints: more columns), so that each legend shows
     every series name and each axis one unit."""
     plural = "inputs" if data.phi.ndim == 2 else "input"
@@ -130,20 +129,21 @@ def plot_columns(data: RunData) -> list[list[tuple[str, list[str]]]]:
         elif "m" in kinds:
             unit = f"{unit} | {_STROKE[kind][1]}"
         inputs.append((f"{plural} {symbol} ({unit})", paths))
+    # an input's coordinate, rate and acceleration are its φ, ω, ε, plotted apart in the first
+    # column: beside the other joints its ever-growing angle would flatten their swings (issue 24),
+    # and a second copy of its ω and ε would only take room from the drawing
+    driven = set(data.inputs or (data.input_joint,))
     by_unit: dict[str, list[str]] = {}
     for j in data.joints:
-        by_unit.setdefault(data.joint_units.get(j, "rad"), []).append(j)
+        if j not in driven:
+            by_unit.setdefault(data.joint_units.get(j, "rad"), []).append(j)
     columns = [inputs]
     order = list(UNIT_TITLES)
-    driven = set(data.inputs or (data.input_joint,))
     for unit, names in sorted(by_unit.items(), key=lambda kv: order.index(kv[0]) if kv[0] in order else len(order)):
         titles = UNIT_TITLES.get(unit) or tuple(f"joint {kind}s ({unit})" for kind in KINDS)
         for i in range(0, len(names), LEGEND_ROWS):
             chunk = names[i: i + LEGEND_ROWS]
-            # an input's position is its φ, plotted apart in the first column: beside the other
-            # joints its ever-growing angle would flatten their swings (issue 24)
-            columns.append([(title, [f"plots/joints/{kind}/{j}" for j in chunk
-                                     if not (kind == "position" and j in driven)])
+            columns.append([(title, [f"plots/joints/{kind}/{j}" for j in chunk])
                             for kind, title in zip(KINDS, titles)])
     return columns
 

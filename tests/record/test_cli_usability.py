@@ -186,7 +186,7 @@ def _run_data(joints: list[str], inputs: tuple[str, ...] = ()) -> RunData:
     [
         (["q1", "q2", "left_distal", "right_distal"], ("q1", "q2"), 2),  # the five-bar
         (["crank", "coupler", "rocker"], (), 2),
-        ([f"j{i}" for i in range(9)], (), 3),  # more joints than a legend shows: two joint columns
+        ([f"j{i}" for i in range(9)], (), 3),  # more joints (8 besides the input) than a legend shows
     ],
 )
 def test_every_series_is_in_one_plot_whose_legend_shows_it(joints: list[str], inputs: tuple[str, ...],
@@ -195,9 +195,10 @@ def test_every_series_is_in_one_plot_whose_legend_shows_it(joints: list[str], in
     assert len(layout) == columns and all(len(column) == 3 for column in layout)
     paths = [p for column in layout for _, plot in column for p in plot]
     expected = {f"plots/joints/{kind}/{j}" for kind in ("position", "velocity", "acceleration") for j in joints}
-    # an input's position is its φ, plotted in the inputs' column only (issue 24: its growing
-    # angle beside the others' swings flattened them)
-    expected -= {f"plots/joints/position/{q}" for q in (inputs or (joints[0],))}
+    # an input's position, rate and acceleration are its φ, ω, ε, plotted in the inputs' column
+    # only (issue 24: its growing angle beside the others' swings flattened them)
+    expected -= {f"plots/joints/{kind}/{q}" for kind in ("position", "velocity", "acceleration")
+                 for q in (inputs or (joints[0],))}
     expected |= ({f"plots/input/{kind}/{q}" for kind in ("phi", "omega", "epsilon") for q in inputs} if inputs
                  else {"plots/input/phi", "plots/input/omega", "plots/input/epsilon"})
     assert sorted(paths) == sorted(expected)  # each exactly once
