@@ -54,6 +54,8 @@ setup(
             "pillow",
             "colcon-common-extensions",
             "distributed>=2024.1",
+            # an engine from the field as the dynamics' oracle (tests/bench/test_dynamics_exudyn.py)
+            "exudyn>=1.13",
         ],
         # dimensional synthesis on a Dask cluster (solver.synthesize(workers=...), linkage-synth --dask)
         "synth": ["distributed>=2024.1"],
