@@ -145,19 +145,8 @@ class _Builder:
         self.pin(self.holder(a, g), barrel, a)
         rod = self.add_body(Body(f"{g.name}_rod", "rod", c, (a, c), {c: (0.0, 0.0, 0.0)},
                                  size={"length": closed, "open": g.stroke[1]}), g)
-        self.joints.append(
-            TreeJoint(
-                name=f"{rod.name}_joint",
-                type="prismatic",
-                parent=barrel.name,
-                child=rod.name,
-                xyz=(0.0, 0.0, 0.0),
-                rpy=(0.0, 0.0, 0.0),
-                axis=(1.0, 0.0, 0.0),
-                rule="planar_slide",
-                data=((0.0, 0.0, 0.0), 0.0, g.joint),  # (the input it follows: its effort is the cylinder's)
-            )
-        )
+        # (the input it follows: its effort is the cylinder's)
+        self.joints.append(_planar_slide(barrel.name, rod.name, ((0.0, 0.0, 0.0), 0.0, g.joint)))
         self.owner[c] = link.name
         rod.pins.append(c)
         self.cuts.append(
@@ -223,19 +212,7 @@ class _Builder:
         link.bars.append((a, far))
         self.pin(parent, link, a)
         eyelet = self.add_body(Body(f"{g.name}_eyelet", "eyelet", b, (a, b), {b: (0.0, 0.0, 0.0)}), g)
-        self.joints.append(
-            TreeJoint(
-                name=f"{eyelet.name}_joint",
-                type="prismatic",
-                parent=link.name,
-                child=eyelet.name,
-                xyz=(0.0, 0.0, 0.0),
-                rpy=(0.0, 0.0, 0.0),
-                axis=(1.0, 0.0, 0.0),
-                rule="planar_slide",
-                data=((0.0, 0.0, 0.0), 0.0),
-            )
-        )
+        self.joints.append(_planar_slide(link.name, eyelet.name, ((0.0, 0.0, 0.0), 0.0)))
         for p, _ in g.points:
             self.owner[p] = link.name
         eyelet.pins.append(b)
@@ -341,3 +318,10 @@ def exportable_model(scene: object) -> TreeModel | None:
         if "has no URDF export" in str(exc):
             return None
         raise
+
+
+def _planar_slide(parent: str, child: str, data: tuple[object, ...]) -> TreeJoint:
+    """A prismatic tree joint along the parent's x axis at its origin (a slotted link's eyelet, an
+    actuator's rod in its barrel), its coordinate by the ``planar_slide`` rule."""
+    return TreeJoint(name=f"{child}_joint", type="prismatic", parent=parent, child=child, xyz=(0.0, 0.0, 0.0),
+                     rpy=(0.0, 0.0, 0.0), axis=(1.0, 0.0, 0.0), rule="planar_slide", data=data)
