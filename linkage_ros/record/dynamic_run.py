@@ -218,12 +218,14 @@ def dynamics_lines(scene: Any, trajectory: Any, *, phi0: Any, run_up: bool = Tru
     omega = np.asarray(tr.omega, dtype=float).reshape(tr.t.size, k)
     effort = np.asarray(tr.effort, dtype=float).reshape(tr.t.size, k)
     span = float(tr.t[-1] - tr.t[0])
+    lengths = [scene.joint_units.get(q, "rad") == "m" for q in scene.inputs]
     for i, q in enumerate(scene.inputs):
         w = omega[:, i]
         mean = float(np.trapezoid(w, tr.t) / span) if span > 0 else float(w[0])
-        lines.append(f"  {q}: ω mean {mean:.6g}, min {float(np.min(w)):.6g}, max {float(np.max(w)):.6g} rad/s "
+        rate, unit = ("ṡ", "m/s") if lengths[i] else ("ω", "rad/s")
+        lines.append(f"  {q}: {rate} mean {mean:.6g}, min {float(np.min(w)):.6g}, max {float(np.max(w)):.6g} {unit} "
                      f"over the run (time mean)")
-    if k == 1:
+    if k == 1 and not lengths[0]:  # (a stroke has no cycle to fluctuate over)
         try:
             cycle = cycle_of(scene)
         except SolverError:

@@ -183,6 +183,7 @@ def _stroke_events(scene: Any) -> list[Any]:
             return float((y[i] - lo) * (hi - y[i]))
 
         end.terminal = True  # type: ignore[attr-defined]
+        end.direction = -1  # type: ignore[attr-defined]  # leaving the stroke (a run may start at an end)
         end.message = (  # type: ignore[attr-defined]
             f"reaches an end of the stroke [{lo:g}, {hi:g}] m of group '{name}' (an assembly limit: the cylinder "
             "bottoms or tops out)")
@@ -288,6 +289,9 @@ def simulate(
         group, reason = eq.fault or ("?", sol.message)
         status = "assembly"
         message = f"stops at an assembly limit of group '{group}' ({reason})"
+        last = sol.sol.t_max if sol.sol is not None else ts[-1]
+        if ts.size and last > ts[-1]:  # the last accepted step, past the last requested sample
+            ts, ys = np.append(ts, last), np.column_stack([ys, sol.sol(last)])
     traj = _trajectory(scene, eq, ts, ys, sol.sol, status=status, message=message, kind=kind, method=method,
                        rtol=rtol, atol=atol, nfev=sol.nfev)
     if status in ("toggle", "assembly"):
