@@ -20,18 +20,28 @@ trust regions; ``trf``'s bound scaling took hundreds of evaluations) from the sa
 the better of it and the unbounded answer clipped into the bounds.
 An exact problem (no more equations than unknowns) ends at round-off: the polish stops once
 ½‖r‖² is at ``ROUND_OFF`` ulps per residual (``least_squares``' callback, scipy ≥ 1.16).
+
+With ``feasible=w`` the residuals also hold, times w, one row per dyad and sample of the sweep:
+max(sin(μ_min + ``MARGIN``) − c(φ_s; x), 0), c the dyad's conditioning (|sin μ| of an RRR's
+transmission angle), the whole threshold where the dyad cannot be assembled; zero for a
+feasible design, so the zeros of the targets' residuals that are feasible are still zeros. Their
+columns are the same central differences (the sweep joins the phases in the one pass); their
+phase columns are zero. The search uses it to move an exact but infeasible polish along the
+family of zeros of an under-determined task to a feasible one (search.py, ``_slide``).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from scipy.optimize import least_squares
 
+from ..groups import Context
 from ..tolerances import EPS
-from .population import Goal, run, wrap
+from .population import Goal, group_of, run, wrap
 from .template import Template
 
 __all__ = ["Polished", "polish", "residuals"]
@@ -39,6 +49,9 @@ __all__ = ["Polished", "polish", "residuals"]
 _STEP = EPS ** (1.0 / 3.0)
 #: The polish stops once every residual (relative to the targets' size) is about this many ulps.
 ROUND_OFF = 16.0
+#: A feasible polish keeps every dyad's transmission angle this far (rad) above the minimum on
+#: its sweep, so that the finer sweep of the final check (between the samples) holds it too.
+MARGIN = math.radians(1.0)
 
 
 @dataclass
@@ -55,23 +68,48 @@ def _split(goal: Goal, z: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
 def residuals(template: Template, goal: Goal, xs: np.ndarray, phases: np.ndarray) -> tuple[np.ndarray, ...]:
     """Residual rows (C, m) of the designs ``xs`` (C, n) at ``phases`` (K,), and their φ-analogs."""
     ctx = run(template, xs, phases, goal.names)
-    c, k = xs.shape[0], phases.size
+    return _rows(goal, ctx, xs.shape[0], phases.size)
+
+
+def _rows(goal: Goal, ctx: Context, c: int, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`residuals` read off a pass whose first ``k`` input angles are the phases."""
     t = goal.targets
+
+    def cols(a: Any) -> np.ndarray:
+        return np.broadcast_to(a, (c, np.shape(ctx.phi)[-1]))[:, :k]
+
     parts, d1s = [], []
     if goal.kind in ("path", "motion"):
         jet = ctx.values[goal.point]  # type: ignore[index]
-        p = np.broadcast_to(jet.value, (c, k)) - (t[:, 0] + 1j * t[:, 1])
-        p1 = np.broadcast_to(jet.d1, (c, k))
+        p = cols(jet.value) - (t[:, 0] + 1j * t[:, 1])
+        p1 = cols(jet.d1)
         parts += [p.real / goal.scale, p.imag / goal.scale]
         d1s += [p1.real / goal.scale, p1.imag / goal.scale]
     if goal.kind in ("function", "motion"):
         jet = ctx.values[goal.joint]  # type: ignore[index]
         col = 1 if goal.kind == "function" else 2
-        d = np.broadcast_to(jet.value, (c, k)) - t[:, col]
+        d = cols(jet.value) - t[:, col]
         parts.append(wrap(d) if goal.joint_wraps else d)
-        d1s.append(np.broadcast_to(jet.d1, (c, k)))
+        d1s.append(cols(jet.d1))
     r = np.concatenate(parts, axis=1)
     return np.nan_to_num(r, nan=1e3, posinf=1e3, neginf=-1e3), np.concatenate(d1s, axis=1)
+
+
+def _deficits(template: Template, goal: Goal, ctx: Context, c: int, k: int) -> np.ndarray:
+    """Rows (C, D·S) of the feasibility residuals over the sweep that follows the ``k`` phases:
+    per dyad D and sample, how far its conditioning lies below sin(μ_min + ``MARGIN``); a sample
+    that cannot be assembled counts the whole threshold. Zero for a feasible design."""
+    floor = math.sin(min(goal.min_transmission + MARGIN, math.pi / 2))
+    total = np.shape(ctx.phi)[-1]
+    bad = np.broadcast_to(np.asarray(ctx.invalid, bool), (c, total))[:, k:]
+    rows = []
+    for name in dict.fromkeys(group_of(template, g) for g in goal.closures):
+        cond = ctx.conditioning.get(name)
+        if cond is None:
+            continue
+        kk = np.nan_to_num(np.broadcast_to(cond, (c, total))[:, k:], nan=0.0)
+        rows.append(np.where(bad, floor, np.maximum(floor - np.abs(kk), 0.0)))
+    return np.concatenate(rows, axis=1) if rows else np.zeros((c, 0))
 
 
 class _Clipped:
@@ -81,8 +119,10 @@ class _Clipped:
         self.x, self.cost = z, 0.5 * float(np.sum(both(z)[0] ** 2))
 
 
-def polish(template: Template, goal: Goal, x0: np.ndarray, phases0: np.ndarray, *, max_nfev: int = 60) -> Polished:
-    """Least squares from (x0, phases0) to the nearest zero of the residuals (module docstring)."""
+def polish(template: Template, goal: Goal, x0: np.ndarray, phases0: np.ndarray, *, max_nfev: int = 60,
+           feasible: float = 0.0) -> Polished:
+    """Least squares from (x0, phases0) to the nearest zero of the residuals (module docstring);
+    with ``feasible``, the feasibility residuals over the sweep too (:func:`_deficits`)."""
     n, k = x0.size, len(goal.targets)
     period = template.periods  # an angle free over a whole turn has no bounds: it wraps
     round_ = np.isfinite(period)
@@ -101,10 +141,16 @@ def polish(template: Template, goal: Goal, x0: np.ndarray, phases0: np.ndarray, 
         if key not in cache:
             x, ph = _split(goal, z, n)
             xs = np.vstack([x, x + h * eye, x - h * eye])
-            r, d1 = residuals(template, goal, xs, np.asarray(ph, float))
+            ph = np.asarray(ph, float)
+            if feasible:
+                ctx = run(template, xs, np.concatenate([ph, goal.sweep]), goal.names)
+                r, d1 = _rows(goal, ctx, xs.shape[0], ph.size)
+                r = np.hstack([r, feasible * _deficits(template, goal, ctx, xs.shape[0], ph.size)])
+            else:
+                r, d1 = residuals(template, goal, xs, ph)
             jac_x = ((r[1 : n + 1] - r[n + 1 :]) / (2.0 * h[:, None])).T
             if free_phases:
-                m = r.shape[1] // k
+                m = d1.shape[1] // k
                 jac_p = np.zeros((r.shape[1], k))
                 for j in range(m):
                     jac_p[j * k : (j + 1) * k] = np.diag(d1[0, j * k : (j + 1) * k])

@@ -34,7 +34,7 @@ from ..groups import Context
 from ..plan import Plan
 from .template import Template
 
-__all__ = ["Goal", "Evaluation", "evaluate", "objective", "INFEASIBLE"]
+__all__ = ["Goal", "Evaluation", "evaluate", "group_of", "objective", "INFEASIBLE"]
 
 #: Every infeasible design scores above this; a feasible one's figure is capped below it.
 INFEASIBLE = 100.0
@@ -144,7 +144,7 @@ def evaluate(template: Template, goal: Goal, x: np.ndarray) -> Evaluation:
     frac = invalid[:, :s].mean(axis=1) if s else np.zeros(c)
     cond = np.ones(c)
     for g in goal.closures:
-        k = ctx.conditioning.get(_group_of(template, g))
+        k = ctx.conditioning.get(group_of(template, g))
         if k is not None:
             kk = np.where(invalid[:, :s], np.inf, np.broadcast_to(k, (c, phi.size))[:, :s])
             cond = np.minimum(cond, np.nan_to_num(kk, nan=0.0).min(axis=1, initial=np.inf))
@@ -159,7 +159,8 @@ def evaluate(template: Template, goal: Goal, x: np.ndarray) -> Evaluation:
     return ev
 
 
-def _group_of(template: Template, point: str) -> str:
+def group_of(template: Template, point: str) -> str:
+    """The name of the group that provides ``point``."""
     for g in template.template_scene.ordered:
         if point in g.provides():
             return g.name

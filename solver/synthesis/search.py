@@ -5,7 +5,9 @@ the free values within their bounds, every generation's whole population one arr
 (:func:`~.population.evaluate`, candidates × samples); it stops at its own convergence, at
 ``maxiter``, when it stalls (``Options.stall``), when its best figure is below
 ``Options.good_enough`` (the polish finishes from there), or at the deadline. Then the best
-distinct members of its final population are polished (:func:`~.polish.polish`). Starts run in
+distinct members of its final population are polished (:func:`~.polish.polish`); where none
+ends exact and feasible, an exact but infeasible one slides along the task's family of zeros to a
+feasible zero (:func:`_slide`; the same for the trial polishes during the search). Starts run in
 order until one yields an exact design or ``starts`` are spent; on a Dask client
 (``workers=``) a batch of starts runs at once, and the results are read in start order with the
 same stopping rule, so whatever runs them the answer is the same (only an expiring time limit
@@ -30,6 +32,8 @@ from .template import Template
 
 __all__ = ["Options", "StartResult", "run_start", "sweep"]
 
+#: The weight of the feasibility residuals against the targets' in :func:`_slide`.
+SLIDE_WEIGHT = 1e-2
 
 
 @dataclass(frozen=True)
@@ -70,6 +74,7 @@ def run_start(template: Template, goal: Goal, seed: int, index: int, options: Op
         return objective(goal, evaluate(template, goal, xt.T))
 
     trials: list[Polished] = []
+    tried: set[bytes] = set()
     width = template.hi - template.lo
 
     def callback(intermediate_result: Any) -> bool:
@@ -78,19 +83,25 @@ def run_start(template: Template, goal: Goal, seed: int, index: int, options: Op
         if deadline is not None and time.monotonic() > deadline:
             expired[0] = True
             return True
-        if best < options.try_below and len(history) % options.try_every == 0:
-            # hand the best few over to the polish now; stop the search if one ends exact and feasible
-            energies = np.asarray(intermediate_result.population_energies)
-            members = _distinct(np.asarray(intermediate_result.population)[np.argsort(energies)], width,
-                                options.trial_count)
-            for x, ph in zip(members, evaluate(template, goal, members).phases):
-                p = polish(template, goal, x, ph)
-                if _exact_and_feasible(template, goal, p):
-                    trials.append(p)
-            if trials:
-                return True
+        if best < options.try_below and len(history) % options.try_every == 0 and trial(intermediate_result):
+            return True
         stalled = len(history) > options.stall and best > (1.0 - 0.05) * history[-options.stall]
         return bool(best < options.good_enough or stalled)
+
+    def trial(intermediate_result: Any) -> bool:
+        """The best few members handed over to the polish now (a member polished on an earlier
+        trial is not again): whether one ends exact and feasible."""
+        energies = np.asarray(intermediate_result.population_energies)
+        ranked = np.asarray(intermediate_result.population)[np.argsort(energies)]
+        members = _distinct(np.array([m for m in ranked if m.tobytes() not in tried]), width, options.trial_count)
+        tried.update(m.tobytes() for m in members)
+        if members.size:
+            batch = [polish(template, goal, x, ph) for x, ph in zip(members, evaluate(template, goal, members).phases)]
+            trials.extend(p for p in batch if _exact_and_feasible(template, goal, p))
+            if not trials:
+                slid = _slide(template, goal, batch, deadline)
+                trials.extend(p for p in slid if _exact_and_feasible(template, goal, p))
+        return bool(trials)
 
     rng = np.random.default_rng([seed, index])
     with np.errstate(all="ignore"):
@@ -112,7 +123,43 @@ def run_start(template: Template, goal: Goal, seed: int, index: int, options: Op
         if goal.at is None and math.sqrt(2.0 * p.cost) * goal.scale > EXACT_MISS:
             p = _reseed(template, goal, p, deadline)
         out.append(p)
+    if not any(_exact_and_feasible(template, goal, p) for p in out):
+        out += _slide(template, goal, out, deadline)
     return StartResult(index, out, history, expired[0], int(de.nit))
+
+
+def _slide(template: Template, goal: Goal, polished: list[Polished], deadline: float | None) -> list[Polished]:
+    """Where no polish ended exact and feasible: each exact but infeasible one polished again from
+    where it ended with the feasibility residuals added at ``SLIDE_WEIGHT``, until one ends exact
+    and feasible. An under-determined task (fewer equations than unknowns: 5 path targets and 9
+    dimensions) has a family of zeros, and the polish ends at the nearest, which can have lost
+    the full turn or the transmission angle its member had; the feasibility residuals, weighted
+    low against the targets', move it along the family (the targets' residuals stay near zero)
+    until the dyads are feasible again, where they vanish and the polish ends at round-off."""
+    out: list[Polished] = []
+    if not goal.closures:
+        return out
+    for p in polished:
+        if deadline is not None and time.monotonic() > deadline:
+            break
+        if not _exact(goal, p) or _feasible(template, goal, p):
+            continue
+        q = polish(template, goal, p.x, p.phases, feasible=SLIDE_WEIGHT)
+        if _feasible(template, goal, q):  # the last steps to round-off, on the targets alone
+            again = polish(template, goal, q.x, q.phases)
+            q = again if _exact_and_feasible(template, goal, again) else q
+        out.append(q)
+        if _exact_and_feasible(template, goal, q):
+            break
+    return out
+
+
+def _exact(goal: Goal, p: Polished) -> bool:
+    return math.sqrt(2.0 * p.cost) * goal.scale <= EXACT_MISS
+
+
+def _feasible(template: Template, goal: Goal, p: Polished) -> bool:
+    return bool(objective(goal, evaluate(template, goal, p.x[None]))[0] < INFEASIBLE)
 
 
 def _distinct(members: np.ndarray, width: np.ndarray, count: int) -> np.ndarray:
@@ -157,10 +204,7 @@ def _reseed(template: Template, goal: Goal, p: Polished, deadline: float | None,
 def _exact_and_feasible(template: Template, goal: Goal, p: Polished) -> bool:
     """A polished design's residual at round-off and its sweep feasible (the population's own
     figures; the returned designs are checked again on their loaded scenes)."""
-    if math.sqrt(2.0 * p.cost) * goal.scale > EXACT_MISS:
-        return False
-    ev = evaluate(template, goal, p.x[None])
-    return bool(objective(goal, ev)[0] < INFEASIBLE)
+    return _exact(goal, p) and _feasible(template, goal, p)
 
 
 def sweep(template: Template, goal: Goal, *, seed: int, options: Options, time_limit: float | None,
