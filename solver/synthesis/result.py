@@ -23,6 +23,7 @@ import numpy as np
 import yaml
 
 from .._fields import ANGLE_UNITS
+from ..classify import grashof, transmission_range
 from ..errors import SolverError
 from ..scene import Scene
 from ..tolerances import EXACT_MISS
@@ -205,8 +206,6 @@ class SynthesisResult:
 
     def summary(self) -> str:
         """Dimensions, the miss at each target, transmission angle range, Grashof type."""
-        from .. import classify
-
         d = self.best
         units = self.template.units
         angle_unit = next((k for k, v in ANGLE_UNITS.items() if v == units.angle), "rad")
@@ -220,11 +219,11 @@ class SynthesisResult:
             extra = "" if d.angle_misses is None else f"  angle miss {d.angle_misses[i]:.3g} rad"
             lines.append(f"  {i:2d}  {ph: .9f}   {m:.3g}{extra}")
         for g in d.scene.ordered:
-            mu = classify.transmission_range(d.scene, g)
+            mu = transmission_range(d.scene, g)
             if mu is not None:
                 lo, hi = math.degrees(mu[0]), math.degrees(mu[1])
                 lines.append(f"  transmission angle of {g.name}: {lo:.2f}° … {hi:.2f}°")
-            gr = classify.grashof(d.scene, g)
+            gr = grashof(d.scene, g)
             if gr is not None:
                 lines.append(f"  four-bar {g.name}: {gr}")
         if self.goal.effort_weight or self.goal.pin_weight:
