@@ -34,7 +34,6 @@ from ..forces.spec import Body, Damper, ForceSpec, Spring
 from ..groups import Context
 from ..jet import Jet
 from ..scene import CHUNK, Scene
-from ..tolerances import SINGULAR
 
 __all__ = ["ReducedModel", "reduced_model"]
 
@@ -293,8 +292,4 @@ def reduced_model(scene: Scene) -> ReducedModel:
     if cache is None:
         cache = scene.__dict__["_reduced"] = ReducedModel(scene)
     return cache  # type: ignore[no-any-return]
-
-
-def is_singular(cond: float) -> bool:
-    return not cond >= SINGULAR
 
