@@ -238,6 +238,20 @@ class ReducedModel:
         values, cond = self._jets(q, qd, None)
         return self._pass(self.full, values, cond, 1.0, 0.0)
 
+    @cached_property
+    def _load_variants(self) -> tuple[tuple[str, Scene, bool], ...]:
+        """(name, scene, moving?) per generalised force: gravity on the bodies alone, then each
+        load alone on massless bodies (built once: each is a Scene with its own plan)."""
+        spec = self.spec
+        out: list[tuple[str, Scene, bool]] = []
+        if spec.gravity != 0:
+            out.append(("gravity", _variant(self.scene, replace(spec, loads=())), False))
+        bare = _massless(spec.bodies)
+        for i, ld in enumerate(spec.loads):
+            name = f"damping.{ld.joint}" if isinstance(ld, Damper) else f"loads[{i}]"
+            out.append((name, _variant(self.scene, replace(spec, bodies=bare, gravity=0j, loads=(ld,))), True))
+        return tuple(out)
+
     def generalized_forces(self, q: Any, qd: Any) -> dict[str, np.ndarray]:
         """Each load's generalised force (N·m per input; (N,) or (N, k)): ``gravity`` and
         ``loads[i]`` by their place in the scene (dampers follow the listed loads as
@@ -245,16 +259,8 @@ class ReducedModel:
         q, qd = self._states(q, qd)
         values, cond = self._jets(q, qd if self.k > 1 else None, None)
         w = qd[:, 0] if self.k == 1 else 1.0
-        spec = self.spec
-        out: dict[str, np.ndarray] = {}
-        if spec.gravity != 0:
-            gravity = _variant(self.scene, replace(spec, loads=()))
-            out["gravity"] = -self._pass(gravity, values, cond, 0.0, 0.0)
-        bare = _massless(spec.bodies)
-        for i, ld in enumerate(spec.loads):
-            name = f"damping.{ld.joint}" if isinstance(ld, Damper) else f"loads[{i}]"
-            one = _variant(self.scene, replace(spec, bodies=bare, gravity=0j, loads=(ld,)))
-            out[name] = -self._pass(one, values, cond, w, 0.0)
+        out = {name: -self._pass(scene, values, cond, w if moving else 0.0, 0.0)
+               for name, scene, moving in self._load_variants}
         h = self._pass(self.full, values, cond, w, 0.0)
         out["velocity"] = -h - sum(out.values(), np.zeros_like(h))
         return {name: v[:, 0] if self.k == 1 else v for name, v in out.items()}
