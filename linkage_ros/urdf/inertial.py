@@ -84,11 +84,14 @@ def name_and_weigh(scene: Any, model: TreeModel, error: Any) -> TreeModel:
         if body.inert and body.name not in named:
             continue
         link = _match(body, model.bodies)
-        if link is None or link.name in weights or link.name in rename:
+        if link is None:
             if body.inert:
                 continue
             raise error(f"body '{body.name}' (points {', '.join(body.points)}) is carried by no single link "
                         "of the tree; its mass cannot be written")
+        if link.name in weights or link.name in rename:
+            raise error(f"bodies '{body.name}' and '{rename.get(link.name, link.name)}' would both be link "
+                        f"'{link.name}' of the tree")
         if not body.inert:
             weights[link.name] = Inertial(body.mass, _center(body, link), body.inertia)
         if body.name in named and link.role != "rod":

@@ -6,6 +6,7 @@ from __future__ import annotations
 import io
 import math
 import xml.etree.ElementTree as ET
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -159,3 +160,21 @@ def test_a_scene_without_bodies_keeps_the_group_names_and_writes_no_inertial() -
     root = ET.fromstring(generate_urdf(solver.load_scene("four_bar")))
     assert root.find("link/inertial") is None
     assert {"crank", "dyad_AB", "dyad_CB"} <= {e.get("name") for e in root.findall("link")}
+
+
+def test_a_body_with_mass_that_no_link_carries_is_refused_with_its_name() -> None:
+    from types import SimpleNamespace
+
+    from linkage_ros.urdf.inertial import name_and_weigh
+
+    scene = solver.load_scene("four_bar_loaded")
+    model = build_model(solver.load_scene("four_bar"))  # the same tree, without the scene's names
+    real = scene.forces.spec  # type: ignore[union-attr]
+    stray = replace(real.bodies[1], name="ghost", frame=("O", "B"))  # O and B lie on no one link
+    fake = SimpleNamespace(forces=SimpleNamespace(spec=SimpleNamespace(names={}, bodies=(stray,))))
+    with pytest.raises(solver.SceneError, match=r"body 'ghost' \(points A, B\) is carried by no single link"):
+        name_and_weigh(fake, model, lambda message: solver.SceneError(message))
+    twice = SimpleNamespace(forces=SimpleNamespace(spec=SimpleNamespace(
+        names={"dyad.1": "coupler"}, bodies=(real.bodies[1], replace(real.bodies[1], name="coupler_twin")))))
+    with pytest.raises(solver.SceneError, match="bodies 'coupler_twin' and 'coupler' would both be link 'dyad_AB'"):
+        name_and_weigh(twice, model, lambda message: solver.SceneError(message))
