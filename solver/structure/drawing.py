@@ -133,11 +133,12 @@ def read_drawing(top: Entry, units: Units) -> Drawing:
     actuators = _actuators(d, points, units, entries)
     names: dict[str, str] = {GROUND: "the ground"}
     for kind, group in (("link", links), ("slide", slides), ("actuator", actuators)):
+        article = "an" if kind == "actuator" else "a"
         for name in group:
             if name in names:
-                raise d.error(f"'{name}' names both {names[name]} and a {kind}: give each a name of its own",
+                raise d.error(f"'{name}' names both {names[name]} and {article} {kind}: give each a name of its own",
                               kind + "s")
-            names[name] = f"a {kind}"
+            names[name] = f"{article} {kind}"
     inputs = _inputs(d, links, actuators, set(ground), entries, units)
     _on_links(d, points, ground, links, slides, actuators)
     d.done()
