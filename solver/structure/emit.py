@@ -23,6 +23,7 @@ from typing import Any
 
 from .._fields import ANGLE_UNITS, LENGTH_UNITS, Entry, Units, show
 from ..errors import SceneError
+from ..groups import GROUP_TYPES
 from .decompose import Stall, Step, decompose, dot
 from .drawing import GROUND, Drawing, read_drawing
 from .graph import Mobility, check_connected, mobility
@@ -99,7 +100,7 @@ def _fault(d: Drawing, mob: Mobility, stall: Stall) -> SceneError:
     head = f"mobility {mob.text()} with {mob.inputs} input(s){coupled} ({', '.join(names) or 'none'})"
     parts: list[str] = []
     for _name, count, reason in stall.over:
-        parts.append(f"{reason}: over-constrained ({count:+d})")
+        parts.append(f"{reason}: over-constrained ({count:+d}), drop an input or a link")
     for links, count in stall.left:
         shown = ", ".join(links)
         if count > 0:
@@ -108,8 +109,8 @@ def _fault(d: Drawing, mob: Mobility, stall: Stall) -> SceneError:
         elif count < 0:
             parts.append(f"{shown} over-constrained (sub-chain count {count:+d}): drop a link or a pin")
         else:
-            parts.append(f"{shown} form a group of class 3 or more (a triad): no group solves it yet (name its links "
-                         f"in the triad issue); redraw it as dyads")
+            parts.append(f"{shown} form a group of class 3 or more (a triad: a ternary link and three binary links), "
+                         "which no group of this solver solves yet; redraw it as dyads")
     if mob.count > mob.inputs and not parts:
         parts.append("add an input")
     if mob.count < mob.inputs and not parts:
@@ -128,6 +129,11 @@ def scene_dict_from_drawing(scene: Mapping[str, Any], *, source: str | None = No
     (floats written with ``repr``). A SceneError line for every fault of the drawing.
     """
     st = find_structure(scene, source=source)
+    for step in st.steps:
+        if step.kind not in GROUP_TYPES:
+            what = f"input '{step.fields['joint']}' follows '{step.fields.get('follows')}': a coupled input"
+            raise st.drawing.error(f"{what} needs the '{step.kind}' group, which this solver does not have yet "
+                                   "(the model importers add it)", "inputs")
     return emit(scene, st)
 
 
