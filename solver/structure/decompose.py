@@ -328,13 +328,21 @@ def _off_line(st: _State, g0: str, g1: str, p: str) -> float:
     return cross(e / abs(e), d.points[p] - d.points[g0])
 
 
+def _foot(st: _State, g0: str, g1: str, p: str) -> str:
+    """The point of the line g0–g1 nearest p, as ``[x, y]`` for a message."""
+    d = st.d
+    a, e = d.points[g0], d.points[g1] - d.points[g0]
+    z = a + e * (dot(d.points[p] - a, e) / dot(e, e))
+    return f"[{z.real:.17g}, {z.imag:.17g}]"
+
+
 def _rrp(st: _State, s: Any, link: str, end: str) -> None:
     d = st.d
     g0, g1 = s.along
     miss = _off_line(st, g0, g1, s.point)
     if abs(miss) > ON_LINE * d.size:
         raise d.error(f"{s.point} is drawn {abs(miss):.3g} off the line {g0}–{g1} it slides on: move it onto the "
-                      "line", f"slides.{s.name}.point")
+                      f"line (to {_foot(st, g0, g1, s.point)})", f"slides.{s.name}.point")
     e = d.points[g1] - d.points[g0]
     e /= abs(e)
     pa, pb = d.points[end], d.points[s.point]
@@ -360,9 +368,10 @@ def _slotted(st: _State, s: Any, pivot: str) -> None:
         raise d.error(f"the line {g0}–{g1} does not pass through {pivot}, the pin {s.on} turns about: a slot offset "
                       "from the pivot has no group yet; draw the slot through the pivot", f"slides.{s.name}.along")
     po, pb = d.points[pivot], d.points[s.point]
-    if abs(_off_line(st, g0, g1, s.point)) > ON_LINE * d.size:
-        raise d.error(f"{s.point} is drawn off the line {g0}–{g1} it slides on: move it onto the line",
-                      f"slides.{s.name}.point")
+    miss = _off_line(st, g0, g1, s.point)
+    if abs(miss) > ON_LINE * d.size:
+        raise d.error(f"{s.point} is drawn {abs(miss):.3g} off the line {g0}–{g1} it slides on: move it onto the "
+                      f"line (to {_foot(st, g0, g1, s.point)})", f"slides.{s.name}.point")
     r = pb - po
     rho = abs(r)
     u = r / rho if rho > 0.0 else 0j

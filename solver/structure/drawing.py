@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .._fields import Entry, Units, show
+from .._yaml import YamlMap
 from ..errors import SceneError
 
 __all__ = ["Drawing", "Input", "Slide", "Actuator", "read_drawing", "GROUND", "DRAWING_KEYS"]
@@ -223,7 +224,7 @@ def _slides(
     for key in s.data:
         name = str(key)
         s.check_name(name, name)
-        e = s.child(name, s.raw(key))
+        e = s.child(name, _on_key(s.raw(key)))
         entries[f"slides.{name}"] = e
         e.expect(_SLIDE_KEYS)
         point, on = e.name("point"), e.name("on")
@@ -245,6 +246,20 @@ def _slides(
             raise e.error(f"'{point}' is a point of '{on}' itself: the block slides on it, it is not pinned to it",
                           "point")
         out[name] = Slide(name, point, on, (along[0], along[1]), joint)
+    return out
+
+
+def _on_key(raw: Any) -> Any:
+    """``{point: B, on: ground}`` as YAML 1.1 reads it: the key ``on`` is the boolean true
+    (PyYAML), taken back as ``on`` here (with its line)."""
+    if not isinstance(raw, Mapping) or True not in raw or "on" in raw:
+        return raw
+    out = type(raw)() if isinstance(raw, YamlMap) else {}
+    for k, v in raw.items():
+        out["on" if k is True else k] = v
+    if isinstance(raw, YamlMap) and isinstance(out, YamlMap):
+        out.line = raw.line
+        out.key_lines = {("on" if k is True else k): n for k, n in raw.key_lines.items()}
     return out
 
 

@@ -107,7 +107,8 @@ def test_a_slide_point_off_its_line() -> None:
     d = {"points": {"O": [0, 0], "A": [30, 40], "B": [150, 12], "G1": [-50, 10], "G2": [250, 10]},
          "ground": ["O", "G1", "G2"], "links": {"crank": ["O", "A"], "rod": ["A", "B"]}, "inputs": ["crank"],
          "slides": {"piston": {"point": "B", "on": "ground", "along": ["G1", "G2"]}}}
-    refuse(d, r"drawing.slides.piston.point: B is drawn 2 off the line G1–G2 it slides on: move it onto the line")
+    refuse(d, r"drawing.slides.piston.point: B is drawn 2 off the line G1–G2 it slides on: move it onto the line "
+              r"\(to \[150, 10\]\)")
 
 
 def test_an_input_not_pinned_to_the_ground_first() -> None:
