@@ -84,10 +84,10 @@ class Step:
 @dataclass
 class Stall:
     """Why the decomposition stopped: over-constrained bodies (name, count, reason) and the
-    sub-chains left unplaced (their links and count)."""
+    sub-chains left unplaced (their links, slides and actuators; their count; how many bodies)."""
 
     over: list[tuple[str, int, str]] = field(default_factory=list)
-    left: list[tuple[tuple[str, ...], int]] = field(default_factory=list)
+    left: list[tuple[tuple[str, ...], int, int]] = field(default_factory=list)
 
     def __bool__(self) -> bool:
         return bool(self.over or self.left)
@@ -453,4 +453,4 @@ def _leftover(st: _State) -> None:
             if f"{a.name}.barrel" in members:
                 count -= 3  # the rod's slide in the barrel, and its stroke: an input
         names = tuple(dict.fromkeys(b.split(".")[0] for b in members))
-        st.stall.left.append((names, count))
+        st.stall.left.append((names, count, len(members)))

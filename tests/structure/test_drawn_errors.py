@@ -77,6 +77,14 @@ def test_a_class_3_group_is_refused_naming_its_links() -> None:
                   r"\(a triad: a ternary link and three binary links\), which no group of this solver solves yet")
 
 
+def test_a_dyad_kind_without_a_group_is_named() -> None:
+    rrp_moving = {"points": {"O": [0, 0], "A": [40, 0], "G": [120, 30], "C": [60, 90], "B": [80, 15]},
+                  "ground": ["O", "C"], "links": {"crank": ["O", "A", "G"], "rod": ["C", "B"]}, "inputs": ["crank"],
+                  "slides": {"block": {"point": "B", "on": "crank", "along": ["A", "G"]}}}
+    refuse(rrp_moving, r"= 1 with 1 input\(s\) \(crank\) matches: rod, block form a dyad of a kind with no group yet "
+                       r"\(a slide on a moving line whose block is pinned to a link not yet placed")
+
+
 def test_a_point_on_no_link() -> None:
     d = with_(FOUR_BAR)
     d["points"] = {**FOUR_BAR["points"], "X": [5, 5]}
