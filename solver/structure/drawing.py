@@ -89,6 +89,9 @@ class Drawing:
     inputs: tuple[Input, ...]
     slides: Mapping[str, Slide]
     actuators: Mapping[str, Actuator]
+    #: ``inputs:`` as listed: links and actuators (an actuator listed there takes that place among
+    #: the scene's inputs; one not listed comes after those that are)
+    order: tuple[str, ...] = ()
     #: the entries of the file, for messages with lines: ``entries["links.coupler"]``
     entries: Mapping[str, Entry] = field(default_factory=dict, compare=False, repr=False)
 
@@ -140,10 +143,29 @@ def read_drawing(top: Entry, units: Units) -> Drawing:
                 raise d.error(f"'{name}' names both {names[name]} and {article} {kind}: give each a name of its own",
                               kind + "s")
             names[name] = f"{article} {kind}"
-    inputs = _inputs(d, links, actuators, set(ground), entries, units)
+    inputs, order = _inputs(d, links, actuators, set(ground), entries, units)
     _on_links(d, points, ground, links, slides, actuators)
     d.done()
-    return Drawing(top.file, units, points, tuple(ground), links, inputs, slides, actuators, entries)
+    _joint_names(d, points, inputs, slides, actuators)
+    return Drawing(top.file, units, points, tuple(ground), links, inputs, slides, actuators, order, entries)
+
+
+def _joint_names(
+    d: Entry, points: Mapping[str, complex], inputs: tuple[Input, ...], slides: Mapping[str, Slide],
+    actuators: Mapping[str, Actuator],
+) -> None:
+    """The joints a drawing provides (inputs, slides' and actuators' joints) are named apart from
+    its points and from each other (points and joints share one namespace in a scene)."""
+    seen: dict[str, str] = {}
+    named = [(i.joint, "inputs", f"input {i.link}") for i in inputs]
+    named += [(s.joint, "slides", f"slide {s.name}") for s in slides.values() if s.joint is not None]
+    named += [(a.joint, "actuators", f"actuator {a.name}") for a in actuators.values()]
+    for joint, key, what in named:
+        if joint in points:
+            raise d.error(f"the joint '{joint}' of {what} is also a point: name the joint otherwise (joint: NAME)", key)
+        if joint in seen:
+            raise d.error(f"the joint '{joint}' of {what} is also the joint of {seen[joint]}: name it otherwise", key)
+        seen[joint] = what
 
 
 def _few(names: Any) -> str:
@@ -297,15 +319,21 @@ def _actuators(d: Entry, points: Mapping[str, complex], units: Units, entries: d
 def _inputs(
     d: Entry, links: Mapping[str, tuple[str, ...]], actuators: Mapping[str, Actuator], ground: set[str],
     entries: dict[str, Entry], units: Units,
-) -> tuple[Input, ...]:
+) -> tuple[tuple[Input, ...], tuple[str, ...]]:
     raw = d.raw("inputs", [])
     if raw is None:
         raw = []
     if not isinstance(raw, list):
         raise d.error(f"must be a list of input links, got {show(raw)}", "inputs")
     out: list[Input] = []
+    order: list[str] = []
     for i, item in enumerate(raw):
         where = f"inputs[{i}]"
+        if isinstance(item, str) and item in actuators:  # its place among the inputs
+            if item in order:
+                raise d.error(f"'{item}' is listed twice", where)
+            order.append(item)
+            continue
         if isinstance(item, str):
             e = d.child(where, {"link": item})
         else:
@@ -314,7 +342,7 @@ def _inputs(
         entries[where] = e
         link = e.name("link")
         if link in actuators:
-            raise e.error(f"'{link}' is an actuator: every actuator is an input already; list links here", "link")
+            raise e.error(f"'{link}' is an actuator: list it by its name alone (its stroke is the input)", "link")
         if link not in links:
             raise e.error(f"'{link}' is not a link: {_few(links)}", "link")
         pts = links[link]
@@ -336,6 +364,7 @@ def _inputs(
             raise e.error(f"must be a non-zero number, got {show(e.raw('ratio'))}", "ratio")
         e.done()
         out.append(Input(link, joint, follows, ratio, offset))
+        order.append(link)
     seen: dict[str, int] = {}
     for i, inp in enumerate(out):
         if inp.link in seen:
@@ -346,7 +375,7 @@ def _inputs(
         if inp.follows is not None and (inp.follows not in joints or inp.follows == inp.joint):
             raise d.error(f"follows '{inp.follows}', which is not another input joint: {sorted(joints)}",
                           f"inputs[{i}].follows")
-    return tuple(out)
+    return tuple(out), tuple(order)
 
 
 def _on_links(

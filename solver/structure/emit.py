@@ -44,12 +44,14 @@ class Structure:
 
     @property
     def drivers(self) -> tuple[Step, ...]:
-        """The input groups in the scene's input order: cranks as listed, then actuators."""
-        cranks = {s.links[0]: s for s in self.steps if s.kind in ("crank", "coupled_crank")}
-        acts = {s.fields["joint"]: s for s in self.steps if s.kind == "actuator"}
-        out = [cranks[i.link] for i in self.drawing.inputs if i.link in cranks]
-        out += [acts[a.joint] for a in self.drawing.actuators.values() if a.joint in acts]
-        return tuple(out)
+        """The input groups in the scene's input order: as ``inputs:`` lists them, then the
+        actuators it does not list, in the drawing's order."""
+        d = self.drawing
+        by: dict[str, Step] = {s.links[0]: s for s in self.steps if s.kind in ("crank", "coupled_crank")}
+        joints = {a.joint: a.name for a in d.actuators.values()}
+        by.update({joints[s.fields["joint"]]: s for s in self.steps if s.kind == "actuator"})
+        names = [*d.order, *(a for a in d.actuators if a not in d.order)]
+        return tuple(by[n] for n in names if n in by)
 
     @property
     def ordered(self) -> tuple[Step, ...]:
