@@ -109,12 +109,12 @@ class Drawing:
     def error(self, message: str, entry: str = "") -> SceneError:
         """A SceneError at ``drawing.ENTRY`` (with the line where the file knows it)."""
         where = self.entries.get(entry)
-        key = None
-        if where is None and "." in entry:
+        key: str | None = None
+        if where is None:
             head, _, key = entry.rpartition(".")
             where = self.entries.get(head)
         if where is not None:
-            return where.error(message, key)
+            return where.error(message, key or None)
         return SceneError(message, file=self.file, entry=f"drawing.{entry}" if entry else "drawing")
 
 
