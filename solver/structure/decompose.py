@@ -18,8 +18,9 @@ RPR          a slide, its point known, on an unplaced link with one known     ``
 
 — and every point of a link that a group has placed follows as an ``attached`` point (distance
 and angle from the link's first two placed points). When several groups are ready, they are
-taken in the order of their kind (the table's) and then of their links' names, so the plan is
-the same every time; the order does not change the result.
+taken in the order of their kind (the table's) and then of their links' names — names, not the
+order the file lists them in, so the plan (and an RRR's ends: the lower-named link's first) is
+the same whatever the order of the drawing's mappings; the order does not change the result.
 
 What stops the decomposition is named (:class:`Stall`): a link, slide or actuator whose points
 are all placed by other groups over-constrains the mechanism; unplaced links left over form
@@ -36,16 +37,18 @@ sign of the area of A, C, O. A dyad drawn within ``tolerances.SINGULAR`` of its 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from functools import partial
-from typing import Any
+from typing import Any, TypeVar
 
 from ..tolerances import SINGULAR
 from .drawing import GROUND, Drawing
 from .graph import body_points
 
 __all__ = ["Step", "Stall", "decompose", "cross", "dot", "ON_LINE"]
+
+T = TypeVar("T")
 
 #: A slide's point farther than this from its line, relative to the drawing's size, is off it.
 ON_LINE = 1e-9
@@ -121,6 +124,11 @@ class _State:
         self.placed.update(step.links)
 
 
+def _by_name(items: Mapping[str, T]) -> list[T]:
+    """The values of a drawing's mapping in the order of their names (not the file's)."""
+    return [items[k] for k in sorted(items)]
+
+
 def decompose(drawing: Drawing) -> tuple[list[Step], Stall]:
     """The groups that place every point of ``drawing``, in order, and what stalled (empty when
     everything is placed). Raises a SceneError for a dyad drawn at its toggle or a slide point
@@ -167,7 +175,7 @@ def _crank(st: _State, inp: Any) -> None:
 # -- attached points ----------------------------------------------------------------------------
 
 def _attach_all(st: _State) -> None:
-    for link, pts in st.d.links.items():
+    for link, pts in sorted(st.d.links.items()):
         if link not in st.placed:
             continue
         frame = st.known_on(link)[:2]
@@ -195,7 +203,7 @@ def _attach(st: _State, link: str, frame: list[str], p: str) -> None:
 
 def _flag_over(st: _State) -> None:
     d = st.d
-    for link in d.links:
+    for link in sorted(d.links):
         if link in st.placed or link in st.flagged:
             continue
         k = st.known_on(link)
@@ -204,14 +212,14 @@ def _flag_over(st: _State) -> None:
             st.placed.add(link)
             st.stall.over.append((link, 3 - 2 * len(k), f"{link} [{', '.join(d.links[link])}] has "
                                   f"{', '.join(k)} placed by other groups"))
-    for s in d.slides.values():
+    for s in _by_name(d.slides):
         if s.name in st.done_slides or s.name in st.flagged:
             continue
         if s.point in st.known and s.on in st.placed:
             st.flagged.add(s.name)
             st.stall.over.append((s.name, -1, f"slide {s.name}: {s.point} and the line of {s.on} are both "
                                   "placed by other groups"))
-    for a in d.actuators.values():
+    for a in _by_name(d.actuators):
         if a.name in st.done_actuators or a.name in st.flagged:
             continue
         if all(q in st.known for q in a.between):
@@ -240,7 +248,7 @@ def _one_known(st: _State, link: str) -> str | None:
 
 def _actuator_candidates(st: _State) -> Iterator[Candidate]:
     d = st.d
-    for a in d.actuators.values():
+    for a in _by_name(d.actuators):
         if a.name in st.done_actuators or a.name in st.flagged:
             continue
         ends = [q for q in a.between if q in st.known]
@@ -248,7 +256,7 @@ def _actuator_candidates(st: _State) -> Iterator[Candidate]:
             continue
         base = ends[0]
         eye = a.between[1] if base == a.between[0] else a.between[0]
-        for link in d.links:
+        for link in sorted(d.links):
             if eye in d.links[link]:
                 pivot = _one_known(st, link)
                 if pivot is not None and pivot != base:
@@ -277,7 +285,7 @@ def _actuator(st: _State, a: Any, base: str, eye: str, link: str, pivot: str) ->
 
 def _rrr_candidates(st: _State) -> Iterator[Candidate]:
     d = st.d
-    links = list(d.links)
+    links = sorted(d.links)
     for i, l1 in enumerate(links):
         a = _one_known(st, l1)
         if a is None:
@@ -306,11 +314,11 @@ def _rrr(st: _State, l1: str, l2: str, a: str, b: str, c: str) -> None:
 
 def _slide_candidates(st: _State) -> Iterator[Candidate]:
     d = st.d
-    for s in d.slides.values():
+    for s in _by_name(d.slides):
         if s.name in st.done_slides or s.name in st.flagged:
             continue
         if s.on == GROUND and s.point not in st.known:
-            for link in d.links:
+            for link in sorted(d.links):
                 if s.point in d.links[link]:
                     end = _one_known(st, link)
                     if end is not None:
@@ -401,9 +409,9 @@ def _leftover(st: _State) -> None:
     """The unplaced bodies, in sub-chains joined by unplaced points, with their own counts."""
     d = st.d
     bodies = body_points(d)
-    slides_left = [s for s in d.slides.values() if s.name not in st.done_slides and s.name not in st.flagged]
-    acts_left = [a for a in d.actuators.values() if a.name not in st.done_actuators and a.name not in st.flagged]
-    free: list[str] = [ln for ln in d.links if ln not in st.placed]
+    slides_left = [s for s in _by_name(d.slides) if s.name not in st.done_slides and s.name not in st.flagged]
+    acts_left = [a for a in _by_name(d.actuators) if a.name not in st.done_actuators and a.name not in st.flagged]
+    free: list[str] = [ln for ln in sorted(d.links) if ln not in st.placed]
     free += [f"{s.name}.block" for s in slides_left]
     for a in acts_left:
         free += [f"{a.name}.barrel", f"{a.name}.rod"]

@@ -50,7 +50,7 @@ def test_too_few_inputs_names_the_free_links() -> None:
             "links": {"left": ["O1", "A1"], "right": ["O2", "A2"], "l1": ["A1", "P"], "l2": ["A2", "P"]},
             "inputs": ["left"]}
     refuse(five, r"mobility F = 3\(n − 1\) − 2j₁ − j₂ = 3·4 − 2·5 − 0 = 2 with 1 input\(s\) \(left\) does not match: "
-                 r"right, l1, l2 free \(sub-chain count \+1\): add an input or a link")
+                 r"l1, l2, right free \(sub-chain count \+1\): add an input or a link")
 
 
 def test_too_many_inputs_names_the_over_constrained_link() -> None:
@@ -73,7 +73,7 @@ def test_a_class_3_group_is_refused_naming_its_links() -> None:
              "links": {"crank": ["O", "A"], "l1": ["A", "B"], "ternary": ["B", "D", "E"], "l2": ["F", "D"],
                        "l3": ["G", "E"]},
              "inputs": ["crank"]}
-    refuse(triad, r"= 1 with 1 input\(s\) \(crank\) matches: l1, ternary, l2, l3 form a group of class 3 or more "
+    refuse(triad, r"= 1 with 1 input\(s\) \(crank\) matches: l1, l2, l3, ternary form a group of class 3 or more "
                   r"\(a triad: a ternary link and three binary links\), which no group of this solver solves yet")
 
 
