@@ -5,7 +5,8 @@ its equivalent group scene to files (linkage-import's writer), then loads each f
 ``solver.load_scene`` in alternation, ``--repeat`` times, and prints the median load time of each
 and their ratio (measured in the same process, interleaved, so that the machine's load affects
 both alike). The drawn form pays for its structure finder (graph, mobility, decomposition); the
-group form for nothing more than it always did.
+group form for nothing more than it always did. ``--chain 1000,2000,4000`` also times the
+structure finder on a chain of N RRR dyads (2N links, N + 1 ground points): it grows linearly.
 """
 
 from __future__ import annotations
@@ -53,9 +54,25 @@ def measure(name: str, folder: Path, repeat: int) -> tuple[float, float]:
     return statistics.median(times[drawn_file]), statistics.median(times[group_file])
 
 
+def chain(n: int) -> dict[str, object]:
+    """A drawn crank driving n RRR dyads in series, each to a ground point of its own."""
+    pts: dict[str, list[float]] = {"O": [0.0, 0.0], "P0": [0.1, 0.05]}
+    ground, links, prev = ["O"], {"crank": ["O", "P0"]}, "P0"
+    for i in range(1, n + 1):
+        pts[f"G{i}"] = [0.3 * i + 0.1, -0.2]
+        pts[f"P{i}"] = [0.3 * i, 0.1 + 0.05 * (i % 2)]
+        ground.append(f"G{i}")
+        links[f"a{i}"], links[f"b{i}"] = [prev, f"P{i}"], [f"G{i}", f"P{i}"]
+        prev = f"P{i}"
+    return {"scene": "chain", "units": {"length": "m", "angle": "rad"},
+            "drawing": {"points": pts, "ground": ground, "links": links, "inputs": ["crank"]},
+            "outputs": {"points": [prev]}}
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     p.add_argument("--repeat", type=int, default=200)
+    p.add_argument("--chain", default="", help="comma-separated dyad counts for the scaling table")
     args = p.parse_args(argv)
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(f"# {platform.processor() or platform.machine()}, Python {platform.python_version()}, "
@@ -65,6 +82,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         for name in SCENES:
             drawn, groups = measure(name, Path(tmp), args.repeat)
             print(f"{name:<20} {drawn * 1e3:>9.3f} {groups * 1e3:>10.3f} {drawn / groups:>6.2f}")
+    sizes = [int(x) for x in args.chain.split(",") if x.strip()]
+    if sizes:
+        print(f"{'dyads':>7} {'structure s':>12} {'µs/link':>8}")
+    for n in sizes:
+        data = chain(n)
+        t0 = time.perf_counter()
+        scene_dict_from_drawing(data)
+        t = time.perf_counter() - t0
+        print(f"{n:>7} {t:>12.3f} {t / (2 * n) * 1e6:>8.1f}")
     return 0
 
 

@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 from .._fields import Entry, Units, show
@@ -95,7 +96,7 @@ class Drawing:
     #: the entries of the file, for messages with lines: ``entries["links.coupler"]``
     entries: Mapping[str, Entry] = field(default_factory=dict, compare=False, repr=False)
 
-    @property
+    @cached_property
     def size(self) -> float:
         """The drawing's size: the largest distance of a point from the first ground point."""
         o = self.points[self.ground[0]]
@@ -198,6 +199,7 @@ def _links(
     ln = d.child("links", raw)
     entries["links"] = ln
     out: dict[str, tuple[str, ...]] = {}
+    apart = _coincident(points)
     for key in ln.data:
         name = str(key)
         ln.check_name(name, name)
@@ -221,7 +223,7 @@ def _links(
             )
         for i, a in enumerate(pts):
             for b in pts[i + 1 :]:
-                if abs(points[a] - points[b]) <= _coincident(points):
+                if abs(points[a] - points[b]) <= apart:
                     raise ln.error(f"its points {a} and {b} are drawn at one place: a link's points are apart", name)
         out[name] = tuple(pts)
     if not out:
