@@ -205,7 +205,7 @@ def _links(
         ln.check_name(name, name)
         if name == GROUND:
             raise ln.error("'ground' is the frame: list its points under drawing.ground", name)
-        pts = ln.names(name)
+        pts = _point_names(ln, name, points)
         if len(pts) < 2:
             raise ln.error(
                 f"a link joins at least two points, got {show(list(pts))}: add the point it is pinned at, or drop it",
@@ -213,9 +213,6 @@ def _links(
             )
         if len(set(pts)) != len(pts):
             raise ln.error(f"names a point twice: {show(list(pts))}", name)
-        for q in pts:
-            if q not in points:
-                raise ln.error(f"'{q}' is not one of the points {_few(points)}", name)
         if all(q in ground for q in pts):
             raise ln.error(
                 f"joins ground points only ({', '.join(pts)}): it is part of the frame; drop it (its points are fixed)",
@@ -229,6 +226,17 @@ def _links(
     if not out:
         raise ln.error("draw at least one link")
     return out
+
+
+def _point_names(e: Entry, key: str, points: Mapping[str, complex]) -> tuple[str, ...]:
+    """``e[key]`` as a list of drawn points (names checked once, as the points' keys)."""
+    value = e.raw(key)
+    if not isinstance(value, (list, tuple)) or not all(isinstance(v, str) for v in value):
+        raise e.error(f"must be a list of point names, got {show(value)}", key)
+    for q in value:
+        if q not in points:
+            raise e.error(f"'{show(q, 40)}' is not one of the points {_few(points)}", key)
+    return tuple(value)
 
 
 def _coincident(points: Mapping[str, complex]) -> float:
@@ -334,6 +342,10 @@ def _inputs(
         if isinstance(item, str) and item in actuators:  # its place among the inputs
             if item in order:
                 raise d.error(f"'{item}' is listed twice", where)
+            order.append(item)
+            continue
+        if isinstance(item, str) and item in links and links[item][0] in ground and links[item][1] not in ground:
+            out.append(Input(item, item))  # (the plain form, checked without an entry of its own)
             order.append(item)
             continue
         if isinstance(item, str):
