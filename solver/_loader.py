@@ -17,6 +17,7 @@ from .forces.parse import FORCE_KEYS, parse_forces
 from .groups import GROUP_TYPES, JOINT_KINDS, RRR, Crank, Group, JointExpression
 from .groups.joints import URDF_JOINT_KINDS
 from .groups.rrr import CrankFeed
+from .structure import scene_dict_from_drawing
 
 __all__ = ["SceneData", "parse_scene", "read_yaml", "SECTION_PARSERS"]
 
@@ -75,6 +76,8 @@ def parse_scene(data: Any, *, file: str | None, default_name: str = "scene") -> 
     """Validate a scene's data; a misspelt top-level key is reported before any other fault."""
     if data is None:
         raise SceneError("the file is empty: a scene is a mapping of sections (docs/scenes.md)", file=file)
+    if isinstance(data, Mapping) and "drawing" in data:  # the drawn form (solver.structure)
+        data = scene_dict_from_drawing(data, source=file)
     try:
         return _parse_scene(data, file=file, default_name=default_name)
     except SceneError:
@@ -98,8 +101,10 @@ def _parse_scene(data: Any, *, file: str | None, default_name: str = "scene") ->
         raise top.error(f"must be a list of groups, got {show(raw_groups)}", "groups")
     if not raw_groups and not any(key in top.data for key in SECTION_PARSERS):
         raise top.error("name at least one group (a crank first: the input)", "groups")
+    planar = all(isinstance(v, complex) for v in fixed.values())  # (once, not per group: a drawn
+    # scene's many ground points made that quadratic)
     for i, raw in enumerate(raw_groups):
-        groups.append(_group(top.child(f"groups[{i}]", raw), units, fixed))
+        groups.append(_group(top.child(f"groups[{i}]", raw), units, fixed, planar=planar))
     for key, parse in SECTION_PARSERS.items():
         if key in top.data:
             groups.extend(parse(top.child(key, top.raw(key)), units, fixed))
@@ -204,14 +209,15 @@ def _fixed(top: Entry, units: Units) -> tuple[dict[str, Any], int]:
     return fixed, dims.pop()
 
 
-def _group(e: Entry, units: Units, fixed: Mapping[str, Any]) -> Group:
+def _group(e: Entry, units: Units, fixed: Mapping[str, Any], *, planar: bool | None = None) -> Group:
     kind = e.name("type")
     cls = GROUP_TYPES.get(kind)
     if cls is None:
         near = suggest(kind, GROUP_TYPES)
         hint = f" (did you mean '{near[0]}'?)" if near else ""
         raise e.error(f"unknown group type '{kind}'{hint}; known types: {', '.join(sorted(GROUP_TYPES))}", "type")
-    planar = all(isinstance(v, complex) for v in fixed.values())
+    if planar is None:
+        planar = all(isinstance(v, complex) for v in fixed.values())
     if bool(getattr(cls, "spatial", False)) == planar:
         need, have = ("spatial [x, y, z]", "planar") if planar else ("planar [x, y]", "spatial")
         raise e.error(f"a {kind} group needs {need} fixed points; this scene's are {have}", "type")
