@@ -35,7 +35,8 @@ class Equation:
 
     def __init__(self, model: ReducedModel, drive: Drive, *, works: bool = True) -> None:
         self.model, self.drive, self.k = model, drive, model.k
-        self.fault: tuple[str, str] | None = None  # (group, reason) of the last unassemblable call
+        #: (group, reason, q) of the last call that could not be assembled
+        self.fault: tuple[str, str, list[float]] | None = None
         #: whether the two work integrals are integrated (False: their rates are 0, no pass for the
         #: other loads with several inputs)
         self.works = works
@@ -64,7 +65,7 @@ class Equation:
         try:
             qdd, qdrive, other, _ = self._solve(float(t), q, qd)
         except AssemblyError as exc:  # a trial step beyond an assembly limit: rejected (NaN)
-            self.fault = (exc.group, exc.reason)
+            self.fault = (exc.group, exc.reason, q)
             return np.full(y.shape, math.nan)
         if not self.works:
             return np.array([*qd, *qdd, 0.0, 0.0])
@@ -168,25 +169,51 @@ def _where(scene: Any, y: np.ndarray) -> str:
     return ", ".join(parts[:k])
 
 
+def _strokes(scene: Any) -> list[tuple[int, float, float, str]]:
+    """(input index, closed, open, group) of each length input with a stroke."""
+    groups = {g.input_joint(): g.name for g in getattr(scene, "ordered", ()) if g.drives}
+    spans = zip(scene.inputs, getattr(scene, "input_ranges", ()))
+    return [(i, span[0], span[1], groups.get(joint, joint)) for i, (joint, span) in enumerate(spans)
+            if span is not None]
+
+
+def _stroke_end(lo: float, hi: float, group: str, *, open_end: bool) -> str:
+    """The one message where a run reaches an end of a stroke, whichever way the integrator
+    found it (the stroke's event, or a step beyond the end rejected: the two are the same limit)."""
+    end, verb = ("open", "tops") if open_end else ("closed", "bottoms")
+    return (f"reaches the {end} end of the stroke [{lo:g}, {hi:g}] m of group '{group}' (an assembly limit: "
+            f"the cylinder {verb} out)")
+
+
+def _limit_message(scene: Any, fault: tuple[str, str, list[float]] | None, detail: str) -> str:
+    """The message where the integrator could not step on (a trial state it could not assemble):
+    the stroke's end where that state lies beyond one (the same text as the stroke's event),
+    else the group and its reason (``detail``: the integrator's own, without a fault)."""
+    if fault is None:
+        return f"stops at an assembly limit ({detail})"
+    group, reason, q = fault
+    for i, lo, hi, name in _strokes(scene):
+        if not lo <= q[i] <= hi:
+            return _stroke_end(lo, hi, name, open_end=q[i] > hi)
+    return f"stops at an assembly limit of group '{group}' ({reason})"
+
+
 def _stroke_events(scene: Any) -> list[Any]:
     """One terminal event per length input with a stroke: (s − closed)·(open − s) falls to 0 at
-    either end, where the cylinder bottoms out or tops out (an assembly limit)."""
+    either end, where the cylinder bottoms out or tops out (an assembly limit). ``message(y)``:
+    the one text of :func:`_stroke_end` for the end ``y`` is at."""
     out = []
-    groups = {g.input_joint(): g.name for g in getattr(scene, "ordered", ()) if g.drives}
-    for i, (joint, span) in enumerate(zip(scene.inputs, getattr(scene, "input_ranges", ()))):
-        if span is None:
-            continue
-        lo, hi = span
-        name = groups.get(joint, joint)
+    for i, lo, hi, name in _strokes(scene):
 
         def end(t: float, y: np.ndarray, i: int = i, lo: float = lo, hi: float = hi) -> float:
             return float((y[i] - lo) * (hi - y[i]))
 
+        def message(y: np.ndarray, i: int = i, lo: float = lo, hi: float = hi, name: str = name) -> str:
+            return _stroke_end(lo, hi, name, open_end=abs(y[i] - hi) < abs(y[i] - lo))
+
         end.terminal = True  # type: ignore[attr-defined]
         end.direction = -1  # type: ignore[attr-defined]  # leaving the stroke (a run may start at an end)
-        end.message = (  # type: ignore[attr-defined]
-            f"reaches an end of the stroke [{lo:g}, {hi:g}] m of group '{name}' (an assembly limit: the cylinder "
-            "bottoms or tops out)")
+        end.message = message  # type: ignore[attr-defined]
         out.append(end)
     return out
 
@@ -282,13 +309,12 @@ def simulate(
                        f"drive through it, the reduced inertia grows without bound)")
         elif hit <= len(strokes):
             status = "assembly"
-            message = strokes[hit - 1].message  # type: ignore[attr-defined]
+            message = strokes[hit - 1].message(ye)  # type: ignore[attr-defined]
         else:
             status = "until"
     elif sol.status == -1:
-        group, reason = eq.fault or ("?", sol.message)
         status = "assembly"
-        message = f"stops at an assembly limit of group '{group}' ({reason})"
+        message = _limit_message(scene, eq.fault, sol.message)
         last = sol.sol.t_max if sol.sol is not None else ts[-1]
         if ts.size and last > ts[-1]:  # the last accepted step, past the last requested sample
             ts, ys = np.append(ts, last), np.column_stack([ys, sol.sol(last)])
@@ -379,7 +405,7 @@ class Stepper:
         self.rtol, self.atol, self._method = rtol, atol, _METHODS[method]
         self.t = t0
         self.y = np.array([*q0, *w0, 0.0, 0.0])
-        self._spans = tuple(getattr(scene, "input_ranges", ())) or (None,) * k
+        self._strokes = _strokes(scene)
         try:
             self.eq.accelerations(t0, q0, w0)
         except AssemblyError as exc:
@@ -403,14 +429,12 @@ class Stepper:
         while s.t < t:
             msg = s.step()
             if s.status == "failed" or msg is not None:
-                group, reason = self.eq.fault or ("?", str(msg))
-                raise DynamicsError(f"stops at an assembly limit ({reason})", scene=self.scene.name, time=s.t,
-                                    at=_where(self.scene, s.y), group=group)
-            for i, span in enumerate(self._spans):
-                if span is not None and not span[0] <= s.y[i] <= span[1]:
-                    raise DynamicsError(f"reaches an end of the stroke of '{self.scene.inputs[i]}' [{span[0]:g}, "
-                                        f"{span[1]:g}] m (an assembly limit)", scene=self.scene.name, time=s.t,
-                                        at=_where(self.scene, s.y), group=None)
+                raise DynamicsError(_limit_message(self.scene, self.eq.fault, str(msg)), scene=self.scene.name,
+                                    time=s.t, at=_where(self.scene, s.y), group=None)
+            for i, lo, hi, name in self._strokes:
+                if not lo <= s.y[i] <= hi:
+                    raise DynamicsError(_stroke_end(lo, hi, name, open_end=s.y[i] > hi), scene=self.scene.name,
+                                        time=s.t, at=_where(self.scene, s.y), group=None)
             if self.eq.conditioning(s.t, s.y) < DYNAMICS_TOGGLE:
                 raise DynamicsError("reaches a singular position (a toggle: the inputs cannot drive through it)",
                                     scene=self.scene.name, time=s.t, at=_where(self.scene, s.y),
