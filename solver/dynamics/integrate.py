@@ -20,7 +20,8 @@ from typing import Any
 import numpy as np
 from scipy.integrate import DOP853, RK45, Radau, solve_ivp
 
-from ..errors import AssemblyError, DynamicsError
+from .._arguments import Arguments
+from ..errors import AssemblyError, DynamicsArgumentError, DynamicsError
 from ..tolerances import DYNAMICS_TOGGLE
 from .drive import Drive, make_drive
 from .reduced import ReducedModel, reduced_model
@@ -123,7 +124,7 @@ class Trajectory:
         """(φ, ω) at time(s) ``t`` within the run, from the integrator's dense output."""
         if self._dense is None:
             raise DynamicsError("this trajectory keeps no dense output", scene=self.scene.name)
-        y = self._dense(np.asarray(t, float))
+        y = self._dense(Arguments("Trajectory.at", scene=self.scene.name, error=DynamicsArgumentError).numbers("t", t))
         k = len(self.scene.inputs)
         if k == 1:
             return y[0], y[1]
@@ -151,12 +152,21 @@ class Trajectory:
         }
 
 
-def _initial(value: Any, k: int, label: str, scene: str) -> list[float]:
-    arr = np.broadcast_to(np.asarray(0.0 if value is None else value, float), (k,)) if np.ndim(value) <= 1 else None
-    if arr is None or not np.all(np.isfinite(arr)):
-        raise DynamicsError(f"{label} must be {'a finite number' if k == 1 else f'{k} finite numbers'}, "
-                            f"got {value!r:.60}", scene=scene)
-    return [float(v) for v in arr]
+def _initial(args: Arguments, value: Any, k: int, label: str) -> list[float]:
+    """An initial coordinate or rate: a number (every input alike; None: 0) or one per input."""
+    arr = args.numbers(label, 0.0 if value is None else value)
+    if arr.ndim > 1 or (arr.ndim == 1 and arr.size != k):
+        args.fail(label, value, "must be a finite number" if k == 1 else
+                  f"must be a number or {k} numbers (one per input)")
+    return [float(v) for v in np.broadcast_to(arr, (k,))]
+
+
+def _checked(
+    args: Arguments, *, rtol: Any, atol: Any, method: Any
+) -> tuple[float, float, str]:
+    """The integrator's tolerances and method, checked (simulate, Stepper)."""
+    return (args.number("rtol", rtol, low=0.0, low_open=True), args.number("atol", atol, low=0.0, low_open=True),
+            args.choice("method", method, tuple(_METHODS)))
 
 
 def _where(scene: Any, y: np.ndarray) -> str:
@@ -245,16 +255,18 @@ def simulate(
     the group (the partial run on its ``trajectory``); ``"stop"`` returns the partial run with
     that ``status`` and ``message``."""
     name = scene.name
-    if not (isinstance(t_end, (int, float)) and math.isfinite(t_end) and t_end > 0):
-        raise DynamicsError(f"t_end must be a positive number of seconds, got {t_end!r:.40}", scene=name)
-    if method not in _METHODS:
-        raise DynamicsError(f"method must be one of {', '.join(_METHODS)}, got {method!r}", scene=name)
-    if on_singular not in ("raise", "stop"):
-        raise DynamicsError(f"on_singular must be 'raise' or 'stop', got {on_singular!r}", scene=name)
+    args = Arguments("simulate", scene=name, error=DynamicsArgumentError)
+    t_end = args.number("t_end", t_end, low=0.0, low_open=True, unit="s")
+    rtol, atol, method = _checked(args, rtol=rtol, atol=atol, method=method)
+    on_singular = args.choice("on_singular", on_singular, ("raise", "stop"))
+    dt = args.number("dt", dt, low=0.0, low_open=True, unit="s", none=True)
+    until_phi = args.number("until_phi", until_phi, none=True)
+    events = args.functions("events", events)
+    max_step = args.number("max_step", max_step, low=0.0, low_open=True, unit="s", infinite=True)
     model = reduced_model(scene)
     k = model.k
-    q0 = _initial(phi0, k, "phi0", name)
-    w0 = _initial(omega0, k, "omega0", name)
+    q0 = _initial(args, phi0, k, "phi0")
+    w0 = _initial(args, omega0, k, "omega0")
     fn, kind = make_drive(drive, scene.inputs, model.motors, scene=name)
     eq = Equation(model, fn)
     y0 = np.array([*q0, *w0, 0.0, 0.0])
@@ -274,7 +286,7 @@ def simulate(
     if until_phi is not None:
         if k != 1:
             raise DynamicsError("until_phi is for one input; pass events=[f(t, q, qd)] with several", scene=name)
-        target = float(until_phi)
+        target = until_phi
 
         def reach(t: float, y: np.ndarray) -> float:
             return float(y[0]) - target
@@ -289,8 +301,6 @@ def simulate(
         all_events.append(user)
     t_eval = None
     if dt is not None:
-        if not (dt > 0 and math.isfinite(dt)):
-            raise DynamicsError(f"dt must be a positive number of seconds, got {dt!r}", scene=name)
         t_eval = np.append(np.arange(0.0, t_end, dt), t_end)
         if t_eval.size > 1 and t_eval[-2] >= t_end:
             t_eval = t_eval[:-1]
@@ -395,10 +405,14 @@ class Stepper:
         atol: float = 1e-9, method: str = "DOP853", t0: float = 0.0, works: bool = True,
     ) -> None:
         self.scene = scene
+        args = Arguments("Stepper", scene=scene.name, error=DynamicsArgumentError)
+        rtol, atol, method = _checked(args, rtol=rtol, atol=atol, method=method)
+        t0 = args.number("t0", t0, unit="s")
+        works = args.flag("works", works)
         self.model = reduced_model(scene)
         k = self.k = self.model.k
-        q0 = _initial(phi0, k, "phi0", scene.name)
-        w0 = _initial(omega0, k, "omega0", scene.name)
+        q0 = _initial(args, phi0, k, "phi0")
+        w0 = _initial(args, omega0, k, "omega0")
         fn, self.kind = make_drive(drive, scene.inputs, self.model.motors, scene=scene.name)
         self.works = works
         self.eq = Equation(self.model, fn, works=works)

@@ -31,6 +31,7 @@ LAYERS: dict[str, int] = {
     "solver._backend": 0,
     "solver._yaml": 0,
     "solver._fields": 0,
+    "solver._arguments": 0,  # the public functions' argument checks (errors only)
     "solver.jet": 1,
     "solver._trace": 1,
     "solver.tracing": 1,  # the tracer's public face (re-exports solver._trace)

@@ -159,9 +159,9 @@ def test_a_table_longer_than_its_period_is_refused(tmp_path: Path) -> None:
 
 def test_bad_runs_are_one_clear_line(tmp_path: Path) -> None:
     scene = solver.load_scene("four_bar_pendulum")
-    with pytest.raises(solver.DynamicsError, match=r"four_bar_pendulum: phi0 must be a finite number, got nan"):
+    with pytest.raises(solver.DynamicsError, match=r"four_bar_pendulum: simulate: phi0 must be finite, got nan"):
         scene.simulate(1.0, phi0=float("nan"))
-    with pytest.raises(solver.DynamicsError, match=r"t_end must be a positive number of seconds"):
+    with pytest.raises(solver.DynamicsError, match=r"simulate: t_end must be a finite number > 0 s, got -1.0$"):
         scene.simulate(-1.0)
     with pytest.raises(solver.SolverError, match=r"the drive gives \[1.0, 2.0\] where it must give 1 effort"):
         scene.simulate(1.0, drive=[1.0, 2.0])
@@ -174,7 +174,7 @@ def test_bad_runs_are_one_clear_line(tmp_path: Path) -> None:
         _load(tmp_path, massless).simulate(1.0)
     with pytest.raises(solver.DynamicsError, match=r"names no bodies, gravity or loads"):
         solver.load_scene("four_bar").simulate(1.0)
-    with pytest.raises(solver.DynamicsError, match=r"five_bar: phi0 must be 2 finite numbers"):
+    with pytest.raises(solver.DynamicsError, match=r"five_bar: simulate: phi0 must be finite, got \[inf\]"):
         solver.load_scene("five_bar").simulate(1.0, phi0=[1.0, math.inf])
 
 
@@ -259,3 +259,12 @@ def test_the_stepper_says_the_same_at_an_end_of_the_stroke() -> None:
                                                    r"cylinder tops out\)$"):
         for t in np.arange(0.0, 2.0, 0.01):
             stepper.advance(float(t))
+
+
+@pytest.mark.parametrize("function", [steady_state, run_up, lambda scene: flywheel_for(scene, 0.1)])
+def test_machine_dynamics_of_a_stroke_says_it_does_not_apply(function: Any) -> None:
+    with pytest.raises(solver.DynamicsError, match=r"^tipper: (steady_state|run_up|flywheel_for): machine dynamics "
+                                                   r"\(steady state, flywheel, run-up\) is for an input crank that "
+                                                   r"turns through a load cycle; 'stroke' is an actuator's stroke "
+                                                   r"\[0.74, 1.3\] m, which has none: run it with simulate"):
+        function(solver.load_scene("tipper"))
