@@ -152,6 +152,12 @@ class Trajectory:
         }
 
 
+def _start(scene: Any) -> list[float]:
+    """The default initial coordinates: 0 for an angle, the closed length of an actuator's stroke."""
+    spans = tuple(getattr(scene, "input_ranges", ())) or (None,) * len(scene.inputs)
+    return [0.0 if span is None else float(span[0]) for span in spans]
+
+
 def _initial(args: Arguments, value: Any, k: int, label: str) -> list[float]:
     """An initial coordinate or rate: a number (every input alike; None: 0) or one per input."""
     arr = args.numbers(label, 0.0 if value is None else value)
@@ -245,6 +251,7 @@ def simulate(
     max_step: float = math.inf,
 ) -> Trajectory:
     """Integrate the inputs from (``phi0``, ``omega0``) at t = 0 to ``t_end`` (s) under ``drive``
+    (``phi0`` None: 0 for an angle, the closed length of an actuator's stroke)
     (solver.dynamics.drive: the scene's motors by default) and the scene's loads.
 
     Samples: the integrator's own steps, or every ``dt`` seconds; the last at exactly ``t_end``.
@@ -265,7 +272,7 @@ def simulate(
     max_step = args.number("max_step", max_step, low=0.0, low_open=True, unit="s", infinite=True)
     model = reduced_model(scene)
     k = model.k
-    q0 = _initial(args, phi0, k, "phi0")
+    q0 = _start(scene) if phi0 is None else _initial(args, phi0, k, "phi0")
     w0 = _initial(args, omega0, k, "omega0")
     fn, kind = make_drive(drive, scene.inputs, model.motors, scene=name)
     eq = Equation(model, fn)
@@ -411,7 +418,7 @@ class Stepper:
         works = args.flag("works", works)
         self.model = reduced_model(scene)
         k = self.k = self.model.k
-        q0 = _initial(args, phi0, k, "phi0")
+        q0 = _start(scene) if phi0 is None else _initial(args, phi0, k, "phi0")
         w0 = _initial(args, omega0, k, "omega0")
         fn, self.kind = make_drive(drive, scene.inputs, self.model.motors, scene=scene.name)
         self.works = works
