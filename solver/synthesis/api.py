@@ -74,7 +74,11 @@ def synthesize(
     """
     t0 = time.monotonic()
     args = Arguments("synthesize", error=SynthesisArgumentError)  # each keyword's type and range (issue 30)
+    if not isinstance(template, str | os.PathLike | Template | Mapping):
+        args.fail("template", template, "must be a template scene: a path, a shipped name, a Template or its data")
     point, joint = args.name("point", point, none=True), args.name("joint", joint, none=True)
+    if at is not None:
+        args.numbers("at", at, unit="rad")  # (its count against the targets: make_goal)
     seed = args.integer("seed", seed, low=0)
     time_limit = args.number("time_limit", time_limit, low=0.0, low_open=True, unit="s", none=True)
     if workers is not None and not all(hasattr(workers, m) for m in ("submit", "gather", "scatter")):

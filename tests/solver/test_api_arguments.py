@@ -153,6 +153,7 @@ SYNTHESIS = [
                              r"got '0:1' \(a str\)$"),
     ({"point": 3}, r"synthesize: point must be a name \(a str\) or None, got 3$"),
     ({"workers": 4}, r"synthesize: workers must be a dask.distributed.Client or None, got 4$"),
+    ({"at": "x"}, r"synthesize: at must be a number or an array of numbers \(rad\), got 'x' \(a str\)$"),
     ({"progress": "yes"}, r"synthesize: progress must be a function or None, got 'yes' \(a str\)$"),
 ]
 
@@ -163,6 +164,12 @@ def test_synthesize_arguments_are_one_line(task: dict[str, Any], message: str) -
     with pytest.raises(SynthesisArgumentError, match=message) as info:
         solver.synthesize(FOUR_BAR_PATH, **given)
     assert isinstance(info.value, SynthesisError) and "\n" not in str(info.value)
+
+
+def test_synthesize_names_a_template_that_is_none() -> None:
+    with pytest.raises(SynthesisArgumentError, match=r"^synthesize: template must be a template scene: a path, a "
+                                                     r"shipped name, a Template or its data, got 3$"):
+        solver.synthesize(3, point="P", through=[[0.1, 0.2]])  # type: ignore[arg-type]
 
 
 def test_the_helper_says_ranges_and_units_one_way() -> None:
