@@ -21,6 +21,8 @@ from .errors import ArgumentError
 
 __all__ = ["Arguments", "is_number"]
 
+_FLOAT = np.dtype(float)
+
 
 def is_number(value: Any) -> bool:
     """A real number (Python's or numpy's, or a 0-d array of one), not a bool."""
@@ -138,14 +140,17 @@ class Arguments:
 
     def numbers(self, argument: str, value: Any, *, unit: str = "") -> np.ndarray:
         """A number or an array of numbers, every one finite, as a float array."""
-        try:
-            raw = np.asarray(value)
-        except (TypeError, ValueError):  # ragged
-            raw = None
-        if raw is None or raw.dtype.kind not in "iuf":
-            self.fail(argument, value, "must be a number or an array of numbers" + (f" ({unit})" if unit else ""))
-        arr = raw.astype(float)
-        if not np.all(np.isfinite(arr)):
+        if value.__class__ is np.ndarray and value.dtype == _FLOAT:  # the usual sweep: no conversion
+            arr = value
+        else:
+            try:
+                raw = np.asarray(value)
+            except (TypeError, ValueError):  # ragged
+                raw = None
+            if raw is None or raw.dtype.kind not in "iuf":
+                self.fail(argument, value, "must be a number or an array of numbers" + (f" ({unit})" if unit else ""))
+            arr = raw.astype(float, copy=False)
+        if not np.isfinite(arr).all():
             bad = arr[~np.isfinite(arr)] if arr.ndim else arr
             self.fail(argument, value if arr.ndim == 0 else np.ravel(bad)[:3].tolist(), "must be finite")
         return arr

@@ -552,6 +552,8 @@ def _is_scalar(x: Any) -> bool:
 
 def _per_sample(value: Any, shape: tuple[int, ...], label: str, scene: str) -> Any:
     """A finite scalar stays a float; an array must broadcast to φ's shape."""
+    if value.__class__ is float and math.isfinite(value):  # the usual rate: no array made
+        return value
     given = Arguments("solve", scene=scene).numbers(label, value)
     if given.ndim == 0:
         return float(given)
