@@ -109,7 +109,8 @@ def _run_parser() -> argparse.ArgumentParser:
                     "to MCAP (rosbag2 profile) and the motion to a rerun recording.")
     p.add_argument("scene", help="scene file, or the name of a shipped scene (e.g. harvester_finger)")
     span = p.add_mutually_exclusive_group()
-    span.add_argument("--duration", type=positive, metavar="S", help="simulated seconds (> 0)")
+    span.add_argument("--duration", type=positive, metavar="S",
+                      help="simulated seconds (> 0; default: the time of --cycles 1, or 5 s with --dynamics)")
     span.add_argument("--cycles", type=positive, metavar="N",
                       help="turns of the input, or full strokes of an actuator (> 0; default 1 when --duration "
                            "is not given)")
@@ -123,7 +124,9 @@ def _run_parser() -> argparse.ArgumentParser:
                    help="input angle at t = 0 (0; an actuator's stroke: m, its closed length); Q=RAD per "
                         "input as for --omega")
     p.add_argument("--points", metavar="P,Q", help="published points (default: the scene's outputs)")
-    p.add_argument("--on-unassemblable", choices=("stop", "reverse"), default="stop")
+    p.add_argument("--on-unassemblable", choices=("stop", "reverse"), default="stop",
+                   help="where the mechanism cannot be assembled: hold the last valid position, or reverse the "
+                        "input (default stop)")
     p.add_argument("--mcap", type=Path, metavar="FILE",
                    help="MCAP output (default runs/<scene>-<time>.mcap)")
     p.add_argument("--rrd", type=Path, metavar="FILE",
@@ -132,7 +135,8 @@ def _run_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-rrd", action="store_true", help="do not write the rerun file")
     p.add_argument("--spawn", action="store_true",
                    help="also show the run in a rerun viewer (where there is a display)")
-    p.add_argument("--frame-id", default="world")
+    p.add_argument("--frame-id", default="world", help="frame of the published points and markers (default "
+                                                       "world)")
     p.add_argument("--namespace", default="/", help="node namespace of the recorded topics (/)")
     p.add_argument("--chunk-interval", type=positive, default=1.0, metavar="S",
                    help="close and flush an MCAP chunk at least this often (1 s)")
@@ -144,11 +148,12 @@ def _run_parser() -> argparse.ArgumentParser:
                           "instead of prescribing ω and ε; prints the run-up, ω, δ, the drive's peaks and "
                           "the energy balance, and plots the energies")
     dyn.add_argument("--omega0", type=_law(OMEGA_MAX), action="append", default=[], metavar="W|Q=W",
-                     help="with --dynamics: input rate at t = 0, rad/s (0); Q=W per input as for --omega")
+                     help="with --dynamics: input rate at t = 0, rad/s (an actuator's stroke: m/s) (0); Q=W per "
+                          "input as for --omega")
     dyn.add_argument("--drive", metavar="free|motor|EFFORT",
-                     help="with --dynamics: free, motor, or a constant effort in N·m (N for a slide; "
-                          "several inputs: one per input, comma-separated); default: the scene's motor, "
-                          "else free")
+                     help="with --dynamics: free, motor, or a constant effort in N·m (N for an actuator's "
+                          "stroke or a slide; several inputs: one per input, comma-separated); default: the "
+                          "scene's motor, else free")
     dyn.add_argument("--tolerance", type=positive, default=1e-9, metavar="TOL",
                      help="with --dynamics: the integrator's rtol = atol (1e-9)")
     return p
@@ -239,7 +244,12 @@ def _start_line(scene: Any, duration: float, rate: float, ticks: int, laws: dict
 
 def _dynamic_start_line(scene: Any, duration: float, rate: float, ticks: int, start: dict[str, Any]) -> str:
     """A dynamic run's first line: time, ticks and each input's initial state."""
-    each = "; ".join(f"'{q}' from φ0 = {math.degrees(p):g}°, ω0 = {w:g} rad/s"
+    def each_start(q: str, p: float, w: float) -> str:  # an angle in degrees, an actuator's stroke in m
+        if scene.joint_units.get(q, "rad") == "m":
+            return f"'{q}' from s0 = {p:g} m, ṡ0 = {w:g} m/s"
+        return f"'{q}' from φ0 = {math.degrees(p):g}°, ω0 = {w:g} rad/s"
+
+    each = "; ".join(each_start(q, float(p), float(w))
                      for q, p, w in zip(scene.inputs, *(np.atleast_1d(start[k]) for k in ("phi0", "omega0"))))
     return (f"scene {scene.name}: {duration:g} s of simulated time at {rate:g} Hz (up to {ticks} ticks), the "
             f"motion from the equation of motion: {each}; angles in degrees, everything else SI")

@@ -66,8 +66,8 @@ def main(argv: Sequence[str] | None = None, *, out: TextIO | None = None) -> int
     mine = argv[: len(argv) - len(ros_args)]
     parser = argparse.ArgumentParser(prog="linkage-echo", description=__doc__.split("\n")[0])
     parser.add_argument("topic", help="topic name (relative names resolve in --ros-args' namespace)")
-    parser.add_argument("--count", type=int, default=0, help="stop after N messages (0: never)")
-    parser.add_argument("--timeout", type=float, default=5.0, help="seconds to wait for a publisher")
+    parser.add_argument("--count", type=int, default=0, help="stop after N messages (default 0: never)")
+    parser.add_argument("--timeout", type=float, default=5.0, help="seconds to wait for a publisher (default 5)")
     opts = parser.parse_args(mine)
     stopped = [False]
 

@@ -78,13 +78,19 @@ class Motion:
     """Piecewise-constant angular acceleration of the input joint, exact from each segment start.
 
     ``Motion(phi0=0.0, omega=1.0, epsilon=0.0, t0=0.0)`` starts one segment at ``t0``. Times
-    before the first segment extrapolate it backwards.
+    before the first segment extrapolate it backwards. ``unit``: the input's, ``"rad"`` (an
+    angle: rad, rad/s, rad/s²) or ``"m"`` (an actuator's stroke: m, m/s, m/s²), for its repr.
     """
 
+    unit = "rad"
+
     def __init__(
-        self, *, phi0: float = 0.0, omega: float = 1.0, epsilon: float = 0.0, t0: float = 0.0
+        self, *, phi0: float = 0.0, omega: float = 1.0, epsilon: float = 0.0, t0: float = 0.0, unit: str = "rad"
     ) -> None:
         _check_finite(phi0=phi0, omega=omega, epsilon=epsilon, t0=t0)
+        if unit not in ("rad", "m"):
+            raise ValueError(f"unit must be 'rad' or 'm', got {unit!r}")
+        self.unit = unit
         self._segments: list[Segment] = [
             Segment(float(t0), float(phi0), float(omega), float(epsilon))
         ]
@@ -214,9 +220,10 @@ class Motion:
 
     def __repr__(self) -> str:
         last = self._segments[-1]
+        q, w, e, u = ("s", "ṡ", "s̈", "m") if self.unit == "m" else ("φ", "ω", "ε", "rad")
         return (
             f"Motion({len(self._segments)} segment(s); last from t={last.t0:g} s: "
-            f"φ={last.phi0:g} rad, ω={last.omega0:g} rad/s, ε={last.epsilon:g} rad/s², {last.tag})"
+            f"{q}={last.phi0:g} {u}, {w}={last.omega0:g} {u}/s, {e}={last.epsilon:g} {u}/s², {last.tag})"
         )
 
 
@@ -267,8 +274,10 @@ class Motions:
         omega: Sequence[float] | float = 1.0,
         epsilon: Sequence[float] | float = 0.0,
         t0: float = 0.0,
+        units: Sequence[str] | None = None,
     ) -> Motions:
-        """``count`` laws from per-input values (a sequence of ``count``) or one value for all."""
+        """``count`` laws from per-input values (a sequence of ``count``) or one value for all;
+        ``units``: each input's ("rad" or "m"; default every one "rad")."""
 
         def each(label: str, value: Sequence[float] | float) -> list[float]:
             if isinstance(value, (int, float)):
@@ -279,7 +288,8 @@ class Motions:
             return values
 
         p, w, e = each("phi0", phi0), each("omega", omega), each("epsilon", epsilon)
-        return cls([Motion(phi0=p[i], omega=w[i], epsilon=e[i], t0=t0) for i in range(count)])
+        us = tuple(units) if units is not None else ("rad",) * count
+        return cls([Motion(phi0=p[i], omega=w[i], epsilon=e[i], t0=t0, unit=us[i]) for i in range(count)])
 
     def __len__(self) -> int:
         return len(self.laws)

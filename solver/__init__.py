@@ -11,11 +11,12 @@ from __future__ import annotations
 from typing import Any
 
 from . import vectors as _vectors  # noqa: F401  (registers the vector-loop scene section, seed 004)
-from .errors import AssemblyError, DynamicsError, SceneError, SolverError, SynthesisError
+from .errors import ArgumentError, AssemblyError, DynamicsError, SceneError, SolverError, SynthesisError
 from .kinematics import Kinematics, Motion
 from .scene import DOORS, Link, Scene, find_scene, load_scene, shipped_scenes
 
 __all__ = [
+    "ArgumentError",
     "AssemblyError",
     "DynamicsError",
     "Kinematics",
@@ -42,8 +43,18 @@ def synthesize(template: Any, **task: Any) -> Any:
 
 
 def _simulate(scene: Scene, t_end: float, **options: Any) -> Any:
-    from .dynamics import simulate
+    import inspect
 
+    from ._arguments import Arguments
+    from .dynamics import simulate
+    from .errors import DynamicsArgumentError
+
+    known = inspect.signature(simulate).parameters
+    for name in options:
+        if name not in known or name in ("scene", "t_end"):
+            Arguments("simulate", scene=scene.name, error=DynamicsArgumentError).fail(
+                name, options[name], "is not an option of simulate; options: " + ", ".join(
+                    p for p in known if p not in ("scene", "t_end")))
     return simulate(scene, t_end, **options)
 
 

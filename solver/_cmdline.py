@@ -83,6 +83,20 @@ def bounded(limit: float) -> Callable[[str], float]:
     return parse
 
 
+def within(low: float, high: float, unit: str) -> Callable[[str], float]:
+    """An argument type: a finite number in [low, high) in the unit the user types (``unit``,
+    e.g. degrees), refused in that unit: ``must be in [0, 90) degrees, got 95``."""
+
+    def parse(text: str) -> float:
+        value = _number(text, "")
+        if not low <= value < high:
+            raise argparse.ArgumentTypeError(f"must be in [{low:g}, {high:g}) {unit}, got {text}")
+        return value
+
+    parse.__name__ = "number"
+    return parse
+
+
 def positive(text: str) -> float:
     """A finite number > 0."""
     value = _number(text, " > 0")

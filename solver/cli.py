@@ -51,8 +51,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--deg", action="store_true", help="--phi values are in degrees (the summary always shows degrees; "
                    "the CSV's phi column stays in rad, like every column SI)")
     p.add_argument("--range", action="append", default=[], metavar="LO:HI",
-                   help="an actuator's strokes to sweep, m, both ends included (default its whole stroke); "
-                   "for several inputs Q=LO:HI, see below")
+                   help="an actuator's strokes to sweep, m, from LO to HI (LO < HI), both ends included "
+                   "(default its whole stroke); for several inputs Q=LO:HI, see below")
     p.add_argument(
         "--omega", type=_rate(OMEGA_MAX), default=None, metavar="W|Q=W",
         help="input angular velocity, rad/s (an actuator's stroke: m/s) (default 1: velocities and accelerations "
@@ -146,6 +146,9 @@ def stroke_grid(scene: Scene, ranges: Sequence[str], count: int) -> np.ndarray:
             lo, hi = bounded(PHI_MAX)(a), bounded(PHI_MAX)(b)
         except argparse.ArgumentTypeError as exc:
             raise SolverError(f"--range {item!r}: {exc}") from None
+        if not lo < hi:
+            raise SolverError(f"--range {item!r}: LO must be less than HI (the sweep runs from LO to HI, both "
+                              "included; for the other direction read the table from its end)")
     return np.linspace(lo, hi, count)
 
 

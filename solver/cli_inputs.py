@@ -61,10 +61,13 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--count", "--phi-count", type=count, default=36, metavar="N",
                    help="values of each input on the grid (36)")
     p.add_argument("--range", action="append", default=[], metavar="Q=LO:HI",
-                   help="an input's range on the grid, both ends included (default one turn, end excluded)")
+                   help="an input's range on the grid, from LO to HI (LO < HI), both ends included (default one "
+                   "turn, end excluded; an actuator's whole stroke)")
     p.add_argument("--samples", metavar="Q1,Q2;Q1,Q2;...", help="these rows of input values instead of a grid")
-    p.add_argument("--deg", action="store_true", help="--range and --samples values are in degrees "
-                   "(the CSV's input columns stay in rad, like every column SI)")
+    p.add_argument("--phi", metavar="Q1,Q2,...", help="one instant: one value per input (angles in rad, or deg "
+                   "with --deg; an actuator's stroke in m), as --samples Q1,Q2,... is")
+    p.add_argument("--deg", action="store_true", help="--range, --samples and --phi angles are in degrees "
+                   "(an actuator's stroke stays in m; the CSV's input columns stay in rad, like every column SI)")
     p.add_argument("--omega", action="append", default=[], metavar="W|Q=W",
                    help="angular velocity, rad/s: W for every input, Q=W for input Q (repeatable; default 1)")
     p.add_argument("--epsilon", action="append", default=[], metavar="E|Q=E",
@@ -142,31 +145,43 @@ def samples_of(scene: Scene, args: argparse.Namespace) -> tuple[np.ndarray, list
     """The (N, k) samples and, for a grid, its axes (one array per input, rad)."""
     unit = math.pi / 180.0 if args.deg else 1.0
     k = len(scene.inputs)
-    if args.samples is not None:
-        rows = [r for r in args.samples.split(";") if r.strip()]
+    # --deg scales the angles; an actuator's stroke stays in m
+    scales = {q: 1.0 if u == "m" else unit for q, u in zip(scene.inputs, scene.input_units)}
+    given = getattr(args, "phi", None)
+    if given is not None and args.samples is not None:
+        raise SolverError("--phi and --samples: give one instant (--phi) or rows of them (--samples), not both")
+    if given is not None and ";" in given:
+        raise SolverError(f"--phi {given!r}: one instant, one value per input ({', '.join(scene.inputs)}); "
+                          "several instants: --samples Q1,Q2;Q1,Q2")
+    if given is not None or args.samples is not None:
+        option = "--phi" if given is not None else "--samples"
+        rows = [r for r in (given if given is not None else args.samples).split(";") if r.strip()]
         try:
-            values = np.array([[bounded(PHI_MAX)(v) for v in r.split(",")] for r in rows], float) * unit
+            values = np.array([[bounded(PHI_MAX)(v) for v in r.split(",")] for r in rows], float)
         except (argparse.ArgumentTypeError, ValueError) as exc:
-            raise SolverError(f"--samples: rows of {k} comma-separated finite numbers, split by ';' ({exc})") from None
+            raise SolverError(f"{option}: rows of {k} comma-separated finite numbers, split by ';' ({exc})") from None
         if values.ndim != 2 or values.shape[1] != k:
-            raise SolverError(f"--samples: each row needs {k} values ({', '.join(scene.inputs)})")
-        return values, None
+            raise SolverError(f"{option}: {'give' if given is not None else 'each row needs'} {k} values, one per "
+                              f"input ({', '.join(scene.inputs)})")
+        return values * np.array([scales[q] for q in scene.inputs]), None
     if args.count**k > MAX_SAMPLES:
         raise SolverError(f"--count {args.count} gives {args.count}^{k} samples, more than {MAX_SAMPLES:,}")
     # one turn of an angle; an actuator's whole stroke (m, both ends), which --deg never scales
     axes = {q: np.linspace(0.0, 2.0 * math.pi, args.count, endpoint=False) if r is None else np.linspace(*r, args.count)
             for q, r in zip(scene.inputs, scene.input_ranges)}
-    scales = {q: 1.0 if u == "m" else unit for q, u in zip(scene.inputs, scene.input_units)}
     for item in args.range:
         name, sep, span = item.partition("=")
         lo, colon, hi = span.partition(":")
         if not sep or not colon or name not in axes:
             raise SolverError(f"--range {item!r}: give INPUT=LO:HI with INPUT one of {', '.join(scene.inputs)}")
         try:
-            axes[name] = np.linspace(bounded(PHI_MAX)(lo) * scales[name], bounded(PHI_MAX)(hi) * scales[name],
-                                     args.count)
+            a, b = bounded(PHI_MAX)(lo), bounded(PHI_MAX)(hi)
         except argparse.ArgumentTypeError as exc:
             raise SolverError(f"--range {item!r}: {exc}") from None
+        if not a < b:
+            raise SolverError(f"--range {item!r}: LO must be less than HI (the grid runs from LO to HI, both "
+                              "included; a range across 0 of an angle: write e.g. 300:420 in degrees)")
+        axes[name] = np.linspace(a * scales[name], b * scales[name], args.count)
     grid = [axes[q] for q in scene.inputs]
     mesh = np.meshgrid(*grid, indexing="ij")
     return np.stack([m.ravel() for m in mesh], axis=-1), grid

@@ -14,7 +14,7 @@ import numpy as np
 
 __all__ = [
     "SolverError", "SceneError", "AssemblyError", "SampleAssemblyError", "DynamicsError", "SynthesisError",
-    "format_intervals",
+    "ArgumentError", "DynamicsArgumentError", "SynthesisArgumentError", "format_intervals",
 ]
 
 
@@ -156,3 +156,31 @@ class DynamicsError(SolverError):
 class SynthesisError(SolverError):
     """A synthesis task that cannot be posed or has no feasible answer (solver.synthesis): the
     message names the argument (``through[3]``, ``pairs``) or the constraint that no design met."""
+
+
+class ArgumentError(SolverError):
+    """An argument of a public function of the wrong type, not finite or out of range (checked by
+    solver._arguments, as a scene file's entries are). One line: ``SCENE: FUNCTION: ARGUMENT
+    fault, got VALUE``; ``function``, ``argument``, ``value`` and ``reason`` (the fault) are kept."""
+
+    def __init__(self, reason: str, *, function: str, argument: str, value: Any, scene: str | None = None) -> None:
+        self.function, self.argument, self.value, self.scene, self.reason = function, argument, value, scene, reason
+        shown = repr(value.item() if isinstance(value, np.generic) else value)
+        if len(shown) > 60:
+            shown = shown[:57] + "..."
+        if not isinstance(value, (int, float, np.number, list, tuple, np.ndarray, type(None))) or \
+                isinstance(value, (bool, np.bool_)):
+            shown += f" (a {type(value).__name__})"
+        where = ": ".join(part for part in (scene, function) if part)
+        SolverError.__init__(self, f"{where}: {argument} {reason}, got {shown}")  # (not a subclass's own)
+
+
+class DynamicsArgumentError(ArgumentError, DynamicsError):
+    """A bad argument of solver.dynamics (simulate, steady_state, flywheel_for, run_up, Stepper):
+    both an :class:`ArgumentError` and a :class:`DynamicsError`."""
+
+    time = at = group = None
+
+
+class SynthesisArgumentError(ArgumentError, SynthesisError):
+    """A bad argument of ``synthesize``: both an :class:`ArgumentError` and a :class:`SynthesisError`."""

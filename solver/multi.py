@@ -36,6 +36,7 @@ from typing import Any, TypeAlias
 
 import numpy as np
 
+from ._arguments import Arguments
 from ._backend import NUMPY, SCALAR
 from .errors import SampleAssemblyError, SolverError
 from .forces import ForceBuffers, ForceResult
@@ -68,16 +69,13 @@ _SCALARS = (float, int, np.floating, np.integer)
 
 # -- arguments ---------------------------------------------------------------------------------
 def _finite(label: str, value: Any, scene: Scene) -> None:
-    arr = np.asarray(value, float)
-    if not np.isfinite(arr).all():
-        raise SolverError(f"{scene.name}: {label} must be finite, got {arr[~np.isfinite(arr)][:3].tolist()}")
+    Arguments("solve", scene=scene.name).numbers(label, value)
 
 
 def _rates(label: str, value: Any, k: int, n: int | None, scene: Scene) -> list[Any]:
     """ω or ε per input: k floats (a scalar broadcast to every input, or a (k,) vector), or, for a
     sweep, columns of an (N, k) array."""
-    arr = np.asarray(value, float)
-    _finite(label, arr, scene)
+    arr = Arguments("solve", scene=scene.name).numbers(label, value)
     if arr.ndim == 0:
         return [float(arr)] * k
     if arr.shape == (k,):
@@ -108,9 +106,8 @@ def solve_multi(scene: Scene, phi: Any, omega: Any, epsilon: Any, mask: bool) ->
             _finite("phi", q, scene)
         return _solve_instant(scene, q, _tick_rates("omega", omega, k, scene),
                               _tick_rates("epsilon", epsilon, k, scene), mask)
-    arr = np.asarray(phi, dtype=float)
+    arr = Arguments("solve", scene=scene.name).numbers("phi", phi)
     if arr.shape == (k,):
-        _finite("phi", arr, scene)
         return _solve_instant(scene, tuple(arr.tolist()), _rates("omega", omega, k, None, scene),
                               _rates("epsilon", epsilon, k, None, scene), mask)
     if arr.ndim != 2 or arr.shape[1] != k:
@@ -118,7 +115,6 @@ def solve_multi(scene: Scene, phi: Any, omega: Any, epsilon: Any, mask: bool) ->
             f"{scene.name} has {k} inputs ({', '.join(scene.inputs)}): phi must have shape (N, {k}) or ({k},), "
             f"got {arr.shape}"
         )
-    _finite("phi", arr, scene)
     n = arr.shape[0]
     w = _rates("omega", omega, k, n, scene)
     e = _rates("epsilon", epsilon, k, n, scene)

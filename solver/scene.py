@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from ._arguments import Arguments
 from ._backend import NUMPY, SCALAR
 from ._codegen import Compiled, layout_of
 from ._inputs import check_outputs_move, input_joints
@@ -73,6 +74,8 @@ def shipped_scenes() -> dict[str, Path]:
 
 def find_scene(name_or_path: str | os.PathLike[str]) -> Path:
     """A scene file by path, or a shipped scene by name (with or without ``.yaml``)."""
+    if not isinstance(name_or_path, str | os.PathLike):
+        Arguments("find_scene").fail("name_or_path", name_or_path, "must be a scene's name or a path")
     path = Path(name_or_path)
     if path.is_file():
         return path
@@ -223,6 +226,9 @@ class Scene:
 
         ``forces=False`` drops the force layer (efforts and reactions are then not evaluated: the
         kinematics alone of a scene with bodies or loads); ``True`` restores the scene's own."""
+        args = Arguments("with_outputs", scene=self.name)
+        points, joints = args.names("points", points, none=True), args.names("joints", joints, none=True)
+        forces = None if forces is None else args.flag("forces", forces)
         return Scene(
             self._data,
             points=self.output_points if points is None else points,
@@ -259,6 +265,8 @@ class Scene:
         velocities are J·ω and accelerations J·ε + ωᵀ·H·ω (solver.multi, docs/inputs.md).
         Every output's ``.jacobian`` and ``.hessian`` give the exact derivatives in the inputs.
         """
+        if mask is not False and mask is not True:
+            mask = Arguments("solve", scene=self.name).flag("mask", mask)
         if self._multi:  # several inputs: phi (N, k) or (k,) (solver.multi, docs/inputs.md)
             return solve_multi(self, phi, omega, epsilon, mask)
         if type(phi) is float and type(omega) is float and type(epsilon) is float:  # the per-tick call
@@ -274,12 +282,17 @@ class Scene:
             return InstantKinematics(unit, flat, (phi, omega, epsilon))
         if _is_scalar(phi) and _is_scalar(omega) and _is_scalar(epsilon):
             return self._solve_scalar(float(phi), float(omega), float(epsilon), mask)
-        phi_arr = np.asarray(phi, dtype=float)
+        args = Arguments("solve", scene=self.name)
+        phi_arr = args.numbers("phi", phi, unit=self.input_units[0])
+        if phi_arr.ndim == 0:  # one instant: its rates numbers too
+            for label, value in (("omega", omega), ("epsilon", epsilon)):
+                if args.numbers(label, value).ndim:
+                    args.fail(label, value, "must be a number where phi is one (one instant)")
+            return self._solve_scalar(float(phi_arr), float(omega), float(epsilon), mask)
         if phi_arr.ndim != 1:
             raise SolverError(f"{self.name}: phi must be a float or a 1-D array, got shape {phi_arr.shape}")
         w = _per_sample(omega, phi_arr.shape, "omega", self.name)
         e = _per_sample(epsilon, phi_arr.shape, "epsilon", self.name)
-        _check_finite(phi_arr, "phi", self.name)
         try:
             return self._solve_blocks(phi_arr, w, e, mask)
         except AssemblyError as exc:
@@ -429,6 +442,9 @@ class Scene:
             self._compiled_units: dict[tuple[int, bool], Compiled] = {}
         except KeyError:
             pass
+        args = Arguments("compiled", scene=self.name)  # (a new unit only: the cached ones were checked)
+        args.choice("order", order, (0, 1, 2))
+        args.flag("derivatives", derivatives)
         if key == (2, False) and not self._multi:  # instant()'s own: bound in place of the method
             unit = Compiled(self, order, entry=MethodType(Scene.instant, self), bind=self._bind_instant)
             self._instant_unit = unit
@@ -463,16 +479,22 @@ class Scene:
             except AttributeError:  # not built yet (or several inputs: a float φ is their error)
                 pass
         f = self.compiled(order=order).function
+        args = Arguments("instant", scene=self.name)
         if not self._multi:
-            return f(float(phi), float(omega), float(epsilon))  # type: ignore[no-any-return]
+            unit = self.input_units[0]
+            return f(args.number("phi", phi, unit=unit), args.number("omega", omega, unit=f"{unit}/s"),  # type: ignore[no-any-return]
+                     args.number("epsilon", epsilon, unit=f"{unit}/s²"))
         k = len(self.inputs)
-        w = (omega,) * k if isinstance(omega, (int, float)) else omega
-        e = (epsilon,) * k if isinstance(epsilon, (int, float)) else epsilon
-        for label, v in (("phi", phi), ("omega", w), ("epsilon", e)):
-            if np.ndim(v) != 1 or len(v) != k:
-                raise SolverError(f"{self.name} has {k} inputs ({', '.join(self.inputs)}): {label} must be "
-                                  f"{k} numbers, got {v!r:.60}")
-        return f(*map(float, phi), *map(float, w), *map(float, e))  # type: ignore[no-any-return]
+        values = []
+        for label, v in (("phi", phi), ("omega", omega), ("epsilon", epsilon)):
+            arr = args.numbers(label, v)
+            if arr.ndim == 0 and label != "phi":
+                arr = np.full(k, float(arr))
+            if arr.shape != (k,):
+                args.fail(label, v, f"must be {k} numbers (inputs {', '.join(self.inputs)})"
+                          + ("" if label == "phi" else " or one for every input"))
+            values += arr.tolist()
+        return f(*values)  # type: ignore[no-any-return]
 
     # -- dynamics (solver.dynamics, docs/dynamics.md) ---------------------------------------------
     def simulate(self, t_end: float, **options: Any) -> Any:
@@ -530,22 +552,16 @@ def _is_scalar(x: Any) -> bool:
 
 def _per_sample(value: Any, shape: tuple[int, ...], label: str, scene: str) -> Any:
     """A finite scalar stays a float; an array must broadcast to φ's shape."""
-    if np.ndim(value) == 0:
-        v = float(value)
-        if not math.isfinite(v):
-            raise SolverError(f"{scene}: {label} must be finite, got {v}")
-        return v
+    if value.__class__ is float and math.isfinite(value):  # the usual rate: no array made
+        return value
+    given = Arguments("solve", scene=scene).numbers(label, value)
+    if given.ndim == 0:
+        return float(given)
     try:
-        arr = np.broadcast_to(np.asarray(value, dtype=float), shape)
+        arr = np.broadcast_to(given, shape)
     except ValueError as exc:
         raise SolverError(f"{scene}: {label} of shape {np.shape(value)} does not match phi's {shape}") from exc
-    _check_finite(arr, label, scene)
     return arr
-
-
-def _check_finite(arr: np.ndarray, label: str, scene: str) -> None:
-    if not np.isfinite(arr).all():
-        raise SolverError(f"{scene}: {label} must be finite, got {arr[~np.isfinite(arr)][:3].tolist()}")
 
 
 def _xyz(value: Any) -> np.ndarray:

@@ -20,7 +20,7 @@ from typing import Any, TextIO
 
 import numpy as np
 
-from ._cmdline import Parser, check_output, count, finite, one_line, positive, quiet_pipe
+from ._cmdline import Parser, check_output, count, one_line, positive, quiet_pipe, within
 from .errors import SolverError, SynthesisError
 
 __all__ = ["main", "read_rows"]
@@ -71,15 +71,19 @@ def _parser() -> Parser:
     task.add_argument("--poses", metavar="CSV", help="motion generation: rows x, y (m), θ (rad)")
     p.add_argument("--at", metavar="CSV|LIST", help="input angles (rad) at the targets: timing (a file or a,b,c)")
     p.add_argument("-o", "--output", metavar="YAML", help="write the best design as a scene file")
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--time-limit", type=positive, metavar="S", help="stop after S seconds with the best so far")
+    p.add_argument("--seed", type=int, default=0, help="seed of the search (default 0: the same designs on every "
+                   "run)")
+    p.add_argument("--time-limit", type=positive, metavar="S",
+                   help="stop after S seconds with the best so far (default: no limit)")
     p.add_argument("--starts", type=count, default=8, help="most starts of the multi-start sweep (default 8)")
-    p.add_argument("--min-transmission", type=finite, default=30.0, metavar="DEG",
+    p.add_argument("--min-transmission", type=within(0.0, 90.0, "degrees"), default=30.0, metavar="DEG",
                    help="smallest transmission angle of every dyad, degrees (default 30)")
-    p.add_argument("--max-ratio", type=positive, help="longest link over the shortest at most this")
+    p.add_argument("--max-ratio", type=positive, help="longest link over the shortest at most this (default: no "
+                   "limit)")
     p.add_argument("--input-range", metavar="LO,HI",
                    help="the range the input must turn through, rad (default a full turn)")
-    p.add_argument("--dask", metavar="ADDRESS", help="run the starts on this dask.distributed scheduler")
+    p.add_argument("--dask", metavar="ADDRESS", help="run the starts on this dask.distributed scheduler (default: "
+                   "in this process)")
     p.add_argument("--all", action="store_true", help="list every distinct design found, not only the best")
     return p
 

@@ -154,6 +154,14 @@ def law_of(trajectory: Any) -> TrajectoryLaw | TrajectoryLaws:
     return TrajectoryLaw(trajectory) if len(trajectory.scene.inputs) == 1 else TrajectoryLaws(trajectory)
 
 
+def _input_units(scene: Any, joint: str) -> tuple[str, str, str, str]:
+    """(effort's name, its unit, the coordinate's unit, the rate's unit) of an input: a torque in
+    N·m of an angle (rad, rad/s), a force in N of an actuator's stroke (m, m/s)."""
+    if scene.joint_units.get(joint, "rad") == "m":
+        return "force", "N", "m", "m/s"
+    return "torque", "N·m", "rad", "rad/s"
+
+
 def _drive_text(scene: Any, trajectory: Any) -> str:
     if trajectory.drive == "motor":
         from solver.dynamics import reduced_model
@@ -161,14 +169,18 @@ def _drive_text(scene: Any, trajectory: Any) -> str:
         motors = reduced_model(scene).motors
         parts = []
         for q, m in motors.items():
+            effort, unit, _, rate = _input_units(scene, q)
             if m.linear:
-                parts.append(f"{q}: stall torque {m.stall:g} N·m, no-load speed {m.no_load:g} rad/s")
+                parts.append(f"{q}: stall {effort} {m.stall:g} {unit}, no-load speed {m.no_load:g} {rate}")
             else:
-                parts.append(f"{q}: a torque–speed table of {len(m.speeds)} entries")
+                parts.append(f"{q}: a {effort}–speed table of {len(m.speeds)} entries")
         return "the scene's motor (" + "; ".join(parts) + ")"
     if trajectory.drive == "effort":
         values = np.atleast_1d(trajectory.effort[0])
-        return "constant effort " + ", ".join(f"{v:g}" for v in values)
+        shown = [f"{v:g} {_input_units(scene, q)[1]}" for q, v in zip(scene.inputs, values)]
+        if len(shown) == 1:
+            return f"constant effort {shown[0]}"
+        return "constant effort " + ", ".join(f"{q} {v}" for q, v in zip(scene.inputs, shown))
     return "free (the loads alone)"
 
 
@@ -208,7 +220,11 @@ def dynamics_lines(scene: Any, trajectory: Any, *, phi0: Any, run_up: bool = Tru
              f"{tr.evaluations} evaluations"]
     if tr.status not in ("done", "until"):
         lines.append(f"  stopped: {tr.message}")
-    if run_up and tr.drive == "motor" and k == 1:
+    span = scene.input_ranges[0] if k == 1 else None
+    if run_up and tr.drive == "motor" and k == 1 and span is not None:
+        lines.append(f"  run-up: does not apply ('{scene.inputs[0]}' is an actuator's stroke [{span[0]:g}, "
+                     f"{span[1]:g}] m: no load cycle, so no steady speed to run up to)")
+    elif run_up and tr.drive == "motor" and k == 1:
         try:
             ru = run_up_of(scene, phi0=float(phi0))
             lines.append(f"  run-up from rest at φ0: {ru.time:.4g} s to the steady band ω ≥ {ru.steady.omega_min:.6g} "

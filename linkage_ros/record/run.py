@@ -159,10 +159,11 @@ def run_standalone(opts: RunOptions, *, progress: TextIO | None = None) -> RunRe
     if opts.law is not None:  # a dynamic run (.dynamic_run): the simulated trajectory
         motion = opts.law
     elif len(inputs) > 1:  # several inputs (docs/inputs.md): one law per input
-        motion = Motions.of(len(inputs), phi0=opts.phi0, omega=opts.omega, epsilon=opts.epsilon)
+        motion = Motions.of(len(inputs), phi0=opts.phi0, omega=opts.omega, epsilon=opts.epsilon,
+                            units=getattr(scene, "input_units", None))
     else:
         motion = Motion(phi0=_single(opts.phi0, "phi0"), omega=_single(opts.omega, "omega"),
-                        epsilon=_single(opts.epsilon, "epsilon"))
+                        epsilon=_single(opts.epsilon, "epsilon"), unit=getattr(scene, "input_units", ("rad",))[0])
     engine = Engine(scene, motion, points=opts.points, on_unassemblable=opts.on_unassemblable)
     n = int(math.floor(opts.duration * opts.rate * (1 + 1e-12))) + 1
     times = np.arange(n, dtype=np.float64) / opts.rate

@@ -10,6 +10,7 @@
 from __future__ import annotations
 
 import bisect
+import math
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
@@ -67,19 +68,23 @@ def make_drive(spec: Any, inputs: Sequence[str], motors: Mapping[str, Motor], *,
 
 
 def _per_input(value: Any, k: int, scene: str) -> list[float]:
-    if isinstance(value, (int, float)):
-        return [float(value)] * k if k == 1 else _fail(value, k, scene)
-    try:
-        out = [float(v) for v in value]
-    except (TypeError, ValueError):
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        out = [float(value)] * k if k == 1 else _fail(value, k, scene)
+    elif isinstance(value, (str, bytes, bool)):
         return _fail(value, k, scene)
-    if len(out) != k:
+    else:
+        try:
+            out = [float(v) for v in value]
+        except (TypeError, ValueError):
+            return _fail(value, k, scene)
+    if len(out) != k or not all(map(math.isfinite, out)):
         return _fail(value, k, scene)
     return out
 
 
 def _fail(value: Any, k: int, scene: str) -> list[float]:
-    raise SolverError(f"{scene}: the drive gives {value!r:.60} where it must give {k} effort(s), one per input")
+    raise SolverError(f"{scene}: the drive gives {value!r:.60} where it must give {k} effort(s), one per input, "
+                      "each a finite number")
 
 
 def _constant(values: Sequence[float]) -> Drive:

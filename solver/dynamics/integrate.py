@@ -20,7 +20,8 @@ from typing import Any
 import numpy as np
 from scipy.integrate import DOP853, RK45, Radau, solve_ivp
 
-from ..errors import AssemblyError, DynamicsError
+from .._arguments import Arguments
+from ..errors import AssemblyError, DynamicsArgumentError, DynamicsError
 from ..tolerances import DYNAMICS_TOGGLE
 from .drive import Drive, make_drive
 from .reduced import ReducedModel, reduced_model
@@ -35,7 +36,8 @@ class Equation:
 
     def __init__(self, model: ReducedModel, drive: Drive, *, works: bool = True) -> None:
         self.model, self.drive, self.k = model, drive, model.k
-        self.fault: tuple[str, str] | None = None  # (group, reason) of the last unassemblable call
+        #: (group, reason, q) of the last call that could not be assembled
+        self.fault: tuple[str, str, list[float]] | None = None
         #: whether the two work integrals are integrated (False: their rates are 0, no pass for the
         #: other loads with several inputs)
         self.works = works
@@ -64,7 +66,7 @@ class Equation:
         try:
             qdd, qdrive, other, _ = self._solve(float(t), q, qd)
         except AssemblyError as exc:  # a trial step beyond an assembly limit: rejected (NaN)
-            self.fault = (exc.group, exc.reason)
+            self.fault = (exc.group, exc.reason, q)
             return np.full(y.shape, math.nan)
         if not self.works:
             return np.array([*qd, *qdd, 0.0, 0.0])
@@ -122,7 +124,7 @@ class Trajectory:
         """(φ, ω) at time(s) ``t`` within the run, from the integrator's dense output."""
         if self._dense is None:
             raise DynamicsError("this trajectory keeps no dense output", scene=self.scene.name)
-        y = self._dense(np.asarray(t, float))
+        y = self._dense(Arguments("Trajectory.at", scene=self.scene.name, error=DynamicsArgumentError).numbers("t", t))
         k = len(self.scene.inputs)
         if k == 1:
             return y[0], y[1]
@@ -150,12 +152,27 @@ class Trajectory:
         }
 
 
-def _initial(value: Any, k: int, label: str, scene: str) -> list[float]:
-    arr = np.broadcast_to(np.asarray(0.0 if value is None else value, float), (k,)) if np.ndim(value) <= 1 else None
-    if arr is None or not np.all(np.isfinite(arr)):
-        raise DynamicsError(f"{label} must be {'a finite number' if k == 1 else f'{k} finite numbers'}, "
-                            f"got {value!r:.60}", scene=scene)
-    return [float(v) for v in arr]
+def _start(scene: Any) -> list[float]:
+    """The default initial coordinates: 0 for an angle, the closed length of an actuator's stroke."""
+    spans = tuple(getattr(scene, "input_ranges", ())) or (None,) * len(scene.inputs)
+    return [0.0 if span is None else float(span[0]) for span in spans]
+
+
+def _initial(args: Arguments, value: Any, k: int, label: str) -> list[float]:
+    """An initial coordinate or rate: a number (every input alike; None: 0) or one per input."""
+    arr = args.numbers(label, 0.0 if value is None else value)
+    if arr.ndim > 1 or (arr.ndim == 1 and arr.size != k):
+        args.fail(label, value, "must be a finite number" if k == 1 else
+                  f"must be a number or {k} numbers (one per input)")
+    return [float(v) for v in np.broadcast_to(arr, (k,))]
+
+
+def _checked(
+    args: Arguments, *, rtol: Any, atol: Any, method: Any
+) -> tuple[float, float, str]:
+    """The integrator's tolerances and method, checked (simulate, Stepper)."""
+    return (args.number("rtol", rtol, low=0.0, low_open=True), args.number("atol", atol, low=0.0, low_open=True),
+            args.choice("method", method, tuple(_METHODS)))
 
 
 def _where(scene: Any, y: np.ndarray) -> str:
@@ -168,25 +185,51 @@ def _where(scene: Any, y: np.ndarray) -> str:
     return ", ".join(parts[:k])
 
 
+def _strokes(scene: Any) -> list[tuple[int, float, float, str]]:
+    """(input index, closed, open, group) of each length input with a stroke."""
+    groups = {g.input_joint(): g.name for g in getattr(scene, "ordered", ()) if g.drives}
+    spans = zip(scene.inputs, getattr(scene, "input_ranges", ()))
+    return [(i, span[0], span[1], groups.get(joint, joint)) for i, (joint, span) in enumerate(spans)
+            if span is not None]
+
+
+def _stroke_end(lo: float, hi: float, group: str, *, open_end: bool) -> str:
+    """The one message where a run reaches an end of a stroke, whichever way the integrator
+    found it (the stroke's event, or a step beyond the end rejected: the two are the same limit)."""
+    end, verb = ("open", "tops") if open_end else ("closed", "bottoms")
+    return (f"reaches the {end} end of the stroke [{lo:g}, {hi:g}] m of group '{group}' (an assembly limit: "
+            f"the cylinder {verb} out)")
+
+
+def _limit_message(scene: Any, fault: tuple[str, str, list[float]] | None, detail: str) -> str:
+    """The message where the integrator could not step on (a trial state it could not assemble):
+    the stroke's end where that state lies beyond one (the same text as the stroke's event),
+    else the group and its reason (``detail``: the integrator's own, without a fault)."""
+    if fault is None:
+        return f"stops at an assembly limit ({detail})"
+    group, reason, q = fault
+    for i, lo, hi, name in _strokes(scene):
+        if not lo <= q[i] <= hi:
+            return _stroke_end(lo, hi, name, open_end=q[i] > hi)
+    return f"stops at an assembly limit of group '{group}' ({reason})"
+
+
 def _stroke_events(scene: Any) -> list[Any]:
     """One terminal event per length input with a stroke: (s − closed)·(open − s) falls to 0 at
-    either end, where the cylinder bottoms out or tops out (an assembly limit)."""
+    either end, where the cylinder bottoms out or tops out (an assembly limit). ``message(y)``:
+    the one text of :func:`_stroke_end` for the end ``y`` is at."""
     out = []
-    groups = {g.input_joint(): g.name for g in getattr(scene, "ordered", ()) if g.drives}
-    for i, (joint, span) in enumerate(zip(scene.inputs, getattr(scene, "input_ranges", ()))):
-        if span is None:
-            continue
-        lo, hi = span
-        name = groups.get(joint, joint)
+    for i, lo, hi, name in _strokes(scene):
 
         def end(t: float, y: np.ndarray, i: int = i, lo: float = lo, hi: float = hi) -> float:
             return float((y[i] - lo) * (hi - y[i]))
 
+        def message(y: np.ndarray, i: int = i, lo: float = lo, hi: float = hi, name: str = name) -> str:
+            return _stroke_end(lo, hi, name, open_end=abs(y[i] - hi) < abs(y[i] - lo))
+
         end.terminal = True  # type: ignore[attr-defined]
         end.direction = -1  # type: ignore[attr-defined]  # leaving the stroke (a run may start at an end)
-        end.message = (  # type: ignore[attr-defined]
-            f"reaches an end of the stroke [{lo:g}, {hi:g}] m of group '{name}' (an assembly limit: the cylinder "
-            "bottoms or tops out)")
+        end.message = message  # type: ignore[attr-defined]
         out.append(end)
     return out
 
@@ -208,6 +251,7 @@ def simulate(
     max_step: float = math.inf,
 ) -> Trajectory:
     """Integrate the inputs from (``phi0``, ``omega0``) at t = 0 to ``t_end`` (s) under ``drive``
+    (``phi0`` None: 0 for an angle, the closed length of an actuator's stroke)
     (solver.dynamics.drive: the scene's motors by default) and the scene's loads.
 
     Samples: the integrator's own steps, or every ``dt`` seconds; the last at exactly ``t_end``.
@@ -218,16 +262,18 @@ def simulate(
     the group (the partial run on its ``trajectory``); ``"stop"`` returns the partial run with
     that ``status`` and ``message``."""
     name = scene.name
-    if not (isinstance(t_end, (int, float)) and math.isfinite(t_end) and t_end > 0):
-        raise DynamicsError(f"t_end must be a positive number of seconds, got {t_end!r:.40}", scene=name)
-    if method not in _METHODS:
-        raise DynamicsError(f"method must be one of {', '.join(_METHODS)}, got {method!r}", scene=name)
-    if on_singular not in ("raise", "stop"):
-        raise DynamicsError(f"on_singular must be 'raise' or 'stop', got {on_singular!r}", scene=name)
+    args = Arguments("simulate", scene=name, error=DynamicsArgumentError)
+    t_end = args.number("t_end", t_end, low=0.0, low_open=True, unit="s")
+    rtol, atol, method = _checked(args, rtol=rtol, atol=atol, method=method)
+    on_singular = args.choice("on_singular", on_singular, ("raise", "stop"))
+    dt = args.number("dt", dt, low=0.0, low_open=True, unit="s", none=True)
+    until_phi = args.number("until_phi", until_phi, none=True)
+    events = args.functions("events", events)
+    max_step = args.number("max_step", max_step, low=0.0, low_open=True, unit="s", infinite=True)
     model = reduced_model(scene)
     k = model.k
-    q0 = _initial(phi0, k, "phi0", name)
-    w0 = _initial(omega0, k, "omega0", name)
+    q0 = _start(scene) if phi0 is None else _initial(args, phi0, k, "phi0")
+    w0 = _initial(args, omega0, k, "omega0")
     fn, kind = make_drive(drive, scene.inputs, model.motors, scene=name)
     eq = Equation(model, fn)
     y0 = np.array([*q0, *w0, 0.0, 0.0])
@@ -247,7 +293,7 @@ def simulate(
     if until_phi is not None:
         if k != 1:
             raise DynamicsError("until_phi is for one input; pass events=[f(t, q, qd)] with several", scene=name)
-        target = float(until_phi)
+        target = until_phi
 
         def reach(t: float, y: np.ndarray) -> float:
             return float(y[0]) - target
@@ -262,8 +308,6 @@ def simulate(
         all_events.append(user)
     t_eval = None
     if dt is not None:
-        if not (dt > 0 and math.isfinite(dt)):
-            raise DynamicsError(f"dt must be a positive number of seconds, got {dt!r}", scene=name)
         t_eval = np.append(np.arange(0.0, t_end, dt), t_end)
         if t_eval.size > 1 and t_eval[-2] >= t_end:
             t_eval = t_eval[:-1]
@@ -282,13 +326,12 @@ def simulate(
                        f"drive through it, the reduced inertia grows without bound)")
         elif hit <= len(strokes):
             status = "assembly"
-            message = strokes[hit - 1].message  # type: ignore[attr-defined]
+            message = strokes[hit - 1].message(ye)  # type: ignore[attr-defined]
         else:
             status = "until"
     elif sol.status == -1:
-        group, reason = eq.fault or ("?", sol.message)
         status = "assembly"
-        message = f"stops at an assembly limit of group '{group}' ({reason})"
+        message = _limit_message(scene, eq.fault, sol.message)
         last = sol.sol.t_max if sol.sol is not None else ts[-1]
         if ts.size and last > ts[-1]:  # the last accepted step, past the last requested sample
             ts, ys = np.append(ts, last), np.column_stack([ys, sol.sol(last)])
@@ -369,17 +412,21 @@ class Stepper:
         atol: float = 1e-9, method: str = "DOP853", t0: float = 0.0, works: bool = True,
     ) -> None:
         self.scene = scene
+        args = Arguments("Stepper", scene=scene.name, error=DynamicsArgumentError)
+        rtol, atol, method = _checked(args, rtol=rtol, atol=atol, method=method)
+        t0 = args.number("t0", t0, unit="s")
+        works = args.flag("works", works)
         self.model = reduced_model(scene)
         k = self.k = self.model.k
-        q0 = _initial(phi0, k, "phi0", scene.name)
-        w0 = _initial(omega0, k, "omega0", scene.name)
+        q0 = _start(scene) if phi0 is None else _initial(args, phi0, k, "phi0")
+        w0 = _initial(args, omega0, k, "omega0")
         fn, self.kind = make_drive(drive, scene.inputs, self.model.motors, scene=scene.name)
         self.works = works
         self.eq = Equation(self.model, fn, works=works)
         self.rtol, self.atol, self._method = rtol, atol, _METHODS[method]
         self.t = t0
         self.y = np.array([*q0, *w0, 0.0, 0.0])
-        self._spans = tuple(getattr(scene, "input_ranges", ())) or (None,) * k
+        self._strokes = _strokes(scene)
         try:
             self.eq.accelerations(t0, q0, w0)
         except AssemblyError as exc:
@@ -403,14 +450,12 @@ class Stepper:
         while s.t < t:
             msg = s.step()
             if s.status == "failed" or msg is not None:
-                group, reason = self.eq.fault or ("?", str(msg))
-                raise DynamicsError(f"stops at an assembly limit ({reason})", scene=self.scene.name, time=s.t,
-                                    at=_where(self.scene, s.y), group=group)
-            for i, span in enumerate(self._spans):
-                if span is not None and not span[0] <= s.y[i] <= span[1]:
-                    raise DynamicsError(f"reaches an end of the stroke of '{self.scene.inputs[i]}' [{span[0]:g}, "
-                                        f"{span[1]:g}] m (an assembly limit)", scene=self.scene.name, time=s.t,
-                                        at=_where(self.scene, s.y), group=None)
+                raise DynamicsError(_limit_message(self.scene, self.eq.fault, str(msg)), scene=self.scene.name,
+                                    time=s.t, at=_where(self.scene, s.y), group=None)
+            for i, lo, hi, name in self._strokes:
+                if not lo <= s.y[i] <= hi:
+                    raise DynamicsError(_stroke_end(lo, hi, name, open_end=s.y[i] > hi), scene=self.scene.name,
+                                        time=s.t, at=_where(self.scene, s.y), group=None)
             if self.eq.conditioning(s.t, s.y) < DYNAMICS_TOGGLE:
                 raise DynamicsError("reaches a singular position (a toggle: the inputs cannot drive through it)",
                                     scene=self.scene.name, time=s.t, at=_where(self.scene, s.y),

@@ -24,7 +24,8 @@ from typing import Any
 import numpy as np
 from scipy.optimize import brentq, root_scalar
 
-from ..errors import DynamicsError
+from .._arguments import Arguments
+from ..errors import DynamicsArgumentError, DynamicsError
 from ..forces.spec import TableForce
 from .drive import make_drive
 from .integrate import simulate
@@ -73,12 +74,27 @@ class RunUp:
     steady: SteadyState
 
 
-def _one_input(scene: Any) -> ReducedModel:
+def _one_input(scene: Any, function: str) -> ReducedModel:
+    """The model of a machine of one input crank; one line where machine dynamics does not apply."""
     model: ReducedModel = reduced_model(scene)
     if model.k != 1:
-        raise DynamicsError(f"machine dynamics is for one input; this scene has {model.k} ({', '.join(scene.inputs)})",
-                            scene=scene.name)
+        raise DynamicsError(f"{function}: machine dynamics is for one input; this scene has {model.k} "
+                            f"({', '.join(scene.inputs)})", scene=scene.name)
+    span = scene.input_ranges[0]
+    if span is not None:
+        raise DynamicsError(f"{function}: machine dynamics (steady state, flywheel, run-up) is for an input crank "
+                            f"that turns through a load cycle; '{scene.inputs[0]}' is an actuator's stroke "
+                            f"[{span[0]:g}, {span[1]:g}] m, which has none: run it with simulate (its force, N, "
+                            "as the drive) instead", scene=scene.name)
     return model
+
+
+def _arguments(function: str, scene: Any, *, phi0: Any, rtol: Any, atol: Any) -> tuple[Arguments, float, float,
+                                                                                        float]:
+    """The arguments every machine-dynamics function takes, checked: (checks, φ₀, rtol, atol)."""
+    args = Arguments(function, scene=getattr(scene, "name", None), error=DynamicsArgumentError)
+    return (args, args.number("phi0", phi0, unit="rad"), args.number("rtol", rtol, low=0.0, low_open=True),
+            args.number("atol", atol, low=0.0, low_open=True))
 
 
 def cycle_of(scene: Any) -> float:
@@ -128,7 +144,11 @@ def steady_state(
 ) -> SteadyState:
     """The steady periodic motion of a one-input machine under its motor (or ``drive``) and
     cyclic loads, with an extra flywheel inertia ``flywheel`` (kg·m²) on the input."""
-    model = _one_input(scene)
+    args, phi0, rtol, atol = _arguments("steady_state", scene, phi0=phi0, rtol=rtol, atol=atol)
+    flywheel = args.number("flywheel", flywheel, low=0.0, unit="kg·m²")
+    omega_guess = args.number("omega_guess", omega_guess, low=0.0, low_open=True, unit="rad/s", none=True)
+    samples = args.integer("samples", samples, low=2)
+    model = _one_input(scene, "steady_state")
     fn, kind = make_drive(drive, scene.inputs, model.motors, scene=scene.name)
     cycle = cycle_of(scene)
     guess = omega_guess if omega_guess is not None else _mean_balance(model, fn, phi0, cycle, scene.name)
@@ -196,9 +216,9 @@ def flywheel_for(scene: Any, delta: float, *, drive: Any = None, phi0: float = 0
                  atol: float = 1e-10) -> tuple[float, SteadyState, float]:
     """The flywheel inertia (kg·m²) on the input that gives the coefficient of speed fluctuation
     ``delta``, exact on the periodic solution; also that steady state and the classical estimate."""
-    if not (0 < delta < 2):
-        raise DynamicsError(f"delta must lie in (0, 2), got {delta!r}", scene=scene.name)
-    model = _one_input(scene)
+    args, phi0, rtol, atol = _arguments("flywheel_for", scene, phi0=phi0, rtol=rtol, atol=atol)
+    delta = args.number("delta", delta, low=0.0, high=2.0, low_open=True, high_open=True)
+    model = _one_input(scene, "flywheel_for")
     bare = steady_state(scene, drive=drive, phi0=phi0, rtol=rtol, atol=atol)
     fn, _ = make_drive(drive, scene.inputs, model.motors, scene=scene.name)
     phi = bare.phi[:-1]
@@ -225,6 +245,9 @@ def run_up(scene: Any, *, drive: Any = None, phi0: float = 0.0, t_max: float = 6
            atol: float = 1e-9) -> RunUp:
     """From rest at ``phi0`` under the motor: the time until ω first enters the steady cycle's
     band [ω_min, ω_max] (``t_max`` s at most)."""
+    args, phi0, rtol, atol = _arguments("run_up", scene, phi0=phi0, rtol=rtol, atol=atol)
+    t_max = args.number("t_max", t_max, low=0.0, low_open=True, unit="s")
+    _one_input(scene, "run_up")
     steady = steady_state(scene, drive=drive, phi0=phi0)
     low = steady.omega_min
 

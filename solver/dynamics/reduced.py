@@ -27,8 +27,9 @@ from typing import Any
 
 import numpy as np
 
+from .._arguments import Arguments
 from .._backend import NUMPY
-from ..errors import DynamicsError
+from ..errors import DynamicsArgumentError, DynamicsError
 from ..forces.frames import body_motion
 from ..forces.spec import Body, Damper, ForceSpec, Spring
 from ..groups import Context
@@ -193,8 +194,9 @@ class ReducedModel:
                          for x in out[:self.k]], axis=-1)
 
     def _states(self, q: Any, qd: Any) -> tuple[np.ndarray, np.ndarray]:
-        q = np.asarray(q, float)
-        qd = np.asarray(0.0 if qd is None else qd, float)
+        args = Arguments("reduced model", scene=self.scene.name, error=DynamicsArgumentError)
+        q = args.numbers("q", q)
+        qd = args.numbers("qd", 0.0 if qd is None else qd)
         q = q.reshape(-1, self.k) if self.k > 1 or q.ndim != 1 else q[:, None]
         qd = np.broadcast_to(qd.reshape(-1, self.k) if qd.ndim else qd, q.shape)
         return q, np.ascontiguousarray(qd)

@@ -2,6 +2,7 @@
 
     motor:    {INPUT: {stall_torque: T₀, no_load_speed: ω₀}}    T = T₀·(1 − ω/ω₀)   (N·m, rad/s)
               {INPUT: {speed: [ω…], torque: [T…]}}             linear between, constant beyond
+              an actuator's stroke: stall_force and force (N) against speeds in m/s
     flywheel: {INPUT: I_F}       kg·m² about the crank's pivot, added to the crank's body
     damping:  {JOINT: c}         N·m·s/rad: a couple −c·q̇ between the joint's two bodies
 
@@ -43,7 +44,8 @@ def parse_drive(
         e = top.child("flywheel", top.raw("flywheel"))
         g = _input(e, j, inputs)
         if not isinstance(g, Crank):
-            raise e.error(f"a flywheel turns with a crank; '{j}' is a {g.kind}'s input", j)
+            article = "an" if g.kind[:1] in "aeiou" else "a"
+            raise e.error(f"a flywheel turns with a crank; '{j}' is {article} {g.kind}'s input", j)
         inertia = _bounded(e, j, "kg·m²")
         flywheels[j] = inertia
         bodies = tuple(replace(b, inertia=b.inertia + inertia) if b.link.name == g.name else b for b in bodies)
@@ -81,29 +83,40 @@ def _bounded(e: Entry, key: str, unit: str, *, signed: bool = False) -> float:
 
 
 def _motor(top: Entry, joint: str, inputs: Mapping[str | None, Group]) -> Motor:
-    _input(top, joint, inputs)
+    """A motor's line or table: of a torque (N·m) against a speed (rad/s) on a crank, of a force
+    (N) against a speed (m/s) on an actuator's stroke (``stall_force``, ``force``)."""
+    stroke = _input(top, joint, inputs).input_range() is not None
+    effort, unit, speed = ("force", "N", "m/s") if stroke else ("torque", "N·m", "rad/s")
+    stall_key = f"stall_{effort}"
     e = top.child(joint, top.raw(joint))
-    e.expect(("stall_torque", "no_load_speed", "speed", "torque"))
-    linear = [k for k in ("stall_torque", "no_load_speed") if k in e.data]
-    table = [k for k in ("speed", "torque") if k in e.data]
+    other = "torque" if stroke else "force"
+    for key in (f"stall_{other}", other):
+        if key in e.data:
+            what = "an actuator's stroke: its motor gives a force (N)" if stroke else "a crank: its motor gives a " \
+                "torque (N·m)"
+            raise e.error(f"'{joint}' is {what}; write {key.replace(other, effort)}", key)
+    e.expect((stall_key, "no_load_speed", "speed", effort))
+    linear = [k for k in (stall_key, "no_load_speed") if k in e.data]
+    table = [k for k in ("speed", effort) if k in e.data]
     if linear and table:
-        raise e.error("a motor is a line (stall_torque, no_load_speed) or a table (speed, torque), not both")
+        raise e.error(f"a motor is a line ({stall_key}, no_load_speed) or a table (speed, {effort}), not both")
     if table:
         if len(table) != 2:
-            raise e.error("a torque–speed table needs both 'speed' (rad/s) and 'torque' (N·m)")
-        speeds, torques = _numbers(e, "speed"), _numbers(e, "torque")
+            raise e.error(f"a {effort}–speed table needs both 'speed' ({speed}) and '{effort}' ({unit})")
+        speeds, torques = _numbers(e, "speed"), _numbers(e, effort)
         if len(speeds) != len(torques):
-            raise e.error(f"has {len(torques)} torques for {len(speeds)} speeds", "torque")
+            raise e.error(f"has {len(torques)} {effort}s for {len(speeds)} speeds", effort)
         if any(b <= a for a, b in zip(speeds, speeds[1:])):
             raise e.error("speeds must increase strictly", "speed")
         e.done()
         return Motor(joint, speeds=speeds, torques=torques)
     if len(linear) != 2:
-        raise e.error("a motor needs stall_torque (N·m) and no_load_speed (rad/s), or a table of speed and torque")
-    stall = _bounded(e, "stall_torque", "N·m", signed=True)
-    no_load = _bounded(e, "no_load_speed", "rad/s", signed=True)
+        raise e.error(f"a motor needs {stall_key} ({unit}) and no_load_speed ({speed}), or a table of speed and "
+                      f"{effort}")
+    stall = _bounded(e, stall_key, unit, signed=True)
+    no_load = _bounded(e, "no_load_speed", speed, signed=True)
     if no_load == 0.0:
-        raise e.error("must not be 0: the speed at which the motor's torque falls to zero", "no_load_speed")
+        raise e.error(f"must not be 0: the speed at which the motor's {effort} falls to zero", "no_load_speed")
     e.done()
     return Motor(joint, stall=stall, no_load=no_load)
 

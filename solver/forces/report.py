@@ -90,9 +90,17 @@ def motion_of_forces(scene: Any, k: Any, ok: np.ndarray) -> str:
     if not _has_inertia(scene):
         return "the same at every speed: no body has mass or inertia"
     w, e = _rates(k.omega, ok, inputs), _rates(k.epsilon, ok, inputs)
+    units = tuple(getattr(scene, "input_units", ())) or ("rad",) * len(inputs)
     if w is None or e is None:
-        return "at each sample's ω and ε, with the bodies' inertia"
-    return f"at ω {w} rad/s, ε {e} rad/s², with the bodies' inertia"
+        rates = "ṡ and s̈" if set(units) == {"m"} else "ω and ε" if "m" not in units else "rates"
+        return f"at each sample's {rates}, with the bodies' inertia"
+    if len(set(units)) == 1:  # one unit for every input: ω, ε in rad/s, rad/s²; ṡ, s̈ in m/s, m/s²
+        rate, accel = ("ṡ", "s̈") if units[0] == "m" else ("ω", "ε")
+        return f"at {rate} {w} {units[0]}/s, {accel} {e} {units[0]}/s², with the bodies' inertia"
+    per = [(f"{q} {a.split('= ')[1]} {u}/s", f"{q} {b.split('= ')[1]} {u}/s²")
+           for q, u, a, b in zip(inputs, units, w.split(", "), e.split(", "))]
+    return (f"at rates {', '.join(a for a, _ in per)}; accelerations {', '.join(b for _, b in per)}, with the "
+            "bodies' inertia")
 
 
 def _one_turn(k: Any) -> bool:
@@ -118,14 +126,16 @@ def _side_changes(force: np.ndarray, *, cyclic: bool) -> int:
     return int(np.count_nonzero(np.einsum("ij,ij->i", f[1:], f[:-1]) < 0.0))
 
 
-def _power_line(power: np.ndarray, ok: np.ndarray, idx: np.ndarray, scale: float, at: Callable[[int], str]) -> str:
-    """The input power line: its peak, or zero (to rounding of ``scale``: Σ max|Q|·max|ω|)."""
+def _power_line(power: np.ndarray, ok: np.ndarray, idx: np.ndarray, scale: float, at: Callable[[int], str],
+                label: str = "Σ Q·ω") -> str:
+    """The input power line: its peak, or zero (to rounding of ``scale``: Σ max|Q|·max|ω|).
+    ``label``: Σ Q·ω of angles, Σ Q·ṡ of actuators' strokes, Σ Q·q̇ of both."""
     j = int(idx[np.argmax(np.abs(power[ok]))])
     if power[j] == 0.0:
-        return "  input power Σ Q·ω: zero"
+        return f"  input power {label}: zero"
     if abs(power[j]) <= ZERO_TO_ROUNDING * scale:  # (Σ Q·ω cancelling to rounding)
-        return f"  input power Σ Q·ω: zero to rounding (at most {abs(power[j]):.2g} W)"
-    return f"  input power Σ Q·ω: peak |P| = {_g(abs(power[j]))} W at {at(j)}"
+        return f"  input power {label}: zero to rounding (at most {abs(power[j]):.2g} W)"
+    return f"  input power {label}: peak |P| = {_g(abs(power[j]))} W at {at(j)}"
 
 
 def force_lines(scene: Any, k: Any, *, sampling: str | None = None, times: Any = None,
@@ -171,7 +181,9 @@ def force_lines(scene: Any, k: Any, *, sampling: str | None = None, times: Any =
         power = power + efforts[q] * w
         scale += float(np.abs(v).max()) * float(np.abs(w[ok]).max())
     if not default_speed:  # (Σ Q·ω at the default 1 rad/s: the effort's numbers again)
-        lines.append(_power_line(power, ok, idx, scale, lambda j: _at(k, j, inputs, times, kinds)))
+        kinds_of = {units.get(q) == "m" for q in inputs}
+        label = "Σ Q·q̇" if len(kinds_of) > 1 else "Σ Q·ṡ" if kinds_of == {True} else "Σ Q·ω"
+        lines.append(_power_line(power, ok, idx, scale, lambda j: _at(k, j, inputs, times, kinds), label))
     for pin in scene.pins:
         r = np.asarray(k.reaction(pin.point, on=pin.body, by=pin.other), float)
         mag = np.hypot(r[..., 0], r[..., 1])[ok]

@@ -17,7 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import SynthesisError
+from .._arguments import Arguments
+from ..errors import SynthesisArgumentError, SynthesisError
 from ..tolerances import EXACT_MISS
 from .polish import polish
 from .population import Goal
@@ -72,6 +73,26 @@ def synthesize(
     ``time_limit`` (s) returns the best design so far, marked (``res.expired``).
     """
     t0 = time.monotonic()
+    args = Arguments("synthesize", error=SynthesisArgumentError)  # each keyword's type and range (issue 30)
+    if not isinstance(template, str | os.PathLike | Template | Mapping):
+        args.fail("template", template, "must be a template scene: a path, a shipped name, a Template or its data")
+    point, joint = args.name("point", point, none=True), args.name("joint", joint, none=True)
+    if at is not None:
+        args.numbers("at", at, unit="rad")  # (its count against the targets: make_goal)
+    seed = args.integer("seed", seed, low=0)
+    time_limit = args.number("time_limit", time_limit, low=0.0, low_open=True, unit="s", none=True)
+    if workers is not None and not all(hasattr(workers, m) for m in ("submit", "gather", "scatter")):
+        args.fail("workers", workers, "must be a dask.distributed.Client or None")
+    input_range = None if input_range is None else args.span("input_range", input_range, unit="rad")
+    min_transmission = args.number("min_transmission", min_transmission, low=0.0, high=math.pi / 2, high_open=True,
+                                   span="in [0, π/2)", unit="rad")
+    max_ratio = args.number("max_ratio", max_ratio, low=1.0, none=True)
+    effort_weight, pin_weight = (args.number(n, v, low=0.0) for n, v in (("effort_weight", effort_weight),
+                                                                       ("pin_weight", pin_weight)))
+    speed = args.number("speed", speed, low=0.0)
+    starts, samples = args.integer("starts", starts, low=1), args.integer("samples", samples, low=8)
+    popsize, maxiter = args.integer("popsize", popsize, low=1), args.integer("maxiter", maxiter, low=1)
+    progress = args.function_("progress", progress)
     tpl = load_template(template)
     goal = make_goal(tpl, point=point, through=through, at=at, joint=joint, pairs=pairs, poses=poses,
                      input_range=input_range, min_transmission=min_transmission, max_ratio=max_ratio,

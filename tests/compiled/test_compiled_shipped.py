@@ -186,7 +186,8 @@ def test_functions_rebuilt_after_misses_stay_exact(name: str) -> None:
 def test_one_instant_of_several_inputs_wants_one_value_per_input() -> None:
     scene = solver.load_scene("five_bar")
     assert scene.instant((1.0, 2.0), 1.0, 0.0) == scene.instant((1.0, 2.0), (1.0, 1.0), (0.0, 0.0))
-    with pytest.raises(solver.SolverError, match=r"five_bar has 2 inputs \(q1, q2\): phi must be 2 numbers"):
+    with pytest.raises(solver.SolverError, match=r"five_bar: instant: phi must be 2 numbers \(inputs q1, q2\), "
+                                                 r"got 1.0$"):
         scene.instant(1.0)
     with pytest.raises(solver.SolverError, match="omega must be 2 numbers"):
         scene.instant((1.0, 2.0), (1.0, 2.0, 3.0))

@@ -109,7 +109,7 @@ def test_unassemblable_samples_fail_in_one_line_or_are_masked(
         (["--omega", "q3=1"], r"--omega 'q3=1': give INPUT=VALUE with INPUT one of q1, q2"),
         (["--epsilon", "q1"], r"--epsilon 'q1': give INPUT=VALUE"),
         (["--range", "q1=0"], r"--range 'q1=0': give INPUT=LO:HI"),
-        (["--samples", "1,2,3"], r"--samples: each row needs 2 values \(q1, q2\)"),
+        (["--samples", "1,2,3"], r"--samples: each row needs 2 values, one per input \(q1, q2\)"),
         (["--region", "--samples", "1,2"], r"--region maps a grid"),
     ],
 )

@@ -107,7 +107,8 @@ def test_several_inputs_under_constant_efforts_are_recorded_up_to_their_toggle(
                      "--omega0", "q1=1", "--duration", "1", "--mcap", str(mcap), "--no-rrd"]) == 0
     text = capsys.readouterr().out
     assert "'q1' from φ0 = 126.051°, ω0 = 1 rad/s; 'q2' from φ0 = 51.5662°, ω0 = 0 rad/s" in text
-    assert "dynamics: drive constant effort 0.1, -0.1;" in text and "\n  stopped: five_bar, t = 0.15" in text
+    assert "dynamics: drive constant effort q1 0.1 N·m, q2 -0.1 N·m;" in text
+    assert "\n  stopped: five_bar, t = 0.15" in text
     assert "\n  q1: peak drive effort 0.1 N·m at t = 0 s" in text and "\n  q2: peak drive effort -0.1 N·m" in text
     with AnyReader([mcap]) as reader:
         states = [reader.deserialize(raw, c.msgtype) for c, _, raw in reader.messages() if c.topic == "/joint_states"]

@@ -184,7 +184,8 @@ def test_roberts_chebyshev_cognates_trace_one_curve() -> None:
         ({"joint": "nope", "pairs": [[0.0, 0.1]]}, r"joint= must name a joint of the template"),
         ({"point": "P", "through": [[50.0, 0.0]]}, r"target 0 \(50, 0\) m is out of any reachable range"),
         ({"point": "P", "through": [[0.1, 0.2]], "input_range": (1.0, 0.5)}, r"input_range must be \(lo, hi\)"),
-        ({"point": "P", "through": [[0.1, 0.2]], "min_transmission": 2.0}, r"min_transmission must be in"),
+        ({"point": "P", "through": [[0.1, 0.2]], "min_transmission": 2.0},
+         r"synthesize: min_transmission must be a finite number in \[0, π/2\) rad, got 2.0$"),
     ],
 )
 def test_bad_tasks_one_line(task: dict, message: str) -> None:  # type: ignore[type-arg]
