@@ -41,7 +41,17 @@ from collections.abc import Callable
 from typing import Any
 
 from solver.errors import SceneError
-from solver.groups import RRP, RRR, Actuator, Attached, Crank, JointExpression, Slotted, SphericalCrankSlider
+from solver.groups import (
+    RRP,
+    RRR,
+    Actuator,
+    Attached,
+    CoupledCrank,
+    Crank,
+    JointExpression,
+    Slotted,
+    SphericalCrankSlider,
+)
 
 from .tree import BASE_LINK, Body, Cut, TreeJoint, TreeModel, Vec3, check_names
 from .vectors import build_vector_model
@@ -129,7 +139,7 @@ class _Builder:
         body.bars.append((g.center, g.point))
         if role == "drum":
             body.size["radius"] = g.length
-        self.pin(self.holder(g.center, g), body, g.center, unwrap=g.joint)
+        self.pin(self.holder(g.center, g), body, g.center, unwrap=g.joint if g.drives and g.plain else None)
         self.owner[g.point] = body.name
 
     def actuator(self, g: Actuator) -> None:
@@ -277,6 +287,7 @@ def build_model(scene: object) -> TreeModel:
     b = _Builder(scene)
     handlers: dict[type, Callable[[Any], None]] = {
         Crank: b.crank,
+        CoupledCrank: b.crank,
         Actuator: b.actuator,
         RRR: b.rrr,
         RRP: b.rrp,
