@@ -74,6 +74,7 @@ setup(
         "console_scripts": [
             "linkage-solve = solver.cli:main",
             "linkage-synth = solver.synth_cli:main",
+            "linkage-import = solver.structure_cli:import_main",
             "mechanism_node = linkage_ros.node:main",
             "linkage-run = linkage_ros.cli:run_main",
             "linkage-view = linkage_ros.cli:view_main",

@@ -17,6 +17,7 @@ from .forces.parse import FORCE_KEYS, parse_forces
 from .groups import GROUP_TYPES, JOINT_KINDS, RRR, Crank, Group, JointExpression
 from .groups.joints import URDF_JOINT_KINDS
 from .groups.rrr import CrankFeed
+from .structure import scene_dict_from_drawing
 
 __all__ = ["SceneData", "parse_scene", "read_yaml", "SECTION_PARSERS"]
 
@@ -75,6 +76,8 @@ def parse_scene(data: Any, *, file: str | None, default_name: str = "scene") -> 
     """Validate a scene's data; a misspelt top-level key is reported before any other fault."""
     if data is None:
         raise SceneError("the file is empty: a scene is a mapping of sections (docs/scenes.md)", file=file)
+    if isinstance(data, Mapping) and "drawing" in data:  # the drawn form (solver.structure)
+        data = scene_dict_from_drawing(data, source=file)
     try:
         return _parse_scene(data, file=file, default_name=default_name)
     except SceneError:

@@ -24,6 +24,7 @@ from .errors import SolverError, format_intervals
 from .forces.report import force_section
 from .kinematics import Kinematics
 from .scene import Scene, load_scene
+from .structure_cli import structure_main
 from .summary import Output, Section, Sweep, motion_line, provenance_lines, summary_lines
 
 __all__ = ["main", "csv_header", "write_csv", "summary", "stability_lines"]
@@ -68,6 +69,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--csv", metavar="FILE|-", help="write the table as CSV (SI units, phi in rad) to FILE or stdout; "
                    "a scene with forces adds each input's effort and every pin's load")
+    p.add_argument("--structure", action="store_true",
+                   help="print the decomposition instead: the groups in order with their modes and lengths, and the "
+                   "mobility count (a drawn scene: also as drawn)")
     p.add_argument(
         "--mask",
         action="store_true",
@@ -317,6 +321,11 @@ def _link(p: str, q: str) -> str:
 @quiet_pipe
 def main(argv: Sequence[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
+    if "--structure" in argv:  # the decomposition, not a sweep (solver/structure_cli.py)
+        rest = [a for a in argv if a != "--structure"]
+        if len(rest) != 1 or rest[0].startswith("-"):
+            _parser().error(f"--structure takes the scene alone, got {' '.join(rest) or 'no scene'}")
+        return structure_main(rest[0])
     if is_multi_input(argv):  # several inputs: the grid form (solver/cli_inputs.py, docs/inputs.md)
         return main_inputs(argv)
     parser = _parser()
