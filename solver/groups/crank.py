@@ -26,7 +26,7 @@ from .._fields import Entry, Units
 from ..jet import Jet
 from .base import Context, Group
 
-__all__ = ["Crank", "CoupledCrank"]
+__all__ = ["Crank", "CoupledCrank", "CoupledCrankEntry"]
 
 
 @dataclass(frozen=True)
@@ -167,3 +167,29 @@ class CoupledCrank(Crank):
         seed = Jet(q, dp * c1, ddp * c1)
         self._place(ctx, seed)
         ctx.values[self.joint] = seed
+
+
+class CoupledCrankEntry:
+    """``{type: coupled_crank, name, center, point, length, joint?, follows, ratio, offset?}``: the
+    drawn form's coupled input (solver.structure), whose angle is ratio·φ_follows + offset — a
+    :class:`CoupledCrank` with θ₀ = 0, σ = 1 (its joint is its angle)."""
+
+    kind = "coupled_crank"
+    fields = ("type", "name", "center", "point", "length", "joint", "follows", "ratio", "offset")
+
+    @classmethod
+    def from_entry(cls, e: Entry, units: Units, fixed: Mapping[str, Any]) -> CoupledCrank:
+        name = e.name("name")
+        center = e.name("center")
+        if center not in fixed:
+            raise e.error(f"the crank turns about a fixed point; '{center}' is not one of {sorted(fixed)}", "center")
+        ratio = e.as_number(e.raw("ratio"), "ratio")
+        if not (math.isfinite(ratio) and ratio != 0.0 and abs(ratio) <= 1e6):
+            raise e.error(f"must be a non-zero finite ratio (|ratio| ≤ 1e6), got {ratio!r}", "ratio")
+        joint = e.name("joint", name)
+        source = e.name("follows")
+        if source == joint:
+            raise e.error(f"a crank cannot follow its own joint '{source}'", "follows")
+        return CoupledCrank(name=name, center=center, point=e.name("point"), length=e.length("length", units),
+                            joint=joint, source=source, ratio=float(ratio),
+                            shift=e.angle("offset", units, default=0.0))

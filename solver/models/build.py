@@ -75,9 +75,9 @@ def scene_data(lay: PlanarModel, inputs: Sequence[str] | None = None) -> dict[st
     model, file = lay.model, lay.model.file
     joints = {j.name: j for j in model.joints}
     if inputs is None:
-        order = {j: i for i, j in enumerate(model.actuated)}
-        dependent = {max(c.joint, c.source, key=order.__getitem__) for c in model.couplings
-                     if c.joint in order and c.source in order}
+        rank = {j: i for i, j in enumerate(model.actuated)}
+        dependent = {max(c.joint, c.source, key=rank.__getitem__) for c in model.couplings
+                     if c.joint in rank and c.source in rank}
         inputs = [j for j in model.actuated if j not in dependent]
     inputs = list(inputs)
     for name in inputs:
@@ -112,79 +112,53 @@ def scene_data(lay: PlanarModel, inputs: Sequence[str] | None = None) -> dict[st
             if len(fixed) < 2 and all(abs(z - w) > 1e-9 * lay.size for w in fixed.values()):
                 fixed[extra] = z
                 pts[GROUND_BODY][extra] = z
-    known: dict[str, complex] = dict(fixed)
-    frame: dict[str, tuple[str, str]] = {GROUND_BODY: tuple(list(fixed)[:2])}  # type: ignore[dict-item]
-    groups: list[dict[str, Any]] = []
-    crank_joints: set[str] = set()
-
-    def second_point(body: str, center: str) -> str:
-        others = [p for p in pts[body] if p != center]
-        shared = [p for p in others if sum(p in b for b in pts.values()) > 1]
-        if not (shared or others):
-            raise SceneError(f"body '{body}' has one point only: give it a second (a child body or a site)",
-                             file=file)
-        return (shared or others)[0]
-
-    def crank(j: Joint, follows: Coupling | None) -> None:
-        center = next(p.point for p in lay.pins if p.joint is j)
-        a = second_point(j.child, center)
-        arm = pts[j.child][a] - pts[j.child][center]
-        sg = lay.sign[j.name]
-        g: dict[str, Any] = {
-            "type": "crank", "name": j.child, "center": center, "point": a, "length": abs(arm), "joint": j.name,
-            "offset": _wrap(cmath.phase(arm) - sg * j.value), "sign": int(sg),
-        }
-        if follows is not None:
-            expect = follows.offset + follows.ratio * joints[follows.source].value
-            if abs(expect - j.value) > 1e-9:
-                raise SceneError(
-                    f"{follows.what}: '{j.name}' = {j.value:.9g} at the model's pose, the coupling gives "
-                    f"{expect:.9g}", file=file)
-            g["follows"] = {"joint": follows.source, "ratio": follows.ratio, "offset": follows.offset}
-        groups.append(g)
-        crank_joints.add(j.name)
-        place(j.child, (center, a))
-
-    def place(body: str, pair: tuple[str, str]) -> None:
-        frame[body] = pair
-        p0, p1 = pair
-        z0, z1 = pts[body][p0], pts[body][p1]
-        for name in pair:
-            known[name] = pts[body][name]
-        for name, z in pts[body].items():
-            if name in known:
-                continue
-            base = p0 if abs(z - z0) >= abs(z - z1) else p1
-            zb = pts[body][base]
-            groups.append({
-                "type": "attached", "name": f"{body}.{name}", "point": name, "base": base, "along": [p0, p1],
-                "distance": abs(z - zb), "angle": cmath.phase((z - zb) / (z1 - z0)),
-            })
-            known[name] = z
-
-    for name in inputs:
-        crank(joints[name], None)
+    pin_of = {p.joint.name: p.point for p in lay.pins if p.joint is not None}
+    links: dict[str, list[str]] = {}
+    for body, names in pts.items():
+        if body == GROUND_BODY:
+            continue
+        order = list(names)
+        pivot = next((pin_of[j.name] for j in model.joints if j.child == body and j.name in pin_of
+                      and (j.name in inputs or j.name in coupled)), None)
+        if pivot is not None:  # an input link: pinned to the ground at its first point
+            shared = [p for p in order if p != pivot and sum(p in b for b in pts.values()) > 1]
+            rest = [p for p in order if p != pivot and p not in shared]
+            order = [pivot, *shared, *rest]
+        if len(order) < 2:
+            raise SceneError(f"body '{body}' has one point only ({', '.join(order)}): give it a second (a child "
+                             "body, or a joint or closure on it)", file=file)
+        links[body] = order
+    child_of = {j.name: j.child for j in model.joints}
+    drawn_inputs: list[Any] = [{"link": child_of[name], "joint": name} for name in inputs]
     for name, c in coupled.items():
         j = joints[name]
         if j.parent != GROUND_BODY:
             raise SceneError(f"{c.what}: the coupled joint '{name}' turns a moving body: a coupled input is a "
                              "hinge on the ground", file=file)
-        crank(j, c)
-    todo = [b for b in pts if b not in frame]
-    while todo:
-        for b in todo:
-            have = [p for p in pts[b] if p in known]
-            if len(have) >= 2:
-                place(b, (have[0], have[1]))
-                break
-        else:
-            if not _dyad(lay, todo, known, groups, place):
-                raise SceneError(
-                    f"bodies {', '.join(todo)} are not placed by cranks, RRR dyads and points on links "
-                    "(a structure of another class, or too few inputs there)",
-                    file=file,
-                )
-        todo = [b for b in pts if b not in frame]
+        expect = c.offset + c.ratio * joints[c.source].value
+        if abs(expect - j.value) > 1e-9:
+            raise SceneError(f"{c.what}: '{name}' = {j.value:.9g} at the model's pose, the coupling gives "
+                             f"{expect:.9g}", file=file)
+        plane_ratio = lay.sign[name] * c.ratio * lay.sign[c.source]
+        drawn_inputs.append({"link": j.child, "joint": name, "follows": c.source, "ratio": plane_ratio})
+    drawn = {
+        "scene": model.name,
+        "units": {"length": "m", "angle": "rad"},
+        "drawing": {
+            "points": {n: [z.real, z.imag] for body in pts.values() for n, z in body.items()},
+            "ground": list(fixed),
+            "links": links,
+            "inputs": drawn_inputs,
+        },
+        "outputs": {"points": list(fixed)[:1]},
+    }
+    from ..structure import scene_dict_from_drawing
+
+    emitted = scene_dict_from_drawing(drawn, source=file)
+    groups = [_model_convention(g, lay, joints, coupled) for g in emitted["groups"]]
+    frame = {body: (order[0], order[1]) for body, order in links.items()}
+    frame[GROUND_BODY] = (list(fixed)[0], list(fixed)[1])
+    crank_joints = set(inputs) | set(coupled)
     named: dict[str, Any] = {}
     for j in model.joints:
         if j.name in crank_joints:
@@ -196,16 +170,16 @@ def scene_data(lay: PlanarModel, inputs: Sequence[str] | None = None) -> dict[st
         named[j.name] = {"revolute": {"parent": list(parent), "child": list(child),
                                       "offset": _wrap(j.value - sg * delta), "sign": int(sg)}}
     bodies = {}
-    for body in model.bodies.values():
-        if body.name == GROUND_BODY or body.mass <= 0.0:
+    for rigid in model.bodies.values():
+        if rigid.name == GROUND_BODY or rigid.mass <= 0.0:
             continue
-        p0, p1 = frame[body.name]
-        z0, z1 = pts[body.name][p0], pts[body.name][p1]
+        p0, p1 = frame[rigid.name]
+        z0, z1 = pts[rigid.name][p0], pts[rigid.name][p1]
         u = (z1 - z0) / abs(z1 - z0)
-        cz = (lay.plane.of(body.com) - z0) * u.conjugate()
+        cz = (lay.plane.of(rigid.com) - z0) * u.conjugate()
         n = lay.plane.normal
-        bodies[body.name] = {"points": [p0, p1], "mass": body.mass, "center": [cz.real, cz.imag],
-                             "inertia": float(n @ body.inertia @ n)}
+        bodies[rigid.name] = {"points": [p0, p1], "mass": rigid.mass, "center": [cz.real, cz.imag],
+                              "inertia": float(n @ rigid.inertia @ n)}
     g = model.gravity
     moving = [p for b, ps in pts.items() if b != GROUND_BODY for p in ps]
     data: dict[str, Any] = {
@@ -223,30 +197,19 @@ def scene_data(lay: PlanarModel, inputs: Sequence[str] | None = None) -> dict[st
     return data
 
 
-def _dyad(lay: PlanarModel, todo: list[str], known: dict[str, complex], groups: list[dict[str, Any]],
-          place: Any) -> bool:
-    pts = lay.points
-    for pin in lay.pins:
-        b1, b2 = pin.bodies
-        if b1 not in todo or b2 not in todo or pin.point in known:
-            continue
-        k1 = [p for p in pts[b1] if p in known]
-        k2 = [p for p in pts[b2] if p in known]
-        if len(k1) != 1 or len(k2) != 1 or k1[0] == k2[0]:
-            continue
-        a, c, b = k1[0], k2[0], pin.point
-        za, zb, zc = known[a], pts[b1][b], known[c]
-        area = ((zb - za).conjugate() * (zc - za)).imag / 2.0
-        if abs(area) <= TOGGLE * lay.size**2:
-            raise SceneError(
-                f"dyad {b1}–{b2} (ends {a}, {c}, pin {b}) is at its toggle in the model's pose: its assembly mode "
-                "is undefined there; import the model at another pose (keyframe=)",
-                file=lay.model.file,
-            )
-        groups.append({"type": "rrr", "name": f"{b1}+{b2}", "ends": [a, c], "point": b,
-                       "lengths": [abs(zb - za), abs(zb - zc)], "M": 1 if area > 0 else -1})
-        known[b] = zb
-        place(b1, (a, b))
-        place(b2, (c, b))
-        return True
-    return False
+def _model_convention(g: dict[str, Any], lay: PlanarModel, joints: dict[str, Joint],
+                      coupled: dict[str, Coupling]) -> dict[str, Any]:
+    """An emitted crank (its joint the plane angle of O→A) made to read the model's joint value:
+    θ = θ₀ + σ·q with θ₀ from the pose; a coupled one follows its input's model value."""
+    if g["type"] not in ("crank", "coupled_crank"):
+        return g
+    j = joints[g["joint"]]
+    pts = lay.points[j.child]
+    arm = pts[g["point"]] - pts[g["center"]]
+    sg = lay.sign[j.name]
+    out = {k: g[k] for k in ("name", "center", "point", "length", "joint")}
+    out = {"type": "crank", **out, "offset": _wrap(cmath.phase(arm) - sg * j.value), "sign": int(sg)}
+    c = coupled.get(j.name)
+    if c is not None:
+        out["follows"] = {"joint": c.source, "ratio": c.ratio, "offset": c.offset}
+    return out
