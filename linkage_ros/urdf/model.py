@@ -322,7 +322,11 @@ def build_model(scene: object) -> TreeModel:
 def exportable_model(scene: object) -> TreeModel | None:
     """:func:`build_model`, or ``None`` for a scene the export cannot open (a group kind it does
     not know, or a vector scene whose outputs do not say enough to read its bodies; the error of
-    :func:`build_model` says why): for publishers that add the tree joints where there are any."""
+    :func:`build_model` says why): for publishers that add the tree joints where there are any.
+    A scene imported from a model file (MJCF, URDF: ``scene.model``, solver.models) has none: its
+    joints are the model's own, and the user's model is the tree that robot_state_publisher reads."""
+    if getattr(scene, "model", None) is not None:
+        return None
     try:
         return build_model(scene)
     except SceneError as exc:

@@ -1,7 +1,9 @@
 """A laid-out model (solver.models.planar) → the equivalent group scene, as scene-file data.
 
 Mobility (Grübler–Kutzbach, /work/shared/structure.md): F = 3·n − 2·(hinges + closures) −
-couplings, n the moving rigid bodies; it must equal the number of inputs. The inputs are hinges
+couplings, n the moving rigid bodies; it must equal the number of inputs. The default inputs are
+the joints the model's actuators drive (one of two coupled ones), completed when F is larger by
+the model's other hinges on the ground in model order (an underactuated gripper's spring links). The inputs are hinges
 on the ground: each is a ``crank`` whose joint is the model's joint value (θ = θ₀ + σ·q, groups
 crank.py); a hinge tied to an input by a coupling is a crank that ``follows`` it. Then, until
 every body is placed: a body with two known points carries its other points (``attached``);
@@ -49,6 +51,16 @@ def free_inputs(lay: PlanarModel) -> tuple[int, str]:
     return f, f"{n} moving bodies, {h} hinges, {c} loop closures, {k} coupling(s): F = 3·{n} − 2·{h + c} − {k} = {f}"
 
 
+def _complete(lay: PlanarModel, inputs: list[str]) -> list[str]:
+    """The default inputs completed to the mobility: the model's other hinges on the ground, in
+    model order (an underactuated gripper's spring-loaded links), neither coupled nor inputs."""
+    f, _ = free_inputs(lay)
+    tied = {c.joint for c in lay.model.couplings} | {c.source for c in lay.model.couplings}
+    more = [j.name for j in lay.model.joints if j.parent == GROUND_BODY and j.kind == "hinge"
+            and j.name not in inputs and j.name not in tied]
+    return more[: max(0, f - len(inputs))]
+
+
 def _couplings(lay: PlanarModel, inputs: Sequence[str]) -> dict[str, Coupling]:
     """Each coupled joint → its coupling to an input (inverted where the model ties the input to it)."""
     out: dict[str, Coupling] = {}
@@ -79,6 +91,7 @@ def scene_data(lay: PlanarModel, inputs: Sequence[str] | None = None) -> dict[st
         dependent = {max(c.joint, c.source, key=rank.__getitem__) for c in model.couplings
                      if c.joint in rank and c.source in rank}
         inputs = [j for j in model.actuated if j not in dependent]
+        inputs += _complete(lay, inputs)
     inputs = list(inputs)
     for name in inputs:
         j = joints.get(name)
@@ -108,7 +121,7 @@ def scene_data(lay: PlanarModel, inputs: Sequence[str] | None = None) -> dict[st
     pts = lay.points
     fixed = dict(pts[GROUND_BODY])
     if len(fixed) < 2:
-        for extra, z in (("world.origin", 0j), ("world.x", complex(lay.size, 0.0))):
+        for extra, z in (("world_origin", 0j), ("world_x", complex(lay.size, 0.0))):
             if len(fixed) < 2 and all(abs(z - w) > 1e-9 * lay.size for w in fixed.values()):
                 fixed[extra] = z
                 pts[GROUND_BODY][extra] = z

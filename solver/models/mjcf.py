@@ -144,7 +144,7 @@ def read_mjcf(path: str | Path, *, keyframe: str | int | None = None) -> Spatial
                 p1 = np.array(d.xpos[b1]) + np.array(d.xmat[b1]).reshape(3, 3) @ data[0:3]
                 p2 = np.array(d.xpos[b2]) + np.array(d.xmat[b2]).reshape(3, 3) @ data[3:6]
             closures.append(Closure(
-                ename if mj.mj_id2name(m, mj.mjtObj.mjOBJ_EQUALITY, e) else f"{body_names[b1]}-{body_names[b2]}",
+                ename if mj.mj_id2name(m, mj.mjtObj.mjOBJ_EQUALITY, e) else f"{body_names[b1]}_{body_names[b2]}",
                 label[rigid[b1]], label[rigid[b2]], p1, float(np.linalg.norm(p1 - p2)),
             ))
         elif etype == int(mj.mjtEq.mjEQ_JOINT):

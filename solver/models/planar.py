@@ -7,14 +7,17 @@ nearly across n, projected onto the plane and normalised, y = z × x, origin the
 axis is −n turns clockwise in the plane: its sign σ = −1.
 
 Points: each rigid body carries its model bodies' origins (named after them), each hinge's
-anchor (the child body's origin's name when they coincide, else ``<joint>.pin``) and each
+anchor (the child body's origin's name when they coincide, else ``<joint>_pin``) and each
 closure's point (body1's point there, else the closure's name). Points of one body closer than
 ``POINT_TOLERANCE`` × the model's size are one point. A point shared by two bodies is a pin.
+Point names are made fit for ROS topic names (``points/<P>/position``): characters other than
+letters, digits and ``_`` become ``_``, and a name that is also a joint's gains ``_point``.
 """
 
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -130,6 +133,14 @@ def _plane(model: SpatialModel) -> Plane:
 def lay_out(model: SpatialModel) -> PlanarModel:
     """The model's bodies as planar point sets joined by pins (module docstring)."""
     plane = _plane(model)
+    joint_names = {j.name for j in model.joints}
+
+    def fit(name: str) -> str:
+        name = re.sub(r"[^A-Za-z0-9_]", "_", name) or "p"
+        if name[0].isdigit():
+            name = f"p{name}"
+        return f"{name}_point" if name in joint_names else name
+
     coords = [plane.of(p) for b in model.bodies.values() for p in b.points.values()]
     coords += [plane.of(j.anchor) for j in model.joints] + [plane.of(c.point) for c in model.closures]
     size = max((abs(z) for z in coords), default=1.0) or 1.0
@@ -140,14 +151,14 @@ def lay_out(model: SpatialModel) -> PlanarModel:
         for name, p in b.points.items():
             z = plane.of(p)
             if not any(abs(z - w) <= tol for w in pts.values()):
-                pts[name] = z
+                pts[fit(name)] = z
         out.points[b.name] = pts
 
     def at(body: str, z: complex) -> str | None:
         return next((n for n, w in out.points[body].items() if abs(z - w) <= tol), None)
 
     def pin(a: str, b: str, z: complex, candidate: str) -> str:
-        name = at(b, z) or at(a, z) or candidate
+        name = at(b, z) or at(a, z) or fit(candidate)
         for body in (a, b):
             have = at(body, z)
             if have is not None and have != name:
@@ -168,7 +179,7 @@ def lay_out(model: SpatialModel) -> PlanarModel:
                 entry=f"joint {j.name}",
             )
         out.sign[j.name] = 1.0 if float(j.axis @ plane.normal) > 0 else -1.0
-        name = pin(j.parent, j.child, plane.of(j.anchor), f"{j.name}.pin")
+        name = pin(j.parent, j.child, plane.of(j.anchor), f"{j.name}_pin")
         out.pins.append(Pin(name, (j.parent, j.child), j))
     for c in model.closures:
         if c.gap > 1e3 * tol:

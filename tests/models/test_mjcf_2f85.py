@@ -127,9 +127,15 @@ def test_import_is_fast() -> None:
     assert time.perf_counter() - t < 10.0
 
 
-def test_default_inputs_are_the_actuated_joints_and_the_count_says_what_is_missing() -> None:
+def test_default_inputs_are_the_actuated_joints_completed_by_the_free_hinges() -> None:
+    """The actuators drive the two (coupled) drivers: one input; the mobility is 3, so the
+    default adds the hinges on the ground in model order: the two spring links."""
+    assert solver.load_scene(MODEL).inputs == tuple(INPUTS)
+
+
+def test_explicit_inputs_are_counted_against_the_mobility() -> None:
     with pytest.raises(solver.SceneError, match=(
         r"robotiq_2f85.xml: inputs: the model has 3 freedoms \(8 moving bodies, 8 hinges, 2 loop closures, "
         r"1 coupling\(s\): F = 3·8 − 2·10 − 1 = 3\) but 1 input\(s\) \(right_driver_joint\); name 3 inputs: "
         r"hinges on the ground not yet inputs: right_spring_link_joint, left_spring_link_joint")):
-        solver.load_scene(MODEL)
+        solver.load_scene(MODEL, inputs=["right_driver_joint"])
