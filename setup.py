@@ -81,6 +81,7 @@ setup(
             "linkage-mcap = linkage_ros.cli:mcap_main",
             "linkage-urdf = linkage_ros.urdf:main",
             "linkage-echo = linkage_ros.echo:main",
+            "linkage-mjcf = solver.mjcf_cli:main",
         ],
     },
 )

@@ -5,7 +5,8 @@ No MJCF is parsed here: ``mujoco.MjModel.from_xml_path`` resolves defaults, clas
 keyframe's qpos) gives every body's frame and every joint's world anchor and axis. Read from the
 compiled model:
 
-* bodies welded to their parent (no joint) join the parent's rigid body; the world body and all
+* bodies welded to their parent (no joint) join the parent's rigid body; its points are its sites
+  (named after them) and its model bodies' origins; the world body and all
   welded to it are the ground; masses, centres and inertias are summed over each rigid body
   (parallel-axis theorem) from ``body_mass``, ``xipos`` and ``ximat``·diag(``body_inertia``);
 * hinge and slide joints (a ball or free joint is refused: spatial), their ``qpos0`` reference;
@@ -86,7 +87,9 @@ def read_mjcf(path: str | Path, *, keyframe: str | int | None = None) -> Spatial
     bodies: dict[str, Body] = {}
     for r in sorted(set(rigid)):
         members = [b for b in range(m.nbody) if rigid[b] == r]
-        points = {body_names[b]: np.array(d.xpos[b], float) for b in members if b != 0}
+        points = {name(mj.mjtObj.mjOBJ_SITE, s, f"site{s}"): np.array(d.site_xpos[s], float)
+                  for s in range(m.nsite) if int(m.site_bodyid[s]) in members}
+        points.update({body_names[b]: np.array(d.xpos[b], float) for b in members if b != 0})
         mass = float(sum(m.body_mass[b] for b in members))
         com = np.zeros(3)
         inertia = np.zeros((3, 3))
@@ -97,7 +100,9 @@ def read_mjcf(path: str | Path, *, keyframe: str | int | None = None) -> Spatial
                 own = rot @ np.diag(m.body_inertia[b]) @ rot.T
                 r_ = np.array(d.xipos[b]) - com
                 inertia += own + m.body_mass[b] * (float(r_ @ r_) * np.eye(3) - np.outer(r_, r_))
-        bodies[label[r]] = Body(label[r], points, mass, com, inertia)
+        origins = frozenset(body_names[b] for b in members if b != 0) - {
+            name(mj.mjtObj.mjOBJ_SITE, s, "") for s in range(m.nsite)}
+        bodies[label[r]] = Body(label[r], points, mass, com, inertia, origins)
 
     joints: list[Joint] = []
     for j in range(m.njnt):

@@ -146,27 +146,34 @@ def lay_out(model: SpatialModel) -> PlanarModel:
     size = max((abs(z) for z in coords), default=1.0) or 1.0
     tol = POINT_TOLERANCE * size
     out = PlanarModel(model, plane, size)
+    origins: set[str] = set()  # points that are only a model body's origin (a site's name wins)
     for b in model.bodies.values():
         pts: dict[str, complex] = {}
         for name, p in b.points.items():
             z = plane.of(p)
             if not any(abs(z - w) <= tol for w in pts.values()):
                 pts[fit(name)] = z
+                if name in b.origins:
+                    origins.add(fit(name))
         out.points[b.name] = pts
 
     def at(body: str, z: complex) -> str | None:
         return next((n for n, w in out.points[body].items() if abs(z - w) <= tol), None)
 
     def pin(a: str, b: str, z: complex, candidate: str) -> str:
-        name = at(b, z) or at(a, z) or fit(candidate)
+        found = [n for n in (at(b, z), at(a, z)) if n is not None]
+        name = next((n for n in found if n not in origins), found[0] if found else fit(candidate))
         for body in (a, b):
             have = at(body, z)
             if have is not None and have != name:
-                raise SceneError(
-                    f"points '{have}' and '{name}' of body '{body}' coincide: one pin joins three bodies there; "
-                    "give the model one body origin at that pin",
-                    file=model.file,
-                )
+                if have in origins:  # a body origin at a named pin: the pin's name is kept
+                    del out.points[body][have]
+                else:
+                    raise SceneError(
+                        f"points '{have}' and '{name}' of body '{body}' coincide: one pin joins three bodies "
+                        "there; give the model one body origin at that pin",
+                        file=model.file,
+                    )
             out.points[body][name] = z
         return name
 
@@ -194,3 +201,4 @@ def lay_out(model: SpatialModel) -> PlanarModel:
     if GROUND_BODY not in out.points:
         out.points[GROUND_BODY] = {}
     return out
+

@@ -5,8 +5,9 @@ at one pose; solver.models.planar checks that it is a planar mechanism and lays 
 Everything here is in the model's world frame, SI units (m, rad, kg, kg·m²).
 
 * A :class:`Body` is a rigid body after welding: a model body and every descendant fixed to it
-  (no joint between them) are one body, named after the first. ``points`` are the origins of
-  its model bodies (named after them), where the scene may want to read them.
+  (no joint between them) are one body, named after the first. ``points`` are its sites
+  (MJCF) and the origins of its model bodies (named after them; ``origins``), where the scene
+  may want to read them; a site's name wins over an origin's at one place.
 * A :class:`Joint` is a hinge or a slide between two bodies (``parent`` — ``child``), with its
   world ``anchor`` and unit ``axis`` at the pose, its ``value`` there and its ``reference`` (the
   value at which the model was written: MJCF qpos0, URDF 0).
@@ -36,6 +37,8 @@ class Body:
     mass: float = 0.0
     com: np.ndarray = field(default_factory=lambda: np.zeros(3))  # world
     inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))  # about the com, world axes
+    #: the names among ``points`` that are only model bodies' origins (the rest: sites, frames)
+    origins: frozenset[str] = frozenset()
 
 
 @dataclass(frozen=True)

@@ -116,7 +116,7 @@ def read_urdf(path: str | Path) -> SpatialModel:
         for m, c, own in parts:
             r = c - com
             total += own + m * (float(r @ r) * np.eye(3) - np.outer(r, r))
-        bodies[name] = Body(name, points, mass, com, total)
+        bodies[name] = Body(name, points, mass, com, total, frozenset(points))
 
     joints: list[Joint] = []
     couplings: list[Coupling] = []
