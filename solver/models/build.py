@@ -142,7 +142,14 @@ def scene_data(lay: PlanarModel, inputs: Sequence[str] | None = None) -> dict[st
                              "body, or a joint or closure on it)", file=file)
         links[body] = order
     child_of = {j.name: j.child for j in model.joints}
-    drawn_inputs: list[Any] = [{"link": child_of[name], "joint": name} for name in inputs]
+    taken = set(joints)
+
+    def link_name(body: str) -> str:
+        """The drawn link (and group) of a body: its name, unless a group's own joint name would be
+        a model joint's (linkage-urdf names a crank's tree joint ``<group>_joint``)."""
+        return f"{body}_link" if f"{body}_joint" in taken else body
+
+    drawn_inputs: list[Any] = [{"link": link_name(child_of[name]), "joint": name} for name in inputs]
     for name, c in coupled.items():
         j = joints[name]
         if j.parent != GROUND_BODY:
@@ -153,14 +160,14 @@ def scene_data(lay: PlanarModel, inputs: Sequence[str] | None = None) -> dict[st
             raise SceneError(f"{c.what}: '{name}' = {j.value:.9g} at the model's pose, the coupling gives "
                              f"{expect:.9g}", file=file)
         plane_ratio = lay.sign[name] * c.ratio * lay.sign[c.source]
-        drawn_inputs.append({"link": j.child, "joint": name, "follows": c.source, "ratio": plane_ratio})
+        drawn_inputs.append({"link": link_name(j.child), "joint": name, "follows": c.source, "ratio": plane_ratio})
     drawn = {
         "scene": model.name,
         "units": {"length": "m", "angle": "rad"},
         "drawing": {
             "points": {n: [z.real, z.imag] for body in pts.values() for n, z in body.items()},
             "ground": list(fixed),
-            "links": links,
+            "links": {link_name(body): order for body, order in links.items()},
             "inputs": drawn_inputs,
         },
         "outputs": {"points": list(fixed)[:1]},
