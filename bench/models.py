@@ -40,8 +40,8 @@ INPUTS = ("right_driver_joint", "right_spring_link_joint", "left_spring_link_joi
 
 def import_seconds() -> tuple[float, float]:
     """(fresh process, same process) seconds for load_scene of the 2F-85."""
-    code = ("import time, solver; t = time.perf_counter(); solver.load_scene(%r); "
-            "print(time.perf_counter() - t)" % str(MODEL))
+    code = (f"import time, solver; t = time.perf_counter(); solver.load_scene({str(MODEL)!r}); "
+            "print(time.perf_counter() - t)")
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     fresh = float(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
                                  check=True).stdout.strip())
