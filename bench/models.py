@@ -9,8 +9,10 @@ the five-bar's, and MuJoCo's own loop gap beside ours.
   about), and again in the same process (the file alone).
 * **relay**: mechanism_node's runtime in topic mode (``Runtime.answer``, rosbags' Jazzy classes,
   no rclpy; as bench/relay.py), one incoming JointState → every topic's CDR bytes, for the
-  five-bar (2 inputs) and the 2F-85 (3 inputs, 8 joints, 9 points, bodies and gravity: efforts
-  and pin loads), the same number of messages, alternated passes, best of ``--repeat``.
+  five-bar (2 inputs, efforts and pin loads) and the 2F-85 (3 inputs, 8 joints, bodies and
+  gravity: efforts and ten pin loads; or its kinematics alone), the same number of messages,
+  alternated passes, best of ``--repeat``; timed in the process's CPU time (``process_time``),
+  which leaves out the time the shared machine gives to other processes.
 * **loop gap**: MuJoCo closes the 2F-85's ``<connect>`` loops with soft constraints (solref
   0.005 1, solimp 0.95 0.99 0.001, as the model says): ``mj_step`` with the gripper's actuator
   driven 0 → 255 over 1 s, then held; the largest |anchor₁ − anchor₂| over the run. Ours: the
@@ -97,7 +99,7 @@ def relay_us(n: int, repeat: int, folder: Path) -> dict[str, float]:
         for name, (_, names, qs, _) in cases.items():
             rt = runtimes[name]
             vel = [0.5] * len(names)
-            clock = time.perf_counter
+            clock = time.process_time  # CPU time of this process: the shared machine's waits left out
             t0 = clock()
             for k, row in enumerate(qs):
                 out = rt.answer(list(names), row.tolist(), vel, (rep + 2) * NS + k * 1_000_000)  # type: ignore[attr-defined]

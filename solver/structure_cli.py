@@ -5,7 +5,8 @@
     count (Grübler–Kutzbach) against the inputs, and for a drawn scene each group's
     conditioning and each input's value at the drawn pose.
 ``linkage-import FILE -o scene.yaml``
-    a drawn scene written as its equivalent group scene (it loads and solves bit-identically).
+    a drawn scene written as its equivalent group scene (it loads and solves bit-identically);
+    an MJCF or URDF model as its imported scene (docs/models.md).
 ``linkage-import SCENE --drawing [--phi V[,V…]] [--deg] -o drawn.yaml``
     any group scene written as a drawing at the given inputs (rad, or deg with ``--deg``; an
     actuator's stroke in m; default 0 for a crank, the middle of an actuator's stroke).
@@ -28,6 +29,7 @@ from ._loader import read_yaml
 from .errors import SceneError, SolverError
 from .forces.structure import StructureFault, derive_structure
 from .groups import RRP, RRR, Actuator, Attached, Crank, Group, JointExpression, Slotted
+from .models import MODEL_SUFFIXES
 from .scene import Scene, find_scene, load_scene
 from .structure import find_structure, scene_dict_from_drawing
 from .structure.export import drawing_from_groups
@@ -153,8 +155,13 @@ def drawing_of_scene(path: str | Path, values: Sequence[float] | None = None) ->
 
 
 def group_scene_of_drawing(path: str | Path) -> dict[str, Any]:
-    """A drawn scene file as its equivalent group scene mapping."""
+    """A drawn scene file as its equivalent group scene mapping (a robot model file, MJCF or URDF,
+    as its imported scene: solver.models, docs/models.md)."""
     file = find_scene(path)
+    if file.suffix.lower() in MODEL_SUFFIXES:
+        from .models import model_scene_data
+
+        return model_scene_data(file)[0]
     raw = read_yaml(file)
     if not (isinstance(raw, Mapping) and "drawing" in raw):
         raise SceneError("has no drawing: section (write a group scene as a drawing with --drawing)", file=str(file))

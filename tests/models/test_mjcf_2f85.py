@@ -139,3 +139,17 @@ def test_explicit_inputs_are_counted_against_the_mobility() -> None:
         r"1 coupling\(s\): F = 3·8 − 2·10 − 1 = 3\) but 1 input\(s\) \(right_driver_joint\); name 3 inputs: "
         r"hinges on the ground not yet inputs: right_spring_link_joint, left_spring_link_joint")):
         solver.load_scene(MODEL, inputs=["right_driver_joint"])
+
+
+def test_linkage_import_writes_the_imported_scene(tmp_path: Path, scene: solver.Scene) -> None:
+    from solver.structure_cli import import_main
+
+    out = tmp_path / "gripper.yaml"
+    assert import_main([str(MODEL), "-o", str(out)]) == 0
+    written = solver.load_scene(out)
+    q = np.column_stack([np.linspace(0.0, 0.8, 9)] * 3)
+    a, b = scene.solve(q), written.solve(q)
+    for j in scene.output_joints:
+        assert np.array_equal(a.joint(j).position, b.joint(j).position)
+    for j in INPUTS:
+        assert np.array_equal(a.effort(j), b.effort(j))
