@@ -101,8 +101,10 @@ def _parse_scene(data: Any, *, file: str | None, default_name: str = "scene") ->
         raise top.error(f"must be a list of groups, got {show(raw_groups)}", "groups")
     if not raw_groups and not any(key in top.data for key in SECTION_PARSERS):
         raise top.error("name at least one group (a crank first: the input)", "groups")
+    planar = all(isinstance(v, complex) for v in fixed.values())  # (once, not per group: a drawn
+    # scene's many ground points made that quadratic)
     for i, raw in enumerate(raw_groups):
-        groups.append(_group(top.child(f"groups[{i}]", raw), units, fixed))
+        groups.append(_group(top.child(f"groups[{i}]", raw), units, fixed, planar=planar))
     for key, parse in SECTION_PARSERS.items():
         if key in top.data:
             groups.extend(parse(top.child(key, top.raw(key)), units, fixed))
@@ -208,14 +210,15 @@ def _fixed(top: Entry, units: Units) -> tuple[dict[str, Any], int]:
     return fixed, dims.pop()
 
 
-def _group(e: Entry, units: Units, fixed: Mapping[str, Any]) -> Group:
+def _group(e: Entry, units: Units, fixed: Mapping[str, Any], *, planar: bool | None = None) -> Group:
     kind = e.name("type")
     cls = GROUP_TYPES.get(kind)
     if cls is None:
         near = suggest(kind, GROUP_TYPES)
         hint = f" (did you mean '{near[0]}'?)" if near else ""
         raise e.error(f"unknown group type '{kind}'{hint}; known types: {', '.join(sorted(GROUP_TYPES))}", "type")
-    planar = all(isinstance(v, complex) for v in fixed.values())
+    if planar is None:
+        planar = all(isinstance(v, complex) for v in fixed.values())
     if bool(getattr(cls, "spatial", False)) == planar:
         need, have = ("spatial [x, y, z]", "planar") if planar else ("planar [x, y]", "spatial")
         raise e.error(f"a {kind} group needs {need} fixed points; this scene's are {have}", "type")

@@ -151,7 +151,8 @@ def drawing_of_scene(path: str | Path, values: Sequence[float] | None = None) ->
     if any(key in raw for key in ("vector_model",)):
         raise SceneError("a vector-loop scene (seed 004) has no drawn form: write it as groups first", file=str(file))
     vals = default_inputs(scene) if values is None else list(values)
-    return drawing_from_groups(raw, scene.ordered, scene._data.fixed, positions_at(scene, vals), file=str(file))
+    return drawing_from_groups(raw, scene.ordered, scene._data.fixed, positions_at(scene, vals), file=str(file),
+                               input_order=scene.inputs)
 
 
 def group_scene_of_drawing(path: str | Path) -> dict[str, Any]:

@@ -18,8 +18,9 @@ RPR          a slide, its point known, on an unplaced link with one known     ``
 
 — and every point of a link that a group has placed follows as an ``attached`` point (distance
 and angle from the link's first two placed points). When several groups are ready, they are
-taken in the order of their kind (the table's) and then of their links' names, so the plan is
-the same every time; the order does not change the result.
+taken in the order of their kind (the table's) and then of their links' names — names, not the
+order the file lists them in, so the plan (and an RRR's ends: the lower-named link's first) is
+the same whatever the order of the drawing's mappings; the order does not change the result.
 
 What stops the decomposition is named (:class:`Stall`): a link, slide or actuator whose points
 are all placed by other groups over-constrains the mechanism; unplaced links left over form
@@ -35,17 +36,20 @@ sign of the area of A, C, O. A dyad drawn within ``tolerances.SINGULAR`` of its 
 
 from __future__ import annotations
 
+import heapq
 import math
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from functools import partial
-from typing import Any
+from typing import Any, TypeVar
 
 from ..tolerances import SINGULAR
 from .drawing import GROUND, Drawing
 from .graph import body_points
 
 __all__ = ["Step", "Stall", "decompose", "cross", "dot", "ON_LINE"]
+
+T = TypeVar("T")
 
 #: A slide's point farther than this from its line, relative to the drawing's size, is off it.
 ON_LINE = 1e-9
@@ -84,10 +88,10 @@ class Step:
 @dataclass
 class Stall:
     """Why the decomposition stopped: over-constrained bodies (name, count, reason) and the
-    sub-chains left unplaced (their links and count)."""
+    sub-chains left unplaced (their links, slides and actuators; their count; how many bodies)."""
 
     over: list[tuple[str, int, str]] = field(default_factory=list)
-    left: list[tuple[tuple[str, ...], int]] = field(default_factory=list)
+    left: list[tuple[tuple[str, ...], int, int]] = field(default_factory=list)
 
     def __bool__(self) -> bool:
         return bool(self.over or self.left)
@@ -104,6 +108,28 @@ class _State:
         self.flagged: set[str] = set()
         self.done_slides: set[str] = set()
         self.done_actuators: set[str] = set()
+        #: the points that became known since the candidates were last looked at
+        self.fresh: set[str] = set(drawing.points)
+        #: which links carry each point (by name), and what to look at again when a point is placed
+        self.point_links: dict[str, list[str]] = {q: [] for q in drawing.points}
+        for link in sorted(drawing.links):
+            for q in drawing.links[link]:
+                self.point_links[q].append(link)
+        self.watch: dict[str, set[tuple[str, str]]] = {q: set() for q in drawing.points}
+        for link, pts in drawing.links.items():
+            for q in pts:
+                self.watch[q].add(("link", link))
+        for sl in drawing.slides.values():
+            near = {sl.point, *(q for ln in self.point_links[sl.point] for q in drawing.links[ln])}
+            near.update(drawing.links.get(sl.on, ()))
+            for q in near:
+                self.watch[q].add(("slide", sl.name))
+        for act in drawing.actuators.values():
+            near = set(act.between)
+            for end in act.between:
+                near.update(q for ln in self.point_links[end] for q in drawing.links[ln])
+            for q in near:
+                self.watch[q].add(("actuator", act.name))
 
     def unique(self, name: str) -> str:
         out, i = name, 2
@@ -116,25 +142,54 @@ class _State:
         return [q for q in self.d.links[link] if q in self.known]
 
     def add(self, step: Step) -> None:
+        """Take a group: its points are known, its links placed, and their other points follow
+        as attached points."""
         self.steps.append(step)
         self.known.update(step.provides)
+        self.fresh.update(step.provides)
         self.placed.update(step.links)
+        for link in sorted(ln for ln in step.links if ln in self.d.links):
+            _attach_link(self, link)
+
+    def touched(self) -> list[tuple[str, str]]:
+        """The links, slides and actuators whose candidates may have changed, by name."""
+        out: set[tuple[str, str]] = set()
+        for q in self.fresh:
+            out.update(self.watch[q])
+        self.fresh.clear()
+        return sorted(out)
+
+
+def _by_name(items: Mapping[str, T]) -> list[T]:
+    """The values of a drawing's mapping in the order of their names (not the file's)."""
+    return [items[k] for k in sorted(items)]
 
 
 def decompose(drawing: Drawing) -> tuple[list[Step], Stall]:
     """The groups that place every point of ``drawing``, in order, and what stalled (empty when
     everything is placed). Raises a SceneError for a dyad drawn at its toggle or a slide point
-    off its line."""
+    off its line.
+
+    Incremental: a candidate group is (re)considered only when a point of what it joins becomes
+    known, kept in a heap by (kind, names), and checked again when its turn comes — so a
+    drawing of n links is decomposed in about n·log n steps, not n³."""
     st = _State(drawing)
     for inp in drawing.inputs:
         _crank(st, inp)
+    heap: list[tuple[int, tuple[str, ...], str, str]] = []
     while True:
-        _attach_all(st)
-        _flag_over(st)
-        ready = sorted(_candidates(st), key=lambda c: (c[0], c[1]))
-        if not ready:
+        for what, name in st.touched():
+            _flag_over(st, what, name)
+            for rank, names, _ in _candidates_of(st, what, name):
+                heapq.heappush(heap, (rank, names, what, name))
+        while heap:
+            rank, names, what, name = heapq.heappop(heap)
+            take = next((c for r, n, c in _candidates_of(st, what, name) if (r, n) == (rank, names)), None)
+            if take is not None:  # (still ready: nothing it joins was placed meanwhile)
+                take()
+                break
+        else:
             break
-        ready[0][2]()
     _leftover(st)
     return st.steps, st.stall
 
@@ -166,14 +221,12 @@ def _crank(st: _State, inp: Any) -> None:
 
 # -- attached points ----------------------------------------------------------------------------
 
-def _attach_all(st: _State) -> None:
-    for link, pts in st.d.links.items():
-        if link not in st.placed:
-            continue
-        frame = st.known_on(link)[:2]
-        for q in pts:
-            if q not in st.known:
-                _attach(st, link, frame, q)
+def _attach_link(st: _State, link: str) -> None:
+    """Every point of a placed link not yet known: attached to its first two known points."""
+    frame = st.known_on(link)[:2]
+    for q in st.d.links[link]:
+        if q not in st.known:
+            _attach(st, link, frame, q)
 
 
 def _attach(st: _State, link: str, frame: list[str], p: str) -> None:
@@ -193,30 +246,31 @@ def _attach(st: _State, link: str, frame: list[str], p: str) -> None:
 
 # -- over-constraint ------------------------------------------------------------------------------
 
-def _flag_over(st: _State) -> None:
+def _flag_over(st: _State, what: str, name: str) -> None:
+    """A link with two placed points that no group placed, a slide whose point and line are both
+    placed, an actuator with both ends placed: each over-constrains the mechanism."""
     d = st.d
-    for link in d.links:
-        if link in st.placed or link in st.flagged:
-            continue
-        k = st.known_on(link)
+    if name in st.flagged:
+        return
+    if what == "link" and name not in st.placed:
+        k = st.known_on(name)
         if len(k) >= 2:
-            st.flagged.add(link)
-            st.placed.add(link)
-            st.stall.over.append((link, 3 - 2 * len(k), f"{link} [{', '.join(d.links[link])}] has "
+            st.flagged.add(name)
+            st.placed.add(name)
+            st.stall.over.append((name, 3 - 2 * len(k), f"{name} [{', '.join(d.links[name])}] has "
                                   f"{', '.join(k)} placed by other groups"))
-    for s in d.slides.values():
-        if s.name in st.done_slides or s.name in st.flagged:
-            continue
+            _attach_link(st, name)
+    elif what == "slide" and name not in st.done_slides:
+        s = d.slides[name]
         if s.point in st.known and s.on in st.placed:
-            st.flagged.add(s.name)
-            st.stall.over.append((s.name, -1, f"slide {s.name}: {s.point} and the line of {s.on} are both "
+            st.flagged.add(name)
+            st.stall.over.append((name, -1, f"slide {name}: {s.point} and the line of {s.on} are both "
                                   "placed by other groups"))
-    for a in d.actuators.values():
-        if a.name in st.done_actuators or a.name in st.flagged:
-            continue
+    elif what == "actuator" and name not in st.done_actuators:
+        a = d.actuators[name]
         if all(q in st.known for q in a.between):
-            st.flagged.add(a.name)
-            st.stall.over.append((a.name, -1, f"actuator {a.name}: both its ends {a.between[0]}, "
+            st.flagged.add(name)
+            st.stall.over.append((name, -1, f"actuator {name}: both its ends {a.between[0]}, "
                                   f"{a.between[1]} are placed by other groups"))
 
 
@@ -225,10 +279,14 @@ def _flag_over(st: _State) -> None:
 Candidate = tuple[int, tuple[str, ...], Callable[[], None]]
 
 
-def _candidates(st: _State) -> Iterator[Candidate]:
-    yield from _actuator_candidates(st)
-    yield from _rrr_candidates(st)
-    yield from _slide_candidates(st)
+def _candidates_of(st: _State, what: str, name: str) -> Iterator[Candidate]:
+    """The groups ready now that involve the link, slide or actuator ``name``."""
+    if what == "actuator":
+        yield from _actuator_candidates(st, st.d.actuators[name])
+    elif what == "slide":
+        yield from _slide_candidates(st, st.d.slides[name])
+    else:
+        yield from _rrr_candidates(st, name)
 
 
 def _one_known(st: _State, link: str) -> str | None:
@@ -238,22 +296,19 @@ def _one_known(st: _State, link: str) -> str | None:
     return k[0] if len(k) == 1 else None
 
 
-def _actuator_candidates(st: _State) -> Iterator[Candidate]:
-    d = st.d
-    for a in d.actuators.values():
-        if a.name in st.done_actuators or a.name in st.flagged:
-            continue
-        ends = [q for q in a.between if q in st.known]
-        if len(ends) != 1:
-            continue
-        base = ends[0]
-        eye = a.between[1] if base == a.between[0] else a.between[0]
-        for link in d.links:
-            if eye in d.links[link]:
-                pivot = _one_known(st, link)
-                if pivot is not None and pivot != base:
-                    yield 0, (a.name, link), partial(_actuator, st, a, base, eye, link, pivot)
-                    break
+def _actuator_candidates(st: _State, a: Any) -> Iterator[Candidate]:
+    if a.name in st.done_actuators or a.name in st.flagged:
+        return
+    ends = [q for q in a.between if q in st.known]
+    if len(ends) != 1:
+        return
+    base = ends[0]
+    eye = a.between[1] if base == a.between[0] else a.between[0]
+    for link in st.point_links[eye]:
+        pivot = _one_known(st, link)
+        if pivot is not None and pivot != base:
+            yield 0, (a.name, link), partial(_actuator, st, a, base, eye, link, pivot)
+            return
 
 
 def _actuator(st: _State, a: Any, base: str, eye: str, link: str, pivot: str) -> None:
@@ -275,21 +330,24 @@ def _actuator(st: _State, a: Any, base: str, eye: str, link: str, pivot: str) ->
     st.add(Step("actuator", st.unique(a.name), (link,), (eye,), fields, mode, cond, drawn=s))
 
 
-def _rrr_candidates(st: _State) -> Iterator[Candidate]:
+def _rrr_candidates(st: _State, link: str) -> Iterator[Candidate]:
+    """The RRR dyads of ``link`` with another link: each has one placed point, and they share one
+    point not yet placed. The ends are ordered by the links' names."""
     d = st.d
-    links = list(d.links)
-    for i, l1 in enumerate(links):
-        a = _one_known(st, l1)
-        if a is None:
+    a = _one_known(st, link)
+    if a is None:
+        return
+    for b in d.links[link]:
+        if b in st.known:
             continue
-        for l2 in links[i + 1 :]:
-            c = _one_known(st, l2)
+        for other in st.point_links[b]:
+            c = _one_known(st, other) if other != link else None
             if c is None or c == a:
                 continue
-            common = [q for q in d.links[l1] if q in d.links[l2] and q not in st.known]
+            common = [q for q in d.links[link] if q in d.links[other] and q not in st.known]
             if len(common) == 1:
-                b = common[0]
-                yield 1, (l1, l2), partial(_rrr, st, l1, l2, a, b, c)
+                l1, l2, e1, e2 = (link, other, a, c) if link < other else (other, link, c, a)
+                yield 1, (l1, l2), partial(_rrr, st, l1, l2, e1, b, e2)
 
 
 def _rrr(st: _State, l1: str, l2: str, a: str, b: str, c: str) -> None:
@@ -304,22 +362,19 @@ def _rrr(st: _State, l1: str, l2: str, a: str, b: str, c: str) -> None:
     st.add(Step("rrr", st.unique(f"{l1}_{l2}"), (l1, l2), (b,), fields, mode, cond))
 
 
-def _slide_candidates(st: _State) -> Iterator[Candidate]:
-    d = st.d
-    for s in d.slides.values():
-        if s.name in st.done_slides or s.name in st.flagged:
-            continue
-        if s.on == GROUND and s.point not in st.known:
-            for link in d.links:
-                if s.point in d.links[link]:
-                    end = _one_known(st, link)
-                    if end is not None:
-                        yield 2, (link, s.name), partial(_rrp, st, s, link, end)
-                        break
-        elif s.on != GROUND and s.point in st.known:
-            pivot = _one_known(st, s.on)
-            if pivot is not None:
-                yield 3, (s.on, s.name), partial(_slotted, st, s, pivot)
+def _slide_candidates(st: _State, s: Any) -> Iterator[Candidate]:
+    if s.name in st.done_slides or s.name in st.flagged:
+        return
+    if s.on == GROUND and s.point not in st.known:
+        for link in st.point_links[s.point]:
+            end = _one_known(st, link)
+            if end is not None:
+                yield 2, (link, s.name), partial(_rrp, st, s, link, end)
+                return
+    elif s.on != GROUND and s.point in st.known:
+        pivot = _one_known(st, s.on)
+        if pivot is not None:
+            yield 3, (s.on, s.name), partial(_slotted, st, s, pivot)
 
 
 def _off_line(st: _State, g0: str, g1: str, p: str) -> float:
@@ -328,13 +383,21 @@ def _off_line(st: _State, g0: str, g1: str, p: str) -> float:
     return cross(e / abs(e), d.points[p] - d.points[g0])
 
 
+def _foot(st: _State, g0: str, g1: str, p: str) -> str:
+    """The point of the line g0–g1 nearest p, as ``[x, y]`` for a message."""
+    d = st.d
+    a, e = d.points[g0], d.points[g1] - d.points[g0]
+    z = a + e * (dot(d.points[p] - a, e) / dot(e, e))
+    return f"[{z.real:.17g}, {z.imag:.17g}]"
+
+
 def _rrp(st: _State, s: Any, link: str, end: str) -> None:
     d = st.d
     g0, g1 = s.along
     miss = _off_line(st, g0, g1, s.point)
     if abs(miss) > ON_LINE * d.size:
         raise d.error(f"{s.point} is drawn {abs(miss):.3g} off the line {g0}–{g1} it slides on: move it onto the "
-                      "line", f"slides.{s.name}.point")
+                      f"line (to {_foot(st, g0, g1, s.point)})", f"slides.{s.name}.point")
     e = d.points[g1] - d.points[g0]
     e /= abs(e)
     pa, pb = d.points[end], d.points[s.point]
@@ -360,9 +423,10 @@ def _slotted(st: _State, s: Any, pivot: str) -> None:
         raise d.error(f"the line {g0}–{g1} does not pass through {pivot}, the pin {s.on} turns about: a slot offset "
                       "from the pivot has no group yet; draw the slot through the pivot", f"slides.{s.name}.along")
     po, pb = d.points[pivot], d.points[s.point]
-    if abs(_off_line(st, g0, g1, s.point)) > ON_LINE * d.size:
-        raise d.error(f"{s.point} is drawn off the line {g0}–{g1} it slides on: move it onto the line",
-                      f"slides.{s.name}.point")
+    miss = _off_line(st, g0, g1, s.point)
+    if abs(miss) > ON_LINE * d.size:
+        raise d.error(f"{s.point} is drawn {abs(miss):.3g} off the line {g0}–{g1} it slides on: move it onto the "
+                      f"line (to {_foot(st, g0, g1, s.point)})", f"slides.{s.name}.point")
     r = pb - po
     rho = abs(r)
     u = r / rho if rho > 0.0 else 0j
@@ -392,9 +456,9 @@ def _leftover(st: _State) -> None:
     """The unplaced bodies, in sub-chains joined by unplaced points, with their own counts."""
     d = st.d
     bodies = body_points(d)
-    slides_left = [s for s in d.slides.values() if s.name not in st.done_slides and s.name not in st.flagged]
-    acts_left = [a for a in d.actuators.values() if a.name not in st.done_actuators and a.name not in st.flagged]
-    free: list[str] = [ln for ln in d.links if ln not in st.placed]
+    slides_left = [s for s in _by_name(d.slides) if s.name not in st.done_slides and s.name not in st.flagged]
+    acts_left = [a for a in _by_name(d.actuators) if a.name not in st.done_actuators and a.name not in st.flagged]
+    free: list[str] = [ln for ln in sorted(d.links) if ln not in st.placed]
     free += [f"{s.name}.block" for s in slides_left]
     for a in acts_left:
         free += [f"{a.name}.barrel", f"{a.name}.rod"]
@@ -444,4 +508,4 @@ def _leftover(st: _State) -> None:
             if f"{a.name}.barrel" in members:
                 count -= 3  # the rod's slide in the barrel, and its stroke: an input
         names = tuple(dict.fromkeys(b.split(".")[0] for b in members))
-        st.stall.left.append((names, count))
+        st.stall.left.append((names, count, len(members)))

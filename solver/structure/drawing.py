@@ -24,9 +24,11 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 from .._fields import Entry, Units, show
+from .._yaml import YamlMap
 from ..errors import SceneError
 
 __all__ = ["Drawing", "Input", "Slide", "Actuator", "read_drawing", "GROUND", "DRAWING_KEYS"]
@@ -88,10 +90,13 @@ class Drawing:
     inputs: tuple[Input, ...]
     slides: Mapping[str, Slide]
     actuators: Mapping[str, Actuator]
+    #: ``inputs:`` as listed: links and actuators (an actuator listed there takes that place among
+    #: the scene's inputs; one not listed comes after those that are)
+    order: tuple[str, ...] = ()
     #: the entries of the file, for messages with lines: ``entries["links.coupler"]``
     entries: Mapping[str, Entry] = field(default_factory=dict, compare=False, repr=False)
 
-    @property
+    @cached_property
     def size(self) -> float:
         """The drawing's size: the largest distance of a point from the first ground point."""
         o = self.points[self.ground[0]]
@@ -105,12 +110,12 @@ class Drawing:
     def error(self, message: str, entry: str = "") -> SceneError:
         """A SceneError at ``drawing.ENTRY`` (with the line where the file knows it)."""
         where = self.entries.get(entry)
-        key = None
-        if where is None and "." in entry:
+        key: str | None = None
+        if where is None:
             head, _, key = entry.rpartition(".")
             where = self.entries.get(head)
         if where is not None:
-            return where.error(message, key)
+            return where.error(message, key or None)
         return SceneError(message, file=self.file, entry=f"drawing.{entry}" if entry else "drawing")
 
 
@@ -139,10 +144,29 @@ def read_drawing(top: Entry, units: Units) -> Drawing:
                 raise d.error(f"'{name}' names both {names[name]} and {article} {kind}: give each a name of its own",
                               kind + "s")
             names[name] = f"{article} {kind}"
-    inputs = _inputs(d, links, actuators, set(ground), entries, units)
+    inputs, order = _inputs(d, links, actuators, set(ground), entries, units)
     _on_links(d, points, ground, links, slides, actuators)
     d.done()
-    return Drawing(top.file, units, points, tuple(ground), links, inputs, slides, actuators, entries)
+    _joint_names(d, points, inputs, slides, actuators)
+    return Drawing(top.file, units, points, tuple(ground), links, inputs, slides, actuators, order, entries)
+
+
+def _joint_names(
+    d: Entry, points: Mapping[str, complex], inputs: tuple[Input, ...], slides: Mapping[str, Slide],
+    actuators: Mapping[str, Actuator],
+) -> None:
+    """The joints a drawing provides (inputs, slides' and actuators' joints) are named apart from
+    its points and from each other (points and joints share one namespace in a scene)."""
+    seen: dict[str, str] = {}
+    named = [(i.joint, "inputs", f"input {i.link}") for i in inputs]
+    named += [(s.joint, "slides", f"slide {s.name}") for s in slides.values() if s.joint is not None]
+    named += [(a.joint, "actuators", f"actuator {a.name}") for a in actuators.values()]
+    for joint, key, what in named:
+        if joint in points:
+            raise d.error(f"the joint '{joint}' of {what} is also a point: name the joint otherwise (joint: NAME)", key)
+        if joint in seen:
+            raise d.error(f"the joint '{joint}' of {what} is also the joint of {seen[joint]}: name it otherwise", key)
+        seen[joint] = what
 
 
 def _few(names: Any) -> str:
@@ -175,12 +199,13 @@ def _links(
     ln = d.child("links", raw)
     entries["links"] = ln
     out: dict[str, tuple[str, ...]] = {}
+    apart = _coincident(points)
     for key in ln.data:
         name = str(key)
         ln.check_name(name, name)
         if name == GROUND:
             raise ln.error("'ground' is the frame: list its points under drawing.ground", name)
-        pts = ln.names(name)
+        pts = _point_names(ln, name, points)
         if len(pts) < 2:
             raise ln.error(
                 f"a link joins at least two points, got {show(list(pts))}: add the point it is pinned at, or drop it",
@@ -188,9 +213,6 @@ def _links(
             )
         if len(set(pts)) != len(pts):
             raise ln.error(f"names a point twice: {show(list(pts))}", name)
-        for q in pts:
-            if q not in points:
-                raise ln.error(f"'{q}' is not one of the points {_few(points)}", name)
         if all(q in ground for q in pts):
             raise ln.error(
                 f"joins ground points only ({', '.join(pts)}): it is part of the frame; drop it (its points are fixed)",
@@ -198,12 +220,23 @@ def _links(
             )
         for i, a in enumerate(pts):
             for b in pts[i + 1 :]:
-                if abs(points[a] - points[b]) <= _coincident(points):
+                if abs(points[a] - points[b]) <= apart:
                     raise ln.error(f"its points {a} and {b} are drawn at one place: a link's points are apart", name)
         out[name] = tuple(pts)
     if not out:
         raise ln.error("draw at least one link")
     return out
+
+
+def _point_names(e: Entry, key: str, points: Mapping[str, complex]) -> tuple[str, ...]:
+    """``e[key]`` as a list of drawn points (names checked once, as the points' keys)."""
+    value = e.raw(key)
+    if not isinstance(value, (list, tuple)) or not all(isinstance(v, str) for v in value):
+        raise e.error(f"must be a list of point names, got {show(value)}", key)
+    for q in value:
+        if q not in points:
+            raise e.error(f"'{show(q, 40)}' is not one of the points {_few(points)}", key)
+    return tuple(value)
 
 
 def _coincident(points: Mapping[str, complex]) -> float:
@@ -223,7 +256,7 @@ def _slides(
     for key in s.data:
         name = str(key)
         s.check_name(name, name)
-        e = s.child(name, s.raw(key))
+        e = s.child(name, _on_key(s.raw(key)))
         entries[f"slides.{name}"] = e
         e.expect(_SLIDE_KEYS)
         point, on = e.name("point"), e.name("on")
@@ -245,6 +278,20 @@ def _slides(
             raise e.error(f"'{point}' is a point of '{on}' itself: the block slides on it, it is not pinned to it",
                           "point")
         out[name] = Slide(name, point, on, (along[0], along[1]), joint)
+    return out
+
+
+def _on_key(raw: Any) -> Any:
+    """``{point: B, on: ground}`` as YAML 1.1 reads it: the key ``on`` is the boolean true
+    (PyYAML), taken back as ``on`` here (with its line)."""
+    if not isinstance(raw, Mapping) or True not in raw or "on" in raw:
+        return raw
+    out = type(raw)() if isinstance(raw, YamlMap) else {}
+    for k, v in raw.items():
+        out["on" if k is True else k] = v
+    if isinstance(raw, YamlMap) and isinstance(out, YamlMap):
+        out.line = raw.line
+        out.key_lines = {("on" if k is True else k): n for k, n in raw.key_lines.items()}
     return out
 
 
@@ -282,15 +329,25 @@ def _actuators(d: Entry, points: Mapping[str, complex], units: Units, entries: d
 def _inputs(
     d: Entry, links: Mapping[str, tuple[str, ...]], actuators: Mapping[str, Actuator], ground: set[str],
     entries: dict[str, Entry], units: Units,
-) -> tuple[Input, ...]:
+) -> tuple[tuple[Input, ...], tuple[str, ...]]:
     raw = d.raw("inputs", [])
     if raw is None:
         raw = []
     if not isinstance(raw, list):
         raise d.error(f"must be a list of input links, got {show(raw)}", "inputs")
     out: list[Input] = []
+    order: list[str] = []
     for i, item in enumerate(raw):
         where = f"inputs[{i}]"
+        if isinstance(item, str) and item in actuators:  # its place among the inputs
+            if item in order:
+                raise d.error(f"'{item}' is listed twice", where)
+            order.append(item)
+            continue
+        if isinstance(item, str) and item in links and links[item][0] in ground and links[item][1] not in ground:
+            out.append(Input(item, item))  # (the plain form, checked without an entry of its own)
+            order.append(item)
+            continue
         if isinstance(item, str):
             e = d.child(where, {"link": item})
         else:
@@ -299,7 +356,7 @@ def _inputs(
         entries[where] = e
         link = e.name("link")
         if link in actuators:
-            raise e.error(f"'{link}' is an actuator: every actuator is an input already; list links here", "link")
+            raise e.error(f"'{link}' is an actuator: list it by its name alone (its stroke is the input)", "link")
         if link not in links:
             raise e.error(f"'{link}' is not a link: {_few(links)}", "link")
         pts = links[link]
@@ -321,6 +378,7 @@ def _inputs(
             raise e.error(f"must be a non-zero number, got {show(e.raw('ratio'))}", "ratio")
         e.done()
         out.append(Input(link, joint, follows, ratio, offset))
+        order.append(link)
     seen: dict[str, int] = {}
     for i, inp in enumerate(out):
         if inp.link in seen:
@@ -331,7 +389,7 @@ def _inputs(
         if inp.follows is not None and (inp.follows not in joints or inp.follows == inp.joint):
             raise d.error(f"follows '{inp.follows}', which is not another input joint: {sorted(joints)}",
                           f"inputs[{i}].follows")
-    return tuple(out)
+    return tuple(out), tuple(order)
 
 
 def _on_links(

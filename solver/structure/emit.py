@@ -44,12 +44,14 @@ class Structure:
 
     @property
     def drivers(self) -> tuple[Step, ...]:
-        """The input groups in the scene's input order: cranks as listed, then actuators."""
-        cranks = {s.links[0]: s for s in self.steps if s.kind in ("crank", "coupled_crank")}
-        acts = {s.fields["joint"]: s for s in self.steps if s.kind == "actuator"}
-        out = [cranks[i.link] for i in self.drawing.inputs if i.link in cranks]
-        out += [acts[a.joint] for a in self.drawing.actuators.values() if a.joint in acts]
-        return tuple(out)
+        """The input groups in the scene's input order: as ``inputs:`` lists them, then the
+        actuators it does not list, in the drawing's order."""
+        d = self.drawing
+        by: dict[str, Step] = {s.links[0]: s for s in self.steps if s.kind in ("crank", "coupled_crank")}
+        joints = {a.joint: a.name for a in d.actuators.values()}
+        by.update({joints[s.fields["joint"]]: s for s in self.steps if s.kind == "actuator"})
+        names = [*d.order, *(a for a in d.actuators if a not in d.order)]
+        return tuple(by[n] for n in names if n in by)
 
     @property
     def ordered(self) -> tuple[Step, ...]:
@@ -101,13 +103,17 @@ def _fault(d: Drawing, mob: Mobility, stall: Stall) -> SceneError:
     parts: list[str] = []
     for _name, count, reason in stall.over:
         parts.append(f"{reason}: over-constrained ({count:+d}), drop an input or a link")
-    for links, count in stall.left:
+    for links, count, bodies in stall.left:
         shown = ", ".join(links)
         if count > 0:
             more = "an input" if count == 1 else f"{count} inputs"
             parts.append(f"{shown} free (sub-chain count {count:+d}): add {more} or a link")
         elif count < 0:
             parts.append(f"{shown} over-constrained (sub-chain count {count:+d}): drop a link or a pin")
+        elif bodies == 2:
+            parts.append(f"{shown} form a dyad of a kind with no group yet (a slide on a moving line whose block is "
+                         "pinned to a link not yet placed: an RRP dyad on a moving guide); redraw it with the guide "
+                         "on the ground or as a slotted link turning about a placed point")
         else:
             parts.append(f"{shown} form a group of class 3 or more (a triad: a ternary link and three binary links), "
                          "which no group of this solver solves yet; redraw it as dyads")

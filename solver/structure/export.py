@@ -39,10 +39,12 @@ def drawing_from_groups(
     positions: Mapping[str, complex],
     *,
     file: str | None = None,
+    input_order: Sequence[str] = (),
 ) -> dict[str, Any]:
     """The drawn scene mapping of a group scene: ``raw`` the scene file's mapping (its units and
     the keys passed on), ``groups`` its groups in dependency order, ``fixed`` its fixed points
-    (SI), ``positions`` every point's position (SI) at the inputs to draw it at."""
+    (SI), ``positions`` every point's position (SI) at the inputs to draw it at, ``input_order``
+    the scene's input joints in its order (default: the groups')."""
     units = raw.get("units") if isinstance(raw.get("units"), Mapping) else None
     if units is None:
         raise SceneError("has no units: write it with units: {length: m, angle: rad}", file=file, entry="units")
@@ -93,10 +95,16 @@ def drawing_from_groups(
         # (an actuator's pushed link is named by the actuator in the group scene: the drawing
         # names the actuator so, and its link after it)
         links[_name(ln.name) + ("_link" if isinstance(g, Actuator) else "")] = list(ln.points)
+    drivers = {str(g.input_joint()): g for g in groups if g.drives}
+    order = [drivers[j] for j in (input_order or drivers) if j in drivers]
+    kinds = [isinstance(g, Actuator) for g in order]
+    listed = kinds != sorted(kinds)  # an actuator before a crank: list the actuators in their place
     inputs: list[Any] = []
-    for g in groups:
+    for g in order:
         if isinstance(g, Crank):
             inputs.append(_name(g.name) if g.joint == _name(g.name) else {"link": _name(g.name), "joint": g.joint})
+        elif isinstance(g, Actuator) and listed:
+            inputs.append(g.name)
     drawing: dict[str, Any] = {"points": points, "ground": ground, "links": links}
     if inputs:
         drawing["inputs"] = inputs

@@ -50,7 +50,7 @@ def test_too_few_inputs_names_the_free_links() -> None:
             "links": {"left": ["O1", "A1"], "right": ["O2", "A2"], "l1": ["A1", "P"], "l2": ["A2", "P"]},
             "inputs": ["left"]}
     refuse(five, r"mobility F = 3\(n − 1\) − 2j₁ − j₂ = 3·4 − 2·5 − 0 = 2 with 1 input\(s\) \(left\) does not match: "
-                 r"right, l1, l2 free \(sub-chain count \+1\): add an input or a link")
+                 r"l1, l2, right free \(sub-chain count \+1\): add an input or a link")
 
 
 def test_too_many_inputs_names_the_over_constrained_link() -> None:
@@ -73,8 +73,16 @@ def test_a_class_3_group_is_refused_naming_its_links() -> None:
              "links": {"crank": ["O", "A"], "l1": ["A", "B"], "ternary": ["B", "D", "E"], "l2": ["F", "D"],
                        "l3": ["G", "E"]},
              "inputs": ["crank"]}
-    refuse(triad, r"= 1 with 1 input\(s\) \(crank\) matches: l1, ternary, l2, l3 form a group of class 3 or more "
+    refuse(triad, r"= 1 with 1 input\(s\) \(crank\) matches: l1, l2, l3, ternary form a group of class 3 or more "
                   r"\(a triad: a ternary link and three binary links\), which no group of this solver solves yet")
+
+
+def test_a_dyad_kind_without_a_group_is_named() -> None:
+    rrp_moving = {"points": {"O": [0, 0], "A": [40, 0], "G": [120, 30], "C": [60, 90], "B": [80, 15]},
+                  "ground": ["O", "C"], "links": {"crank": ["O", "A", "G"], "rod": ["C", "B"]}, "inputs": ["crank"],
+                  "slides": {"block": {"point": "B", "on": "crank", "along": ["A", "G"]}}}
+    refuse(rrp_moving, r"= 1 with 1 input\(s\) \(crank\) matches: rod, block form a dyad of a kind with no group yet "
+                       r"\(a slide on a moving line whose block is pinned to a link not yet placed")
 
 
 def test_a_point_on_no_link() -> None:
@@ -107,7 +115,8 @@ def test_a_slide_point_off_its_line() -> None:
     d = {"points": {"O": [0, 0], "A": [30, 40], "B": [150, 12], "G1": [-50, 10], "G2": [250, 10]},
          "ground": ["O", "G1", "G2"], "links": {"crank": ["O", "A"], "rod": ["A", "B"]}, "inputs": ["crank"],
          "slides": {"piston": {"point": "B", "on": "ground", "along": ["G1", "G2"]}}}
-    refuse(d, r"drawing.slides.piston.point: B is drawn 2 off the line G1–G2 it slides on: move it onto the line")
+    refuse(d, r"drawing.slides.piston.point: B is drawn 2 off the line G1–G2 it slides on: move it onto the line "
+              r"\(to \[150, 10\]\)")
 
 
 def test_an_input_not_pinned_to_the_ground_first() -> None:

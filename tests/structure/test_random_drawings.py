@@ -53,3 +53,24 @@ def test_a_random_drawing_reproduces_its_pose_and_follows_it(kind: str, seed: in
                 assert abs(got - complex(sol[2 * j], sol[2 * j + 1])) <= 1e-10 * size, (p, phis[i])
             followed += 1
         assert followed >= 5, f"followed only {followed} steps"
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_the_plan_does_not_depend_on_the_order_the_drawing_lists_things_in(kind: str) -> None:
+    import random
+
+    from solver.structure import scene_dict_from_drawing
+
+    data = drawing(kind, 7, MODES[kind][-1])
+    expected = scene_dict_from_drawing(data)["groups"]
+    rng = random.Random(kind)
+    for _ in range(5):
+        shuffled = dict(data)
+        dr = dict(data["drawing"])
+        for key in ("points", "links", "slides"):
+            if key in dr:
+                items = list(dr[key].items())
+                rng.shuffle(items)
+                dr[key] = dict(items)
+        shuffled["drawing"] = dr
+        assert scene_dict_from_drawing(shuffled)["groups"] == expected
