@@ -27,6 +27,7 @@ from typing import Any
 
 from ..errors import SceneError
 from .planar import PlanarModel
+from ..structure import GROUND
 from .spatial import GROUND_BODY, Coupling, Joint
 
 __all__ = ["scene_data", "free_inputs"]
@@ -47,8 +48,11 @@ def free_inputs(lay: PlanarModel) -> tuple[int, str]:
     h = sum(1 for j in model.joints if j.kind == "hinge")
     c = sum(1 for p in lay.pins if p.closure is not None)
     k = len(model.couplings)
-    f = 3 * n - 2 * (h + c) - k
-    return f, f"{n} moving bodies, {h} hinges, {c} loop closures, {k} coupling(s): F = 3·{n} − 2·{h + c} − {k} = {f}"
+    sl = len(lay.slides)
+    f = 3 * n - 2 * (h + sl + c) - k
+    slides = f", {sl} slide(s)" if sl else ""
+    return f, (f"{n} moving bodies, {h} hinges{slides}, {c} loop closures, {k} coupling(s): "
+               f"F = 3·{n} − 2·{h + sl + c} − {k} = {f}")
 
 
 def _complete(lay: PlanarModel, inputs: list[str]) -> list[str]:
@@ -98,6 +102,9 @@ def scene_data(lay: PlanarModel, inputs: Sequence[str] | None = None) -> dict[st
         if j is None:
             raise SceneError(f"input '{name}' is not a joint of the model; joints: {', '.join(joints)}", file=file,
                              entry="inputs")
+        if j.kind != "hinge":
+            raise SceneError(f"input '{name}' is a slide: a driven slide is a cylinder (an actuator group), not "
+                             "imported yet; drive a hinge on the ground", file=file, entry="inputs")
         if j.parent != GROUND_BODY:
             raise SceneError(
                 f"input '{name}' turns '{j.child}' on '{j.parent}', a moving body: an input turns a body on the "
@@ -126,9 +133,28 @@ def scene_data(lay: PlanarModel, inputs: Sequence[str] | None = None) -> dict[st
                 fixed[extra] = z
                 pts[GROUND_BODY][extra] = z
     pin_of = {p.joint.name: p.point for p in lay.pins if p.joint is not None}
+    blocks = {j.child: j for j in lay.slides}
+    slides: dict[str, Any] = {}
+    guides: dict[str, tuple[str, str]] = {}
+    for body, j in blocks.items():
+        shared = [p for p in pts[body] if sum(p in b for b in pts.values()) > 1]
+        if len(shared) != 1:
+            raise SceneError(f"slide '{j.name}': its block '{body}' must be pinned to one other body at one point, "
+                             f"found {len(shared)} ({', '.join(shared) or 'none'})", file=file,
+                             entry=f"joint {j.name}")
+        b = shared[0]
+        zb = pts[body][b]
+        axis = complex(float(j.axis @ lay.plane.ex), float(j.axis @ lay.plane.ey))
+        g0, g1 = f"{j.name}_guide0", f"{j.name}_guide1"
+        pts[j.parent][g0] = zb
+        pts[j.parent][g1] = zb + axis / abs(axis) * lay.size
+        guides[j.name] = (g0, g1)
+        slides[body] = {"point": b, "on": GROUND if j.parent == GROUND_BODY else j.parent, "along": [g0, g1]}
+        pts[body] = {b: zb}
+    fixed = dict(pts[GROUND_BODY])
     links: dict[str, list[str]] = {}
     for body, names in pts.items():
-        if body == GROUND_BODY:
+        if body == GROUND_BODY or body in blocks:
             continue
         order = list(names)
         pivot = next((pin_of[j.name] for j in model.joints if j.child == body and j.name in pin_of
@@ -169,6 +195,8 @@ def scene_data(lay: PlanarModel, inputs: Sequence[str] | None = None) -> dict[st
             "ground": list(fixed),
             "links": {link_name(body): order for body, order in links.items()},
             "inputs": drawn_inputs,
+            **({"slides": {link_name(b): v | {"on": v["on"] if v["on"] == GROUND else link_name(v["on"])}
+                           for b, v in slides.items()}} if slides else {}),
         },
         "outputs": {"points": list(fixed)[:1]},
     }
@@ -180,8 +208,15 @@ def scene_data(lay: PlanarModel, inputs: Sequence[str] | None = None) -> dict[st
     frame[GROUND_BODY] = (list(fixed)[0], list(fixed)[1])
     crank_joints = set(inputs) | set(coupled)
     named: dict[str, Any] = {}
+    for body, j in blocks.items():  # a block turns with its guide: its frame is the guide line
+        frame[body] = guides[j.name]
+        pts[body].update({g: pts[j.parent][g] for g in guides[j.name]})
     for j in model.joints:
         if j.name in crank_joints:
+            continue
+        if j.kind == "slide":
+            named[j.name] = {"prismatic": {"guide": list(guides[j.name]), "point": slides[j.child]["point"],
+                                           "offset": j.value, "sign": 1}}
             continue
         parent, child = frame[j.parent], frame[j.child]
         sg = lay.sign[j.name]
@@ -196,8 +231,14 @@ def scene_data(lay: PlanarModel, inputs: Sequence[str] | None = None) -> dict[st
         p0, p1 = frame[rigid.name]
         z0, z1 = pts[rigid.name][p0], pts[rigid.name][p1]
         u = (z1 - z0) / abs(z1 - z0)
-        cz = (lay.plane.of(rigid.com) - z0) * u.conjugate()
         n = lay.plane.normal
+        if rigid.name in blocks:  # a slider block: named by its point, its frame the guide's
+            b = slides[rigid.name]["point"]
+            cz = (lay.plane.of(rigid.com) - pts[rigid.name][b]) * u.conjugate()
+            bodies[rigid.name] = {"points": [b], "mass": rigid.mass, "center": [cz.real, cz.imag],
+                                  "inertia": float(n @ rigid.inertia @ n)}
+            continue
+        cz = (lay.plane.of(rigid.com) - z0) * u.conjugate()
         bodies[rigid.name] = {"points": [p0, p1], "mass": rigid.mass, "center": [cz.real, cz.imag],
                               "inertia": float(n @ rigid.inertia @ n)}
     g = model.gravity

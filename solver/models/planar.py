@@ -8,7 +8,8 @@ axis is −n turns clockwise in the plane: its sign σ = −1.
 
 Points: each rigid body carries its model bodies' origins (named after them), each hinge's
 anchor (the child body's origin's name when they coincide, else ``<joint>_pin``) and each
-closure's point (body1's point there, else the closure's name). Points of one body closer than
+closure's point (body1's point there, else the closure's name). A slide joint's child is a
+block (solver.models.build: the drawing's ``slides``); its axis, projected, is the guide. Points of one body closer than
 ``POINT_TOLERANCE`` × the model's size are one point. A point shared by two bodies is a pin.
 Point names are made fit for ROS topic names (``points/<P>/position``): characters other than
 letters, digits and ``_`` become ``_``, and a name that is also a joint's gains ``_point``.
@@ -74,6 +75,7 @@ class PlanarModel:
     points: dict[str, dict[str, complex]] = field(default_factory=dict)
     pins: list[Pin] = field(default_factory=list)
     sign: dict[str, float] = field(default_factory=dict)  # hinge → σ
+    slides: list[Joint] = field(default_factory=list)  # slide joints: the child is a block
 
     def where(self, name: str) -> complex:
         for pts in self.points.values():
@@ -179,12 +181,8 @@ def lay_out(model: SpatialModel) -> PlanarModel:
 
     for j in model.joints:
         if j.kind != "hinge":
-            raise SceneError(
-                f"slide joint '{j.name}': imported slides are not decomposed yet (hinges and closures only); "
-                "write the slider as an rrp group in a scene file",
-                file=model.file,
-                entry=f"joint {j.name}",
-            )
+            out.slides.append(j)
+            continue
         out.sign[j.name] = 1.0 if float(j.axis @ plane.normal) > 0 else -1.0
         name = pin(j.parent, j.child, plane.of(j.anchor), f"{j.name}_pin")
         out.pins.append(Pin(name, (j.parent, j.child), j))

@@ -109,3 +109,18 @@ def test_keyframe_pose(tmp_path: Path) -> None:
     path = _write(tmp_path)
     with pytest.raises(solver.SceneError, match=r"keyframe: no keyframe 'open'; keyframes: none"):
         solver.load_scene(path, keyframe="open")
+
+
+def test_a_slide_joint_is_a_slider_block() -> None:
+    """A slider-crank: the slide's body is the block, pinned to the rod by a connect; the slide
+    is published as a prismatic read-out in the model's convention (qpos from the pose)."""
+    path = Path(__file__).resolve().parents[1] / "data" / "models" / "slider_crank.xml"
+    scene = solver.load_scene(path)
+    assert [g.kind for g in scene.ordered if g.kind != "joint"] == ["crank", "rrp"]
+    phi = np.linspace(-np.pi, np.pi, 37)
+    k = scene.solve(phi)
+    a, e, rod = 0.1, 0.02, float(np.hypot(0.28, 0.02))
+    x = a * np.cos(phi) + np.sqrt(rod**2 - (a * np.sin(phi) - e) ** 2)
+    np.testing.assert_allclose(np.asarray(k.point("B").position)[:, 0], x, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(k.joint("slide").position, x - 0.38, rtol=0, atol=1e-15)
+    assert np.all(np.isfinite(k.effort("crank_joint")))
