@@ -26,8 +26,8 @@ from collections.abc import Sequence
 from typing import Any
 
 from ..errors import SceneError
-from .planar import PlanarModel
 from ..structure import GROUND
+from .planar import PlanarModel
 from .spatial import GROUND_BODY, Coupling, Joint
 
 __all__ = ["scene_data", "free_inputs"]
