@@ -10,6 +10,8 @@ from typing import Any
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import solver
 from tests.scene_builders import build
@@ -117,3 +119,24 @@ def test_follows_an_input_crank_only() -> None:
     data["groups"][2]["follows"] = {"joint": "q", "ratio": 0}
     with pytest.raises(solver.SceneError, match=r"follows.ratio: must be a non-zero finite ratio"):
         build(data)
+
+
+@settings(max_examples=40, deadline=None)
+@given(ratio=st.floats(-3.0, 3.0).filter(lambda r: abs(r) > 1e-3), shift=st.floats(-3.0, 3.0),
+       q=st.floats(-3.0, 3.0), sign=st.sampled_from([1, -1]))
+def test_any_linear_coupling_is_the_free_pair_driven_along_it(ratio: float, shift: float, q: float,
+                                                             sign: int) -> None:
+    data = _pair(True)
+    data["units"]["angle"] = "rad"
+    data["groups"][2] |= {"offset": 0.5, "sign": sign, "follows": {"joint": "q", "ratio": ratio, "offset": shift}}
+    coupled = build(data)
+    free = build(_pair(False))
+    theta = 0.5 + sign * (shift + ratio * q)
+    k = coupled.solve(np.array([q]), mask=True)
+    kf = free.solve(np.array([[q, theta]]), mask=True)
+    assert bool(k.valid[0]) == bool(kf.valid[0])
+    if k.valid[0]:
+        b = sign * ratio
+        np.testing.assert_allclose(k.point("B2").position, kf.point("B2").position, rtol=0, atol=1e-15)
+        j = np.asarray(kf.point("B2").jacobian)[0]  # (2, 2): ∂B2/∂(q, t2)
+        np.testing.assert_allclose(np.asarray(k.point("B2").velocity)[0], j[:, 1] * b, rtol=0, atol=1e-13)
