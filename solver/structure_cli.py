@@ -28,7 +28,7 @@ from ._cmdline import PHI_MAX, Parser, bounded, check_output, one_line
 from ._loader import read_yaml
 from .errors import SceneError, SolverError
 from .forces.structure import StructureFault, derive_structure
-from .groups import RRP, RRR, Actuator, Attached, Crank, Group, JointExpression, Slotted
+from .groups import RRP, RRR, Actuator, Attached, CoupledCrank, Crank, Group, JointExpression, Slotted
 from .models import MODEL_SUFFIXES
 from .scene import Scene, find_scene, load_scene
 from .structure import find_structure, scene_dict_from_drawing
@@ -46,11 +46,22 @@ def _m(x: float) -> str:
     return f"{x:.6g} m"
 
 
+def _convention(g: Crank) -> str:
+    """A crank's angle in terms of its joint, where it is not the joint itself (imported models)."""
+    if g.plain:
+        return ""
+    return f": angle of {g.center}→{g.point} = {_deg(g.offset)} {'+' if g.sign > 0 else '−'} {g.joint}"
+
+
 def group_line(g: Group) -> str:
     """One group in words, SI lengths and degrees."""
     head = f"{g.kind} '{g.name}'"
+    if isinstance(g, CoupledCrank):
+        return (f"{head}: {g.point} turns about {g.center}, length {_m(g.length)}; joint '{g.joint}' follows "
+                f"'{g.source}': {g.joint} = {g.shift:.6g} + {g.ratio:.6g}·{g.source}{_convention(g)}")
     if isinstance(g, Crank):
-        return f"{head}: {g.point} turns about {g.center}, length {_m(g.length)}; input '{g.joint}' (its angle)"
+        return (f"{head}: {g.point} turns about {g.center}, length {_m(g.length)}; input '{g.joint}' "
+                f"({'its angle' if g.plain else 'in its model' + chr(39) + 's convention'}{_convention(g)})")
     if isinstance(g, Actuator):
         lo, hi = g.stroke
         return (f"{head}: {g.point} at {_m(g.length)} from {g.pivot} and the stroke |{g.base}{g.point}| from "
@@ -83,9 +94,11 @@ def _mobility(scene: Scene) -> str:
     acts = sum(1 for g in groups if isinstance(g, Actuator))
     n += acts  # a cylinder is a barrel and a rod: one more body, and one more pair (the slide)
     j1 = len(st.pins) + len(st.slides) + acts
-    count = 3 * (n - 1) - 2 * j1
-    return (f"mobility F = 3(n − 1) − 2j₁ − j₂ = 3·{n - 1} − 2·{j1} − 0 = {count}, inputs {len(scene.inputs)} "
-            f"({', '.join(scene.inputs)})")
+    coupled = sum(1 for g in groups if isinstance(g, CoupledCrank))  # a coupled input takes a freedom
+    count = 3 * (n - 1) - 2 * j1 - coupled
+    more = f" − {coupled} coupled" if coupled else ""
+    return (f"mobility F = 3(n − 1) − 2j₁ − j₂{' − k' if coupled else ''} = 3·{n - 1} − 2·{j1} − 0{more} = {count}, "
+            f"inputs {len(scene.inputs)} ({', '.join(scene.inputs)})")
 
 
 def structure_lines(path: str | Path) -> list[str]:
@@ -93,7 +106,10 @@ def structure_lines(path: str | Path) -> list[str]:
     file = find_scene(path)
     scene = load_scene(file)
     lines = [f"structure of {scene.name} ({file}): {_mobility(scene)}"]
-    raw = read_yaml(file)
+    model = getattr(scene, "model", None)
+    if model is not None:  # an imported MJCF or URDF: where its plane lies (docs/models.md)
+        lines.append(f"  {model.kind} at {model.pose}; plane: {model.plane.describe()}")
+    raw = read_yaml(file) if model is None else None
     drawn: dict[str, Any] = {}
     if isinstance(raw, Mapping) and "drawing" in raw:
         st = find_structure(raw, source=str(file))
