@@ -126,12 +126,10 @@ def scene_data(lay: PlanarModel, inputs: Sequence[str] | None = None) -> dict[st
             entry="inputs",
         )
     pts = lay.points
-    fixed = dict(pts[GROUND_BODY])
-    if len(fixed) < 2:
-        for extra, z in (("world_origin", 0j), ("world_x", complex(lay.size, 0.0))):
-            if len(fixed) < 2 and all(abs(z - w) > 1e-9 * lay.size for w in fixed.values()):
-                fixed[extra] = z
-                pts[GROUND_BODY][extra] = z
+    ground = pts[GROUND_BODY]
+    for extra, z in (("world_origin", 0j), ("world_x", complex(lay.size, 0.0))):  # the ground's line
+        if len(ground) < 2 and all(abs(z - w) > 1e-9 * lay.size for w in ground.values()):
+            ground[extra] = z
     pin_of = {p.joint.name: p.point for p in lay.pins if p.joint is not None}
     blocks = {j.child: j for j in lay.slides}
     slides: dict[str, Any] = {}
@@ -178,9 +176,10 @@ def scene_data(lay: PlanarModel, inputs: Sequence[str] | None = None) -> dict[st
     drawn_inputs: list[Any] = [{"link": link_name(child_of[name]), "joint": name} for name in inputs]
     for name, c in coupled.items():
         j = joints[name]
-        if j.parent != GROUND_BODY:
-            raise SceneError(f"{c.what}: the coupled joint '{name}' turns a moving body: a coupled input is a "
-                             "hinge on the ground", file=file)
+        if j.parent != GROUND_BODY or j.kind != "hinge":
+            what = "is a slide" if j.kind != "hinge" else "turns a moving body"
+            raise SceneError(f"{c.what}: the coupled joint '{name}' {what}: a coupled input is a hinge on the "
+                             "ground", file=file)
         expect = c.offset + c.ratio * joints[c.source].value
         if abs(expect - j.value) > 1e-9:
             raise SceneError(f"{c.what}: '{name}' = {j.value:.9g} at the model's pose, the coupling gives "
