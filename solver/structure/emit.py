@@ -101,8 +101,9 @@ def _fault(d: Drawing, mob: Mobility, stall: Stall) -> SceneError:
     coupled = f", {mob.coupled} coupled" if mob.coupled else ""
     head = f"mobility {mob.text()} with {mob.inputs} input(s){coupled} ({', '.join(names) or 'none'})"
     parts: list[str] = []
-    for _name, count, reason in stall.over:
-        parts.append(f"{reason}: over-constrained ({count:+d}), drop an input or a link")
+    for name, count, reason in stall.over:
+        what = "the slide" if name in d.slides else "the actuator" if name in d.actuators else "an input"
+        parts.append(f"{reason}: over-constrained ({count:+d}), drop {what} or a link")
     for links, count, bodies in stall.left:
         shown = ", ".join(links)
         if count > 0:
