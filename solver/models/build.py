@@ -241,7 +241,7 @@ def scene_data(lay: PlanarModel, inputs: Sequence[str] | None = None) -> dict[st
         bodies[rigid.name] = {"points": [p0, p1], "mass": rigid.mass, "center": [cz.real, cz.imag],
                               "inertia": float(n @ rigid.inertia @ n)}
     g = model.gravity
-    moving = [p for b, ps in pts.items() if b != GROUND_BODY for p in ps]
+    moving = [p for b, ps in pts.items() if b != GROUND_BODY for p in ps if p not in pts[GROUND_BODY]]
     data: dict[str, Any] = {
         "scene": model.name,
         "provenance": f"{model.provenance}; plane: {lay.plane.describe()}",
