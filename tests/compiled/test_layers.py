@@ -154,6 +154,7 @@ ROS_LAYERS: dict[str, int] = {
     # the force layout, the tree joints' states, the drawings' helpers, reading an MCAP
     "linkage_ros.forces": 1,
     "linkage_ros.urdf.states": 1,
+    "linkage_ros.urdf.inertial": 1,  # a link's inertial from the scene's bodies (on the tree's types)
     "linkage_ros.urdf.vector_bodies": 1,
     "linkage_ros.record._drawing": 1,
     "linkage_ros.record.mcap_read": 1,
