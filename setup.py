@@ -56,7 +56,11 @@ setup(
             "distributed>=2024.1",
             # an engine from the field as the dynamics' oracle (tests/bench/test_dynamics_exudyn.py)
             "exudyn>=1.13",
+            # robot model files (issue 31): MuJoCo's compiler reads MJCF, the 2F-85 reference
+            "mujoco>=3",
         ],
+        # importing MJCF and URDF models (solver.models, docs/models.md)
+        "models": ["mujoco>=3", "yourdfpy>=0.0.56"],
         # dimensional synthesis on a Dask cluster (solver.synthesize(workers=...), linkage-synth --dask)
         "synth": ["distributed>=2024.1"],
         "bench": ["matplotlib>=3.8", "pylinkage==1.3.0", "numba>=0.60", "kinepy==0.1.7", "mujoco>=3", "exudyn>=1.13"],
@@ -77,6 +81,7 @@ setup(
             "linkage-mcap = linkage_ros.cli:mcap_main",
             "linkage-urdf = linkage_ros.urdf:main",
             "linkage-echo = linkage_ros.echo:main",
+            "linkage-mjcf = solver.mjcf_cli:main",
         ],
     },
 )

@@ -64,5 +64,12 @@ def _reduced(scene: Scene) -> Any:
     return reduced_model(scene)
 
 
-# Scene.simulate and Scene.reduced (docs/dynamics.md): solver.dynamics, imported on first use
-DOORS.update(simulate=_simulate, reduced=_reduced)
+def _model(path: Any, **options: Any) -> Scene:
+    from .models import load_model
+
+    return load_model(path, **options)  # type: ignore[no-any-return]
+
+
+# Scene.simulate and Scene.reduced (docs/dynamics.md): solver.dynamics, imported on first use;
+# load_scene of an MJCF or URDF file: solver.models (docs/models.md)
+DOORS.update(simulate=_simulate, reduced=_reduced, model=_model)

@@ -28,9 +28,9 @@ from collections.abc import Iterable, Sequence
 from typing import Any
 
 from ._fields import Entry
-from .groups import Actuator, Crank, Group
+from .groups import Actuator, CoupledCrank, Crank, Group
 
-__all__ = ["check_actuators", "check_drivers", "check_outputs_move", "input_joints"]
+__all__ = ["check_actuators", "check_coupled", "check_drivers", "check_outputs_move", "input_joints"]
 
 
 def input_joints(groups: Iterable[Group]) -> tuple[str, ...]:
@@ -139,3 +139,19 @@ def check_actuators(top: Entry, fixed: Iterable[str], groups: Sequence[Group]) -
                 f"angle; a scene driven by {_label(actuators[0])} uses 'keep'",
                 "groups",
             )
+
+
+def check_coupled(top: Entry, groups: Sequence[Group]) -> None:
+    """A coupled crank (``follows:``) follows the joint of an input crank of the scene."""
+    inputs = {str(g.input_joint()): g for g in groups if g.drives}
+    for g in groups:
+        if isinstance(g, CoupledCrank):
+            src = inputs.get(g.source)
+            if not isinstance(src, Crank):
+                what = f"the {_label(src)}'s stroke" if src is not None else "no input joint"
+                cranks = ", ".join(j for j, d in inputs.items() if isinstance(d, Crank)) or "none"
+                raise top.error(
+                    f"crank '{g.name}' follows '{g.source}', {what}: a coupled crank follows an input crank's "
+                    f"joint (input cranks: {cranks})",
+                    "groups",
+                )

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from ._fields import ANGLE_UNITS, LENGTH_UNITS, Entry, Units, show, suggest
-from ._inputs import check_actuators, check_drivers
+from ._inputs import check_actuators, check_coupled, check_drivers
 from ._yaml import load_yaml
 from .errors import SceneError
 from .forces.parse import FORCE_KEYS, parse_forces
@@ -53,7 +53,7 @@ TOP_FIELDS = [
 #: The fields of each group type, checked first so that a misspelt key is reported as such
 #: (a group's ``from_entry`` reads them; its ``done()`` stays the exact check).
 GROUP_FIELDS: dict[str, tuple[str, ...]] = {
-    "crank": ("type", "name", "center", "point", "length", "joint"),
+    "crank": ("type", "name", "center", "point", "length", "joint", "offset", "sign", "follows"),
     "actuator": ("type", "name", "base", "point", "pivot", "length", "M", "joint", "stroke"),
     "attached": ("type", "name", "point", "base", "along", "distance", "angle"),
     "slotted": ("type", "name", "pivot", "through", "points"),
@@ -111,6 +111,7 @@ def _parse_scene(data: Any, *, file: str | None, default_name: str = "scene") ->
     groups = _feed_dyads(groups, fixed)
     groups.extend(_joints(top, _rigid_pairs(groups), units, dim))
     check_drivers(top, groups)  # several inputs: over-determined points, drivers (solver._inputs)
+    check_coupled(top, groups)  # a crank turned by another input follows an input crank
     check_actuators(top, fixed, groups)  # driven lengths: pivots on links, single-input limits
     _check_names(top, fixed, groups, dim)
     _check_fixed_joints(top, fixed, groups)
@@ -234,7 +235,7 @@ def _group(e: Entry, units: Units, fixed: Mapping[str, Any], *, planar: bool | N
 
 def _feed_dyads(groups: list[Group], fixed: Mapping[str, Any]) -> list[Group]:
     """Tell an RRR dyad driven directly by the crank against a fixed pivot its crank's geometry."""
-    cranks = {g.point: g for g in groups if isinstance(g, Crank)}
+    cranks = {g.point: g for g in groups if isinstance(g, Crank) and g.drives and g.plain}
     out: list[Group] = []
     for g in groups:
         if isinstance(g, RRR):

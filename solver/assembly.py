@@ -80,7 +80,7 @@ def crank_and_pivot(scene: Scene, group: Any) -> tuple[Any, complex, complex] | 
     fixed = scene.plan.fixed
     for a, c in (group.ends, group.ends[::-1]):
         crank: Any = next((g for g in scene.plan.groups if g.kind == "crank" and getattr(g, "point", None) == a), None)
-        if crank is not None and c in fixed and crank.center in fixed:
+        if crank is not None and crank.drives and crank.plain and c in fixed and crank.center in fixed:
             return crank, complex(fixed[crank.center]), complex(fixed[c])
     return None
 

@@ -94,9 +94,15 @@ def find_scene(name_or_path: str | os.PathLike[str]) -> Path:
     )
 
 
-def load_scene(name_or_path: str | os.PathLike[str]) -> Scene:
-    """Load and validate a scene file (a path, or the name of a shipped scene)."""
+def load_scene(name_or_path: str | os.PathLike[str], **model: Any) -> Scene:
+    """Load and validate a scene file (a path, or the name of a shipped scene). An MJCF or URDF
+    file (``.xml``, ``.mjcf``, ``.urdf``) is imported (solver.models, docs/models.md) with the
+    keywords ``inputs=`` (model joint names) and ``keyframe=`` (MJCF)."""
     path = find_scene(name_or_path)
+    if path.suffix.lower() in (".xml", ".mjcf", ".urdf"):
+        return DOORS["model"](path, **model)  # type: ignore[no-any-return]
+    if model:
+        raise SceneError(f"{', '.join(model)}: options of a model file (MJCF, URDF), not of a scene", file=str(path))
     data = parse_scene(read_yaml(path), file=str(path), default_name=path.stem)
     return Scene(data)
 

@@ -5,7 +5,8 @@
     count (Grübler–Kutzbach) against the inputs, and for a drawn scene each group's
     conditioning and each input's value at the drawn pose.
 ``linkage-import FILE -o scene.yaml``
-    a drawn scene written as its equivalent group scene (it loads and solves bit-identically).
+    a drawn scene written as its equivalent group scene (it loads and solves bit-identically);
+    an MJCF or URDF model as its imported scene (docs/models.md).
 ``linkage-import SCENE --drawing [--phi V[,V…]] [--deg] -o drawn.yaml``
     any group scene written as a drawing at the given inputs (rad, or deg with ``--deg``; an
     actuator's stroke in m; default 0 for a crank, the middle of an actuator's stroke).
@@ -27,7 +28,8 @@ from ._cmdline import PHI_MAX, Parser, bounded, check_output, one_line
 from ._loader import read_yaml
 from .errors import SceneError, SolverError
 from .forces.structure import StructureFault, derive_structure
-from .groups import RRP, RRR, Actuator, Attached, Crank, Group, JointExpression, Slotted
+from .groups import RRP, RRR, Actuator, Attached, CoupledCrank, Crank, Group, JointExpression, Slotted
+from .models import MODEL_SUFFIXES
 from .scene import Scene, find_scene, load_scene
 from .structure import find_structure, scene_dict_from_drawing
 from .structure.export import drawing_from_groups
@@ -44,11 +46,22 @@ def _m(x: float) -> str:
     return f"{x:.6g} m"
 
 
+def _convention(g: Crank) -> str:
+    """A crank's angle in terms of its joint, where it is not the joint itself (imported models)."""
+    if g.plain:
+        return ""
+    return f": angle of {g.center}→{g.point} = {_deg(g.offset)} {'+' if g.sign > 0 else '−'} {g.joint}"
+
+
 def group_line(g: Group) -> str:
     """One group in words, SI lengths and degrees."""
     head = f"{g.kind} '{g.name}'"
+    if isinstance(g, CoupledCrank):
+        return (f"{head}: {g.point} turns about {g.center}, length {_m(g.length)}; joint '{g.joint}' follows "
+                f"'{g.source}': {g.joint} = {g.shift:.6g} + {g.ratio:.6g}·{g.source}{_convention(g)}")
     if isinstance(g, Crank):
-        return f"{head}: {g.point} turns about {g.center}, length {_m(g.length)}; input '{g.joint}' (its angle)"
+        return (f"{head}: {g.point} turns about {g.center}, length {_m(g.length)}; input '{g.joint}' "
+                f"({'its angle' if g.plain else 'in its model' + chr(39) + 's convention'}{_convention(g)})")
     if isinstance(g, Actuator):
         lo, hi = g.stroke
         return (f"{head}: {g.point} at {_m(g.length)} from {g.pivot} and the stroke |{g.base}{g.point}| from "
@@ -81,9 +94,11 @@ def _mobility(scene: Scene) -> str:
     acts = sum(1 for g in groups if isinstance(g, Actuator))
     n += acts  # a cylinder is a barrel and a rod: one more body, and one more pair (the slide)
     j1 = len(st.pins) + len(st.slides) + acts
-    count = 3 * (n - 1) - 2 * j1
-    return (f"mobility F = 3(n − 1) − 2j₁ − j₂ = 3·{n - 1} − 2·{j1} − 0 = {count}, inputs {len(scene.inputs)} "
-            f"({', '.join(scene.inputs)})")
+    coupled = sum(1 for g in groups if isinstance(g, CoupledCrank))  # a coupled input takes a freedom
+    count = 3 * (n - 1) - 2 * j1 - coupled
+    more = f" − {coupled} coupled" if coupled else ""
+    return (f"mobility F = 3(n − 1) − 2j₁ − j₂{' − k' if coupled else ''} = 3·{n - 1} − 2·{j1} − 0{more} = {count}, "
+            f"inputs {len(scene.inputs)} ({', '.join(scene.inputs)})")
 
 
 def structure_lines(path: str | Path) -> list[str]:
@@ -91,7 +106,10 @@ def structure_lines(path: str | Path) -> list[str]:
     file = find_scene(path)
     scene = load_scene(file)
     lines = [f"structure of {scene.name} ({file}): {_mobility(scene)}"]
-    raw = read_yaml(file)
+    model = getattr(scene, "model", None)
+    if model is not None:  # an imported MJCF or URDF: where its plane lies (docs/models.md)
+        lines.append(f"  {model.kind} at {model.pose}; plane: {model.plane.describe()}")
+    raw = read_yaml(file) if model is None else None
     drawn: dict[str, Any] = {}
     if isinstance(raw, Mapping) and "drawing" in raw:
         st = find_structure(raw, source=str(file))
@@ -154,8 +172,13 @@ def drawing_of_scene(path: str | Path, values: Sequence[float] | None = None) ->
 
 
 def group_scene_of_drawing(path: str | Path) -> dict[str, Any]:
-    """A drawn scene file as its equivalent group scene mapping."""
+    """A drawn scene file as its equivalent group scene mapping (a robot model file, MJCF or URDF,
+    as its imported scene: solver.models, docs/models.md)."""
     file = find_scene(path)
+    if file.suffix.lower() in MODEL_SUFFIXES:
+        from .models import model_scene_data
+
+        return model_scene_data(file)[0]
     raw = read_yaml(file)
     if not (isinstance(raw, Mapping) and "drawing" in raw):
         raise SceneError("has no drawing: section (write a group scene as a drawing with --drawing)", file=str(file))

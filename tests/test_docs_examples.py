@@ -12,7 +12,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 BLOCK = re.compile(r"^```python\n(.*?)^```", re.S | re.M)
-PAGES = ["README.md", "docs/forces.md", "docs/compiled.md", "docs/inputs.md", "docs/dynamics.md"]
+PAGES = ["README.md", "docs/forces.md", "docs/compiled.md", "docs/inputs.md", "docs/dynamics.md", "docs/models.md"]
 
 
 @pytest.mark.parametrize("page", PAGES)

@@ -41,7 +41,17 @@ from collections.abc import Callable
 from typing import Any
 
 from solver.errors import SceneError
-from solver.groups import RRP, RRR, Actuator, Attached, Crank, JointExpression, Slotted, SphericalCrankSlider
+from solver.groups import (
+    RRP,
+    RRR,
+    Actuator,
+    Attached,
+    CoupledCrank,
+    Crank,
+    JointExpression,
+    Slotted,
+    SphericalCrankSlider,
+)
 
 from .inertial import name_and_weigh
 from .tree import BASE_LINK, Body, Cut, TreeJoint, TreeModel, Vec3, check_names
@@ -130,7 +140,7 @@ class _Builder:
         body.bars.append((g.center, g.point))
         if role == "drum":
             body.size["radius"] = g.length
-        self.pin(self.holder(g.center, g), body, g.center, unwrap=g.joint)
+        self.pin(self.holder(g.center, g), body, g.center, unwrap=g.joint if g.drives and g.plain else None)
         self.owner[g.point] = body.name
 
     def actuator(self, g: Actuator) -> None:
@@ -279,6 +289,7 @@ def build_model(scene: object) -> TreeModel:
     b = _Builder(scene)
     handlers: dict[type, Callable[[Any], None]] = {
         Crank: b.crank,
+        CoupledCrank: b.crank,
         Actuator: b.actuator,
         RRR: b.rrr,
         RRP: b.rrp,
@@ -314,7 +325,11 @@ def build_model(scene: object) -> TreeModel:
 def exportable_model(scene: object) -> TreeModel | None:
     """:func:`build_model`, or ``None`` for a scene the export cannot open (a group kind it does
     not know, or a vector scene whose outputs do not say enough to read its bodies; the error of
-    :func:`build_model` says why): for publishers that add the tree joints where there are any."""
+    :func:`build_model` says why): for publishers that add the tree joints where there are any.
+    A scene imported from a model file (MJCF, URDF: ``scene.model``, solver.models) has none: its
+    joints are the model's own, and the user's model is the tree that robot_state_publisher reads."""
+    if getattr(scene, "model", None) is not None:
+        return None
     try:
         return build_model(scene)
     except SceneError as exc:

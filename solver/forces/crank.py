@@ -8,6 +8,9 @@ about its pivot, solver.forces.state), the ground's pin force R_O and the actuat
 Linear system: none (explicit). Singular positions: none of its own; Q inherits the dyads'
 (the reactions they hand back grow without bound at their toggles).
 Several inputs (five_bar): each crank closes its own balance, in the same reverse pass.
+A crank in a model's convention (θ = θ₀ + σq) reports its effort in q: Q = σ·(−M_O). A coupled
+crank (q = c₀ + c₁·p) is solved before the input p it follows (it comes later in the plan), and
+by virtual work the input's effort gains c₁ times its effort: Q_p = σ_p·(−M_O,p) + Σ c₁·Q_q.
 """
 
 from __future__ import annotations
@@ -25,6 +28,8 @@ class CrankForces:
     center: str
     joint: str
     pin_center: int  # index of the pin (O, crank, ground)
+    sign: float = 1.0  # σ: the joint's direction in the plane
+    coupled: tuple[tuple[str, float], ...] = ()  # (joint q, ratio c₁) of the cranks following this one
 
     def refs(self) -> dict[str, str]:
         """The point the crank's wrench is kept about: its pivot O."""
@@ -32,4 +37,9 @@ class CrankForces:
 
     def solve(self, s: ForcePass) -> None:
         s.pins[self.pin_center] = s.force(self.link, negate=True)
-        s.efforts[self.joint] = s.moment(self.link, negate=True)
+        effort = s.moment(self.link, negate=True)
+        if self.sign != 1.0:
+            effort = -effort
+        for joint, ratio in self.coupled:
+            effort = effort + s.efforts[joint] * ratio
+        s.efforts[self.joint] = effort

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from .._backend import Backend
-from ..groups import RRP, RRR, Actuator, Crank, Slotted
+from ..groups import RRP, RRR, Actuator, CoupledCrank, Crank, Slotted
 from ..jet import Jet
 from ..tolerances import SINGULAR
 from .actuator import ActuatorForces
@@ -52,9 +52,14 @@ class ForceModel:
         slide_index = {s.body: i for i, s in enumerate(st.slides)}
         owner = {(p.point, p.body): p.other for p in st.pins}
         out: list[Step] = []
+        coupled: dict[str, list[tuple[str, float]]] = {}
+        for g in st.groups:
+            if isinstance(g, CoupledCrank):
+                coupled.setdefault(g.source, []).append((g.joint, g.ratio))
         for g in st.groups:
             if isinstance(g, Crank):
-                out.append(CrankForces(g.name, g.center, g.joint, pin_index[g.center, g.name]))
+                out.append(CrankForces(g.name, g.center, g.joint, pin_index[g.center, g.name], g.sign,
+                                       tuple(coupled.get(g.joint, ()))))
             elif isinstance(g, Actuator):
                 cyl = f"{g.name}.cylinder"
                 out.append(ActuatorForces(g.name, cyl, g.base, g.pivot, g.point, g.joint,

@@ -7,7 +7,7 @@ from typing import Any
 from .actuator import Actuator
 from .attached import Attached
 from .base import Context, Group
-from .crank import Crank
+from .crank import CoupledCrank, CoupledCrankEntry, Crank
 from .joints import JOINT_KINDS, JointExpression
 from .rrp import RRP
 from .rrr import RRR
@@ -18,6 +18,7 @@ __all__ = [
     "Actuator",
     "Attached",
     "Context",
+    "CoupledCrank",
     "Crank",
     "Group",
     "GROUP_TYPES",
@@ -33,3 +34,4 @@ __all__ = [
 GROUP_TYPES: dict[str, Any] = {
     cls.kind: cls for cls in (Crank, Actuator, Attached, Slotted, RRR, RRP, SphericalCrankSlider)
 }
+GROUP_TYPES[CoupledCrankEntry.kind] = CoupledCrankEntry  # the drawn form's coupled input (solver.structure)

@@ -61,6 +61,7 @@ LAYERS: dict[str, int] = {
     "solver.scene": 8,
     "solver.classify": 9,  # Grashof type, dead centres of a scene (the summaries and synthesis read it)
     "solver.dynamics": 9,  # forward and machine dynamics, on the scene (Scene.simulate is a door into it)
+    "solver.models": 9,  # MJCF / URDF importers → scene data → Scene (load_scene of a model file is a door into it)
     "solver.synthesis": 9,  # dimensional synthesis, on the scene (solver.synthesize is a door into it)
     "solver": 10,
 }

@@ -124,12 +124,23 @@ def test_an_input_not_pinned_to_the_ground_first() -> None:
                                                  r"its first point; 'A' of coupler \[A, B\] is not a ground point")
 
 
-def test_a_coupled_input_needs_the_coupled_crank_group() -> None:
+def test_a_coupled_input_is_a_coupled_crank() -> None:
+    """The drawn coupled input loads as the solver's coupled crank (issue 31, solver.groups.crank):
+    the right crank turns by −1 times the left's angle, from its drawn angle."""
+    import math
+
+    from solver._loader import parse_scene
+    from solver.scene import Scene
+
     five = {"points": {"O1": [0, 0], "O2": [200, 0], "A1": [0, 150], "A2": [200, 150], "P": [100, 300]},
             "ground": ["O1", "O2"],
             "links": {"left": ["O1", "A1"], "right": ["O2", "A2"], "l1": ["A1", "P"], "l2": ["A2", "P"]},
             "inputs": ["left", {"link": "right", "follows": "left", "ratio": -1}]}
-    refuse(five, r"input 'right' follows 'left': a coupled input needs the 'coupled_crank' group")
+    drawn = scene(five, outputs={"points": ["P"]})
+    s = Scene(parse_scene(scene_dict_from_drawing(drawn, source="t.yaml"), file="t.yaml"))
+    assert s.inputs == ("left",)
+    k = s.solve(math.pi / 2)  # the drawn pose
+    assert k.point("P").position == pytest.approx((0.1, 0.3), abs=1e-15)
 
 
 def test_a_drawn_scene_names_no_fixed_or_groups() -> None:
