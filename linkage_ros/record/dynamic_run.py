@@ -208,7 +208,9 @@ def dynamics_lines(scene: Any, trajectory: Any, *, phi0: Any, run_up: bool = Tru
              f"{tr.evaluations} evaluations"]
     if tr.status not in ("done", "until"):
         lines.append(f"  stopped: {tr.message}")
-    if run_up and tr.drive == "motor" and k == 1:
+    if run_up and tr.drive == "motor" and k == 1 and tr.status in ("runaway", "steps"):
+        lines.append("  run-up: not sought (the run itself did not end: see above)")
+    elif run_up and tr.drive == "motor" and k == 1:
         try:
             ru = run_up_of(scene, phi0=float(phi0))
             lines.append(f"  run-up from rest at φ0: {ru.time:.4g} s to the steady band ω ≥ {ru.steady.omega_min:.6g} "

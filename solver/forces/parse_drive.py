@@ -1,6 +1,7 @@
 """``motor``, ``flywheel`` and ``damping`` of a scene file: what drives and brakes its inputs.
 
-    motor:    {INPUT: {stall_torque: T₀, no_load_speed: ω₀}}    T = T₀·(1 − ω/ω₀)   (N·m, rad/s)
+    motor:    {INPUT: {stall_torque: T₀, no_load_speed: ω₀}}    T = T₀·(1 − ω/ω₀)   (N·m, rad/s;
+              T₀ and ω₀ of one sign: the torque falls as the speed rises, never the other way)
               {INPUT: {speed: [ω…], torque: [T…]}}             linear between, constant beyond
     flywheel: {INPUT: I_F}       kg·m² about the crank's pivot, added to the crank's body
     damping:  {JOINT: c}         N·m·s/rad: a couple −c·q̇ between the joint's two bodies
@@ -104,6 +105,10 @@ def _motor(top: Entry, joint: str, inputs: Mapping[str | None, Group]) -> Motor:
     no_load = _bounded(e, "no_load_speed", "rad/s", signed=True)
     if no_load == 0.0:
         raise e.error("must not be 0: the speed at which the motor's torque falls to zero", "no_load_speed")
+    if stall * no_load < 0.0:
+        raise e.error(f"{stall:g} N·m against a no-load speed of {no_load:g} rad/s: a torque that grows with the "
+                      "speed it drives (the line's slope −stall_torque/no_load_speed is positive) runs away; a "
+                      "motor that turns backwards has both negative", "stall_torque")
     e.done()
     return Motor(joint, stall=stall, no_load=no_load)
 
