@@ -38,7 +38,7 @@ import numpy as np
 
 from ..errors import AssemblyError
 
-__all__ = ["MAX_RATE", "MAX_STEPS", "PATIENCE", "STEPPER_MAX_STEPS", "STIFF_STEPS", "WINDOW", "RunGuard",
+__all__ = ["MAX_RATE", "MAX_STEPS", "PATIENCE", "STEPPER_STIFF_STEPS", "STIFF_STEPS", "WINDOW", "RunGuard",
            "rates_text"]
 
 #: A rate beyond this (rad/s; m/s for a stroke) is a runaway: 10⁵ rad/s is ~10⁶ rpm, beyond any
@@ -48,12 +48,23 @@ MAX_RATE: float = 1e5
 #: The engine over 2 s at rtol 1e-13 takes ~9·10³ steps (its smallest mean step over 64 steps is
 #: ~2·10⁻⁵ s); 10⁶ steps of DOP853 take several minutes of Python.
 MAX_STEPS: int = 1_000_000
-#: One advance of the Stepper (one tick of the node) takes at most this many steps (projected).
-STEPPER_MAX_STEPS: int = 10_000
-#: A stiff run (see the module docstring) stops when more steps than this remain.
+#: A stiff run (see the module docstring) stops when more steps than this remain; one advance of
+#: a Stepper (a tick of the node) when more than STEPPER_STIFF_STEPS do. A Stepper has no step
+#: budget otherwise: a tick that covers a long interval (a node fallen behind) takes the steps it
+#: needs, the pathological crawls (pressed, round-off, stiff) end it.
 STIFF_STEPS: int = 10_000
-#: The mean step is taken over this many accepted steps.
+STEPPER_STIFF_STEPS: int = 1_000
+#: A step within this many units in the last place of the time is at its round-off.
+ROUND_OFF_STEPS: int = 1_000
+#: The mean step is taken over this many accepted steps, or this few where trial stages beyond an
+#: assembly limit were refused (each such step costs several rejected ones: ~0.5 ms per step for
+#: the excavator's three inputs).
 WINDOW: int = 64
+SHORT_WINDOW: int = 8
+#: Pressed against an assembly limit: the mean step of a window with refused trial stages below
+#: this, relative to max(|t|, 1 s) — the limit is then within ~10⁻¹² s of motion (a creep reaches
+#: steps of 10⁻¹⁶ s; the engine's smallest step at rtol 1e-12 is 3·10⁻⁸ s).
+PRESSED_STEP: float = 1e-12
 #: A crawl is judged after this many steps: a fast transient resolved to the tolerance (an
 #: implicit method's first microseconds of a stiff motor: ~1500 steps of ~1e-9 s) takes small
 #: steps that grow afterwards.
@@ -74,25 +85,27 @@ class RunGuard:
     """The three bounds of the module docstring for one run (or one advance of a Stepper).
 
     ``equation``: the run's :class:`~solver.dynamics.Equation`; ``t_end``: where the run ends (its
-    projection's horizon; :meth:`aim` moves it); ``max_steps``; ``max_rate``; ``stiff``: whether
-    the stiffness test applies (an explicit method)."""
+    projection's horizon; :meth:`aim` moves it); ``max_steps`` (None: no budget, only the
+    pathological crawls end the run); ``max_rate``; ``stiff``: whether the stiffness test applies
+    (an explicit method), with ``stiff_steps`` steps left at least."""
 
-    def __init__(self, equation: Any, *, t_end: float, max_steps: float = MAX_STEPS, max_rate: float = MAX_RATE,
-                 stiff: bool = True) -> None:
+    def __init__(self, equation: Any, *, t_end: float, max_steps: float | None = MAX_STEPS,
+                 max_rate: float = MAX_RATE, stiff: bool = True, stiff_steps: float = STIFF_STEPS) -> None:
         self.eq, self.k = equation, equation.k
         self.t_end, self.max_steps, self.max_rate, self.stiff = float(t_end), max_steps, max_rate, stiff
+        self.stiff_steps = stiff_steps
         self.steps = 0
         self._times: deque[float] = deque(maxlen=WINDOW + 1)
         self._faults = 0  # the equation's unassemblable trial stages when the window began
         #: why the run stops (set by :meth:`accept`), and where (t, y)
         self.reason: str | None = None
+        #: what stopped it: "runaway", "assembly" (pressed against an assembly limit) or "steps"
+        self.kind = ""
         self.where: tuple[float, np.ndarray] | None = None
 
-    def aim(self, t_end: float, *, max_steps: float | None = None) -> None:
-        """A new horizon (the next tick), with its own step budget."""
+    def aim(self, t_end: float) -> None:
+        """A new horizon (the next tick): the steps are counted from here."""
         self.t_end, self.steps = float(t_end), 0
-        if max_steps is not None:
-            self.max_steps = max_steps
         last = self._times[-1] if self._times else None
         self._times.clear()
         if last is not None:
@@ -148,7 +161,9 @@ class RunGuard:
         times.append(float(t))
         self.steps += 1
         reason = self.runaway(y)
-        if reason is None and len(times) > WINDOW:
+        self.kind = "runaway" if reason is not None else self.kind
+        pressed = self.eq.faults > self._faults  # trial stages beyond an assembly limit in this window
+        if reason is None and (len(times) > WINDOW or (pressed and len(times) > SHORT_WINDOW)):
             reason = self._crawl(float(t), y)
         if reason is not None and self.reason is None:
             self.reason, self.where = reason, (float(t), np.array(y, dtype=float))
@@ -164,20 +179,23 @@ class RunGuard:
         todo = remaining / mean if mean > 0 else math.inf
         times.clear()
         times.append(t)
-        if (faults or self.steps >= PATIENCE) and self.steps + todo > self.max_steps:
-            if faults:
-                group, why = self.eq.fault or ("?", "")
-                cause = (f"presses against an assembly limit of group '{group}' ({why}): the steps beyond it are "
-                         f"refused and the mean step has fallen to {mean:.3g} s")
-            elif mean <= 1e3 * math.ulp(max(abs(t), 1.0)):
-                cause = f"the step has fallen to the round-off of the time ({mean:.3g} s)"
-            else:
-                cause = f"the mean step has fallen to {mean:.3g} s{self._stiffness(t, y, mean)}"
-            return (f"{cause}; the run would need about {self.steps + todo:.3g} steps to reach t = {self.t_end:g} s, "
-                    f"more than max_steps = {self.max_steps:g}")
-        if self.stiff and todo > STIFF_STEPS:
+        if faults and mean <= PRESSED_STEP * max(abs(t), 1.0):
+            group, why = self.eq.fault or ("?", "")
+            self.kind = "assembly"
+            return (f"stops at an assembly limit of group '{group}' ({why}): pressed against it, the steps beyond it "
+                    f"refused, the step has fallen to {mean:.3g} s")
+        if mean <= ROUND_OFF_STEPS * math.ulp(max(abs(t), 1.0)):
+            self.kind = "steps"
+            return f"the step has fallen to the round-off of the time ({mean:.3g} s): the motion cannot go on"
+        if self.max_steps is not None and self.steps >= PATIENCE and self.steps + todo > self.max_steps:
+            self.kind = "steps"
+            return (f"the mean step has fallen to {mean:.3g} s{self._stiffness(t, y, mean)}; the run would need about "
+                    f"{self.steps + todo:.3g} steps to reach t = {self.t_end:g} s, more than max_steps = "
+                    f"{self.max_steps:g}")
+        if self.stiff and todo > self.stiff_steps:
             text = self._stiffness(t, y, mean)
             if text:
+                self.kind = "steps"
                 return (f"stiff{text}; {todo:.3g} more steps of the explicit method to reach t = {self.t_end:g} s "
                         "— method='Radau' (implicit) integrates it")
         return None

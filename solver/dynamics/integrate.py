@@ -22,7 +22,7 @@ from scipy.integrate import DOP853, RK45, Radau, solve_ivp
 
 from ..errors import AssemblyError, DynamicsError
 from ..tolerances import DYNAMICS_TOGGLE
-from ._guard import MAX_RATE, MAX_STEPS, STEPPER_MAX_STEPS, RunGuard, rates_text
+from ._guard import MAX_RATE, MAX_STEPS, STEPPER_STIFF_STEPS, RunGuard, rates_text
 from .drive import Drive, make_drive
 from .reduced import ReducedModel, reduced_model
 
@@ -298,7 +298,7 @@ def simulate(
             status = "assembly"
             message = strokes[hit - 1].message  # type: ignore[attr-defined]
         elif hit <= len(strokes) + 2:
-            status = "runaway" if hit == len(strokes) + 1 else "steps"
+            status = "runaway" if hit == len(strokes) + 1 else guard.kind
             message = guard.runaway_text() if status == "runaway" else guard.reason or ""
         else:
             status = "until"
@@ -381,14 +381,17 @@ class Stepper:
     straddles the change. Accuracy: each step's local error within ``rtol``/``atol`` as in
     :func:`simulate`; the output at a tick is the step's dense interpolant (same order).
     ``works=False``: the work integrals W_drive, W_other stay 0 (the node does without them: one
-    force pass fewer per evaluation in a scene with forces, torques or dampers). One ``advance``
-    takes at most ``max_steps`` steps (projected: solver.dynamics._guard) and stops where a rate
-    passes ``max_rate``: a tick always ends."""
+    force pass fewer per evaluation in a scene with forces, torques or dampers). An ``advance``
+    that would not end — pressed against an assembly limit, a step at the time's round-off, a
+    stiff equation with more than ``stiff_steps`` steps to go, a rate beyond ``max_rate`` — raises
+    one DynamicsError line (solver.dynamics._guard): a tick always ends; ``interrupted()``, asked
+    between steps, ends it early (the node's SIGINT during a long tick)."""
 
     def __init__(
         self, scene: Any, *, phi0: Any = None, omega0: Any = 0.0, drive: Any = None, rtol: float = 1e-9,
         atol: float = 1e-9, method: str = "DOP853", t0: float = 0.0, works: bool = True,
-        max_steps: float = STEPPER_MAX_STEPS, max_rate: float = MAX_RATE,
+        stiff_steps: float = STEPPER_STIFF_STEPS, max_rate: float = MAX_RATE,
+        interrupted: Callable[[], bool] | None = None,
     ) -> None:
         self.scene = scene
         self.model = reduced_model(scene)
@@ -407,7 +410,10 @@ class Stepper:
         except AssemblyError as exc:
             raise DynamicsError(f"cannot be assembled at the initial state ({exc.reason})", scene=scene.name,
                                 time=t0, at=_where(scene, self.y), group=exc.group) from None
-        self.guard = RunGuard(self.eq, t_end=t0, max_steps=max_steps, max_rate=max_rate, stiff=method != "Radau")
+        #: asked between steps: True ends an ``advance`` with a DynamicsError (the node's SIGINT)
+        self.interrupted = interrupted
+        self.guard = RunGuard(self.eq, t_end=t0, max_steps=None, max_rate=max_rate, stiff=method != "Radau",
+                              stiff_steps=stiff_steps)
         if self.guard.runaway(self.y) is not None:
             raise DynamicsError(f"omega0 is beyond max_rate = {max_rate:g}", scene=scene.name, time=t0,
                                 at=f"{_where(scene, self.y)}, {rates_text(scene, self.y)}")
@@ -444,9 +450,12 @@ class Stepper:
                                     scene=self.scene.name, time=s.t, at=_where(self.scene, s.y),
                                     group=self.eq.worst_group(s.y))
             stop = guard.accept(s.t, s.y)
+            if stop is None and self.interrupted is not None and self.interrupted():
+                stop = "interrupted (the process is asked to stop)"
             if stop is not None:
+                at = _where(self.scene, s.y)
                 raise DynamicsError(stop, scene=self.scene.name, time=s.t,
-                                    at=f"{_where(self.scene, s.y)}, {rates_text(self.scene, s.y)}")
+                                    at=at if guard.kind == "assembly" else f"{at}, {rates_text(self.scene, s.y)}")
         if t == s.t:
             y = s.y.copy()
         else:
