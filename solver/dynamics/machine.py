@@ -276,7 +276,9 @@ def flywheel_for(scene: Any, delta: float, *, drive: Any = None, phi0: float = 0
             seen[jf] = 1.0 if s is None else s.delta / delta - 1.0
         return seen[jf]
 
-    bare = state(0.0)
+    # the machine as it is, unless the estimate says a flywheel well beyond its own inertia is
+    # needed (then it may have no steady motion at all, and finding that out costs most)
+    bare = state(0.0) if estimate <= j_min else None
     if bare is not None and bare.delta <= delta:
         return 0.0, bare, estimate
     # 1/δ grows nearly linearly with J_F (classically (J + J_F)·ω_m²/ΔE_max): predict J_F from the

@@ -65,7 +65,7 @@ def test_flywheel_for_the_shipped_engine_adds_next_to_nothing() -> None:
 
 
 def _figures(text: str) -> str:
-    section = text[text.index("## Machine dynamics"):text.index("## Shipped examples")]
+    section = text[text.index("## Machine dynamics"):text.index("## In ROS")]
     return re.sub(r"\s+", " ", section)
 
 
