@@ -51,6 +51,9 @@ SPEED_RANGE = (1e-3, 1e5)
 BRACKET_STEP = 0.01
 #: The secant method's second point, relative to the guess.
 SECANT_STEP = 1e-4
+#: A cycle map whose miss and slope (per relative change of ω₀) are below this is neutral: every
+#: ω₀ is periodic (the engine's slope is ~1e-2, the runs' noise ~1e-10).
+NEUTRAL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -114,12 +117,18 @@ def with_flywheel(scene: Any, inertia: float) -> Any:
     return type(scene)(replace(data, forces=replace(spec, bodies=bodies, flywheels=flywheels)))
 
 
+class _Neutral(Exception):
+    """The cycle closes at every ω₀ near the guess: a machine without losses."""
+
+
 def _secant(miss: Callable[[float], float], guess: float, *, iterations: int = 6) -> float | None:
     """The root of the (nearly linear) miss by the secant method from ``guess`` and a point
     SECANT_STEP above it, when it gets there within ``iterations`` without a stall (+1) on the
     way; None otherwise (then the bracket and Brent's method take over)."""
     x0, x1 = guess, guess * (1 + SECANT_STEP)
     f0, f1 = miss(x0), miss(x1)
+    if 1.0 not in (f0, f1) and abs(f1 - f0) < NEUTRAL * SECANT_STEP and abs(f0) < NEUTRAL:
+        raise _Neutral(guess)
     for _ in range(iterations):
         if f0 == 1.0 or f1 == 1.0 or f1 == f0:  # a stall: not smooth there
             return None
@@ -181,13 +190,23 @@ def steady_state(
             return 1.0
         return (run.omega_end - w0) / w0
 
-    w0 = _secant(miss, guess)
+    neutral = DynamicsError(f"no isolated steady motion: the cycle closes at every ω₀ near {guess:.6g} rad/s — a "
+                            "machine without losses (no brake, damper or motor characteristic) has a periodic motion "
+                            "at every speed that carries it round", scene=scene.name)
+    try:
+        w0 = _secant(miss, guess)
+    except _Neutral:
+        raise neutral from None
     if w0 is None:
         found = _bracket(miss, guess)
         if found is None:
             raise DynamicsError(_no_steady_reason(guess, miss), scene=scene.name)
         a, b, fa, fb = found
         w0 = a if fa == 0.0 else b if fb == 0.0 else float(brentq(miss, a, b, xtol=ROOT_STEP * b, rtol=ROOT_STEP))
+        if abs(miss(w0 * (1 + BRACKET_STEP))) < NEUTRAL:  # closes above the root too: no isolated one
+            raise DynamicsError(f"no isolated steady motion: the cycle closes at every ω₀ from {w0:.6g} rad/s up — a "
+                                "machine without losses (no brake, damper or motor characteristic) has a periodic "
+                                "motion at every speed that carries it round", scene=scene.name)
     run = runs.run(w0, keep=True)
     if run is None or abs(run.omega_end - w0) > CYCLE_CLOSURE * w0:
         # the miss jumps from a stall (+) to a loss (−) at w0: no cycle closes
@@ -298,8 +317,10 @@ def flywheel_for(scene: Any, delta: float, *, drive: Any = None, phi0: float = 0
     else:
         while True:
             lo = hi / (1 + step)
-            if lo < 1e-12 * guess:
+            if lo < 1e-12 * guess:  # down to no flywheel at all: the machine as it is may do
                 lo = 0.0
+                if miss(0.0) <= 0:
+                    return 0.0, states[0.0], estimate
                 break
             if miss(lo) > 0:
                 break

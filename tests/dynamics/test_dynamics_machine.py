@@ -87,3 +87,10 @@ def test_the_docs_machine_figures_are_the_bench_s(tmp_path: Path) -> None:
     assert not missing, f"docs/dynamics.md does not say: {missing}"
     assert "no steady periodic motion" in got["bare"]
     assert math.isfinite(got["flywheel_bare_s"])
+
+
+@pytest.mark.slow
+def test_a_machine_without_losses_has_no_isolated_steady_motion_and_says_so() -> None:
+    with pytest.raises(solver.DynamicsError, match=r"four_bar_pendulum: no isolated steady motion: the cycle closes "
+                                                   r"at every ω₀ .* a machine without losses"):
+        steady_state(solver.load_scene("four_bar_pendulum"))
