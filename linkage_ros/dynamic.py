@@ -28,6 +28,7 @@ time, the angle, the group) until a set of ``omega`` (any of
 from __future__ import annotations
 
 import math
+import threading
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -46,6 +47,7 @@ __all__ = [
     "DynamicMotion",
     "DynamicMotions",
     "EFFORT_TIMEOUT_RANGE",
+    "INTERRUPT",
     "MODES",
     "MODE_DYNAMIC",
     "RESTARTING",
@@ -71,6 +73,9 @@ TOLERANCE_RANGE = (1.0e-13, 1.0e-3)
 RESTARTING = frozenset({"mode", "dynamics_tolerance"})
 #: The tag of a dynamic law's segment while it moves (a hold is SEGMENT_HOLD).
 SEGMENT_DYNAMICS = "dynamics"
+#: Set by the node on SIGINT / SIGTERM: a law's advance in progress ends between two steps (the
+#: law holds, the tick is published and the recording finished), however long the tick would be.
+INTERRUPT = threading.Event()
 
 
 def drive_kind(scene: Any, drive: str) -> str:
@@ -128,7 +133,7 @@ class _DynamicLaw:
         self.effort: Any = 0.0
         self._state: tuple[Any, Any, Any] = (0.0, 0.0, 0.0)
         self._stepper = Stepper(scene, phi0=phi0, omega0=omega, drive=self._drive(), rtol=self.tolerance,
-                                atol=self.tolerance, t0=float(t0), works=False)
+                                atol=self.tolerance, t0=float(t0), works=False, interrupted=INTERRUPT.is_set)
         self._t = float(t0)
         self._read()
         phi, w, e = self._state
@@ -293,7 +298,8 @@ class _DynamicLaw:
         rates = [float(omega)] * self.k if isinstance(omega, (int, float)) else [float(w) for w in omega]
         self._stepper = Stepper(self.scene, phi0=phis if self.k > 1 else phis[0],
                                 omega0=rates if self.k > 1 else rates[0], drive=self._drive(),
-                                rtol=self.tolerance, atol=self.tolerance, t0=t, works=False)
+                                rtol=self.tolerance, atol=self.tolerance, t0=t, works=False,
+                                interrupted=INTERRUPT.is_set)
         self._held, self.stop_message, self._t = False, "", t
         self._read()
 

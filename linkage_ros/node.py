@@ -33,7 +33,12 @@ wait-set and task machinery costs ≈ 240 µs per timer tick here. ``LINKAGE_ROS
 selects the SingleThreadedExecutor (also used where rclpy has no EventsExecutor).
 
 SIGINT and SIGTERM end the node between two ticks: the MCAP recording is finished, the exit
-status is 0. This module and :mod:`linkage_ros.echo` are the ones that import rclpy.
+status is 0. Every tick ends (a dynamic law's advance cannot crawl: solver.dynamics._guard), and
+a long one (a node fallen far behind real time) ends between two steps of the law on the signal
+(:data:`~linkage_ros.dynamic.INTERRUPT`), so the spin loop sees it promptly; during the start-up
+(the scene, its compiled instant and the message templates being built: seconds on a loaded
+machine) the signal ends the node at once, with exit status 0 and nothing to finish. This module
+and :mod:`linkage_ros.echo` are the ones that import rclpy.
 """
 
 from __future__ import annotations
@@ -64,6 +69,7 @@ from rclpy.signals import SignalHandlerOptions
 
 from solver.errors import SolverError
 
+from .dynamic import INTERRUPT
 from .messages import TYPE_NAMES
 from .parameters import PARAMETERS, SPECS, ParameterSpec, for_scene, start_scene, validate_parameter
 from .runtime import Recorder, Runtime
@@ -424,13 +430,18 @@ def make_executor(kind: str | None = None) -> Any:
 
 
 class _StopRequest:
-    """SIGINT / SIGTERM handler: asks the spin loop to stop after the current tick."""
+    """SIGINT / SIGTERM handler: asks the spin loop to stop after the current tick; before the
+    loop spins (the start-up), stops at once (KeyboardInterrupt, caught by ``_run``)."""
 
     def __init__(self) -> None:
         self.requested = False
+        self.spinning = False
 
     def __call__(self, signum: int, frame: FrameType | None) -> None:
         self.requested = True
+        INTERRUPT.set()  # a dynamic law's advance in progress ends between two steps
+        if not self.spinning:
+            raise KeyboardInterrupt
 
 
 def main(args: Sequence[str] | None = None) -> int:
@@ -449,6 +460,8 @@ def main(args: Sequence[str] | None = None) -> int:
             return _run(stop)
         finally:
             rclpy.try_shutdown()
+    except KeyboardInterrupt:  # SIGINT / SIGTERM during the start-up, outside _run
+        return 0
     finally:
         for sig, handler in previous.items():
             signal.signal(sig, handler)
@@ -461,11 +474,14 @@ def _run(stop: _StopRequest) -> int:
     except (SolverError, ValueError, ParameterException) as error:
         rclpy.logging.get_logger("mechanism_node").error(f"cannot start: {error}")
         return 1
+    except KeyboardInterrupt:  # SIGINT / SIGTERM during the start-up
+        return 0
     # the scene, plan, typestore and templates live as long as the node: move them out of the
     # collector's way, so its passes at 1 kHz only see the tick's own objects
     gc.collect()
     gc.freeze()
     executor.add_node(node)
+    stop.spinning = True
     try:
         while not stop.requested and executor.context.ok():
             executor.spin_once(timeout_sec=SPIN_TIMEOUT_S)

@@ -224,6 +224,8 @@ def dynamics_lines(scene: Any, trajectory: Any, *, phi0: Any, run_up: bool = Tru
     if run_up and tr.drive == "motor" and k == 1 and span is not None:
         lines.append(f"  run-up: does not apply ('{scene.inputs[0]}' is an actuator's stroke [{span[0]:g}, "
                      f"{span[1]:g}] m: no load cycle, so no steady speed to run up to)")
+    elif run_up and tr.drive == "motor" and k == 1 and tr.status in ("runaway", "steps"):
+        lines.append("  run-up: not sought (the run itself did not end: see above)")
     elif run_up and tr.drive == "motor" and k == 1:
         try:
             ru = run_up_of(scene, phi0=float(phi0))

@@ -23,6 +23,7 @@ from scipy.integrate import DOP853, RK45, Radau, solve_ivp
 from .._arguments import Arguments
 from ..errors import AssemblyError, DynamicsArgumentError, DynamicsError
 from ..tolerances import DYNAMICS_TOGGLE
+from ._guard import MAX_RATE, MAX_STEPS, STEPPER_STIFF_STEPS, RunGuard, rates_text
 from .drive import Drive, make_drive
 from .reduced import ReducedModel, reduced_model
 
@@ -38,6 +39,7 @@ class Equation:
         self.model, self.drive, self.k = model, drive, model.k
         #: (group, reason, q) of the last call that could not be assembled
         self.fault: tuple[str, str, list[float]] | None = None
+        self.faults = 0  # how many calls were unassemblable (trial stages beyond an assembly limit)
         #: whether the two work integrals are integrated (False: their rates are 0, no pass for the
         #: other loads with several inputs)
         self.works = works
@@ -67,6 +69,7 @@ class Equation:
             qdd, qdrive, other, _ = self._solve(float(t), q, qd)
         except AssemblyError as exc:  # a trial step beyond an assembly limit: rejected (NaN)
             self.fault = (exc.group, exc.reason, q)
+            self.faults += 1
             return np.full(y.shape, math.nan)
         if not self.works:
             return np.array([*qd, *qdd, 0.0, 0.0])
@@ -101,7 +104,9 @@ class Trajectory:
     accelerations ((N,) for one input, (N, k) for several), the drive's effort and the two work
     integrals; ``status`` ``"done"`` (reached ``t_end``, its last sample), ``"until"`` (a
     requested angle or event), ``"toggle"`` / ``"assembly"`` (a position the inputs cannot drive
-    through; ``message`` says when, where and which group)."""
+    through; ``message`` says when, where and which group), ``"runaway"`` (a rate beyond
+    ``max_rate``) or ``"steps"`` (a run that would not end: its steps fallen so small, or held by
+    stability, that the rest would take more than ``max_steps``; solver.dynamics._guard)."""
 
     scene: Any
     t: np.ndarray
@@ -249,6 +254,8 @@ def simulate(
     events: Sequence[Callable[[float, Any, Any], float]] = (),
     on_singular: str = "raise",
     max_step: float = math.inf,
+    max_steps: float = MAX_STEPS,
+    max_rate: float = MAX_RATE,
 ) -> Trajectory:
     """Integrate the inputs from (``phi0``, ``omega0``) at t = 0 to ``t_end`` (s) under ``drive``
     (``phi0`` None: 0 for an angle, the closed length of an actuator's stroke)
@@ -260,7 +267,10 @@ def simulate(
     (its conditioning falls to tolerances.DYNAMICS_TOGGLE: M is unbounded there) or an assembly
     limit, ``on_singular="raise"`` raises :class:`DynamicsError` naming the time, the angle and
     the group (the partial run on its ``trajectory``); ``"stop"`` returns the partial run with
-    that ``status`` and ``message``."""
+    that ``status`` and ``message``. So does a run that would not end (solver.dynamics._guard): a
+    rate beyond ``max_rate`` (rad/s or m/s), or steps so small (pressed against an assembly
+    limit, at the round-off of the time, or a stiff equation for an explicit method) that the rest
+    of the run would take more than ``max_steps``."""
     name = scene.name
     args = Arguments("simulate", scene=name, error=DynamicsArgumentError)
     t_end = args.number("t_end", t_end, low=0.0, low_open=True, unit="s")
@@ -282,6 +292,11 @@ def simulate(
     except AssemblyError as exc:
         raise DynamicsError(f"cannot be assembled at the initial state ({exc.reason})", scene=name, time=0.0,
                             at=_where(scene, y0), group=exc.group) from None
+    guard = RunGuard(eq, t_end=float(t_end), max_steps=max_steps, max_rate=max_rate, stiff=method != "Radau",
+                     limit_text=lambda fault: _limit_message(scene, fault, "pressed against it"))
+    if guard.runaway(y0) is not None:
+        raise DynamicsError(f"omega0 is beyond max_rate = {max_rate:g}", scene=name, time=0.0,
+                            at=f"{_where(scene, y0)}, {rates_text(scene, y0)}")
 
     def toggle(t: float, y: np.ndarray) -> float:
         return eq.conditioning(t, y) - DYNAMICS_TOGGLE
@@ -289,7 +304,7 @@ def simulate(
     toggle.terminal = True  # type: ignore[attr-defined]
     all_events: list[Any] = [toggle]
     strokes = _stroke_events(scene)
-    all_events += strokes
+    all_events += [*strokes, guard.rate_event(), guard.step_event()]
     if until_phi is not None:
         if k != 1:
             raise DynamicsError("until_phi is for one input; pass events=[f(t, q, qd)] with several", scene=name)
@@ -327,6 +342,9 @@ def simulate(
         elif hit <= len(strokes):
             status = "assembly"
             message = strokes[hit - 1].message(ye)  # type: ignore[attr-defined]
+        elif hit <= len(strokes) + 2:
+            status = "runaway" if hit == len(strokes) + 1 else guard.kind
+            message = guard.runaway_text() if status == "runaway" else guard.reason or ""
         else:
             status = "until"
     elif sol.status == -1:
@@ -337,9 +355,11 @@ def simulate(
             ts, ys = np.append(ts, last), np.column_stack([ys, sol.sol(last)])
     traj = _trajectory(scene, eq, ts, ys, sol.sol, status=status, message=message, kind=kind, method=method,
                        rtol=rtol, atol=atol, nfev=sol.nfev)
-    if status in ("toggle", "assembly"):
-        text = DynamicsError(message, scene=name, time=float(ts[-1]), at=_where(scene, ys[:, -1]),
-                             group=None)
+    if status in ("toggle", "assembly", "runaway", "steps"):
+        at = _where(scene, ys[:, -1])
+        if status in ("runaway", "steps"):
+            at += f", {rates_text(scene, ys[:, -1])}"
+        text = DynamicsError(message, scene=name, time=float(ts[-1]), at=at, group=None)
         traj.message = str(text)
         if on_singular == "raise":
             text.trajectory = traj  # type: ignore[attr-defined]
@@ -405,11 +425,17 @@ class Stepper:
     straddles the change. Accuracy: each step's local error within ``rtol``/``atol`` as in
     :func:`simulate`; the output at a tick is the step's dense interpolant (same order).
     ``works=False``: the work integrals W_drive, W_other stay 0 (the node does without them: one
-    force pass fewer per evaluation in a scene with forces, torques or dampers)."""
+    force pass fewer per evaluation in a scene with forces, torques or dampers). An ``advance``
+    that would not end — pressed against an assembly limit, a step at the time's round-off, a
+    stiff equation with more than ``stiff_steps`` steps to go, a rate beyond ``max_rate`` — raises
+    one DynamicsError line (solver.dynamics._guard): a tick always ends; ``interrupted()``, asked
+    between steps, ends it early (the node's SIGINT during a long tick)."""
 
     def __init__(
         self, scene: Any, *, phi0: Any = None, omega0: Any = 0.0, drive: Any = None, rtol: float = 1e-9,
         atol: float = 1e-9, method: str = "DOP853", t0: float = 0.0, works: bool = True,
+        stiff_steps: float = STEPPER_STIFF_STEPS, max_rate: float = MAX_RATE,
+        interrupted: Callable[[], bool] | None = None,
     ) -> None:
         self.scene = scene
         args = Arguments("Stepper", scene=scene.name, error=DynamicsArgumentError)
@@ -432,6 +458,14 @@ class Stepper:
         except AssemblyError as exc:
             raise DynamicsError(f"cannot be assembled at the initial state ({exc.reason})", scene=scene.name,
                                 time=t0, at=_where(scene, self.y), group=exc.group) from None
+        #: asked between steps: True ends an ``advance`` with a DynamicsError (the node's SIGINT)
+        self.interrupted = interrupted
+        self.guard = RunGuard(self.eq, t_end=t0, max_steps=None, max_rate=max_rate, stiff=method != "Radau",
+                              stiff_steps=stiff_steps,
+                              limit_text=lambda fault: _limit_message(scene, fault, "pressed against it"))
+        if self.guard.runaway(self.y) is not None:
+            raise DynamicsError(f"omega0 is beyond max_rate = {max_rate:g}", scene=scene.name, time=t0,
+                                at=f"{_where(scene, self.y)}, {rates_text(scene, self.y)}")
         self._restart()
 
     def _restart(self) -> None:
@@ -440,13 +474,15 @@ class Stepper:
 
     def set_drive(self, drive: Any) -> None:
         fn, self.kind = make_drive(drive, self.scene.inputs, self.model.motors, scene=self.scene.name)
-        self.eq = Equation(self.model, fn, works=self.works)
+        self.eq = self.guard.eq = Equation(self.model, fn, works=self.works)
         self._restart()
 
     def advance(self, t: float) -> np.ndarray:
         """The state y = (q, q̇, W_drive, W_other) at time ``t`` ≥ the last one; DynamicsError where
         the motion reaches a toggle or an assembly limit on the way."""
         s = self._solver
+        guard = self.guard
+        guard.aim(t)
         while s.t < t:
             msg = s.step()
             if s.status == "failed" or msg is not None:
@@ -460,6 +496,13 @@ class Stepper:
                 raise DynamicsError("reaches a singular position (a toggle: the inputs cannot drive through it)",
                                     scene=self.scene.name, time=s.t, at=_where(self.scene, s.y),
                                     group=self.eq.worst_group(s.y))
+            stop = guard.accept(s.t, s.y)
+            if stop is None and self.interrupted is not None and self.interrupted():
+                stop = "interrupted (the process is asked to stop)"
+            if stop is not None:
+                at = _where(self.scene, s.y)
+                raise DynamicsError(stop, scene=self.scene.name, time=s.t,
+                                    at=at if guard.kind == "assembly" else f"{at}, {rates_text(self.scene, s.y)}")
         if t == s.t:
             y = s.y.copy()
         else:

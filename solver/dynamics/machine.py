@@ -18,15 +18,18 @@ cycle's band [ω_min, ω_max].
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
-from scipy.optimize import brentq, root_scalar
+from scipy.optimize import brentq
 
 from .._arguments import Arguments
 from ..errors import DynamicsArgumentError, DynamicsError
 from ..forces.spec import TableForce
+from ._cycle import CycleMap
+from ._guard import MAX_RATE
 from .drive import make_drive
 from .integrate import simulate
 from .reduced import ReducedModel, reduced_model
@@ -40,10 +43,18 @@ ROOT_STEP = 1e-9
 CYCLE_CLOSURE = 1e-8
 #: A table period is a whole number of turns within this, relative (degrees typed in a file).
 WHOLE_TURNS = 1e-9
-#: The flywheel found by brentq to this, relative to its bracket.
-FLYWHEEL_STEP = 1e-9
+#: The flywheel found by brentq to this, relative to the machine's inertia with it (δ is good to
+#: about 1e-8 relative: a finer step only chases its noise).
+FLYWHEEL_STEP = 1e-7
 #: The mean-balance speed is looked for over this range (rad/s), on a geometric grid.
 SPEED_RANGE = (1e-3, 1e5)
+#: The periodic ω₀ is bracketed from its guess by steps of this (relative), doubling.
+BRACKET_STEP = 0.01
+#: The secant method's second point, relative to the guess.
+SECANT_STEP = 1e-4
+#: A cycle map whose miss and slope (per relative change of ω₀) are below this is neutral: every
+#: ω₀ is periodic (the engine's slope is ~1e-2, the runs' noise ~1e-10).
+NEUTRAL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -122,13 +133,48 @@ def with_flywheel(scene: Any, inertia: float) -> Any:
     return type(scene)(replace(data, forces=replace(spec, bodies=bodies, flywheels=flywheels)))
 
 
-def _cycle(scene: Any, drive: Any, phi0: float, cycle: float, w0: float, rtol: float, atol: float) -> Any:
-    """One load cycle in time from (φ₀, ω₀): the run up to φ₀ + cycle, or None where it stalls."""
-    traj = simulate(scene, 1e6, phi0=phi0, omega0=w0, drive=drive, rtol=rtol, atol=atol, until_phi=phi0 + cycle,
-                    events=[lambda t, phi, omega: float(omega)], on_singular="stop")
-    if traj.status != "until" or not traj.phi[-1] >= phi0 + cycle * (1 - WHOLE_TURNS):
-        return None
-    return traj
+class _Neutral(Exception):
+    """The cycle closes at every ω₀ near the guess: a machine without losses."""
+
+
+def _secant(miss: Callable[[float], float], guess: float, *, iterations: int = 6) -> float | None:
+    """The root of the (nearly linear) miss by the secant method from ``guess`` and a point
+    SECANT_STEP above it, when it gets there within ``iterations`` without a stall (+1) on the
+    way; None otherwise (then the bracket and Brent's method take over)."""
+    x0, x1 = guess, guess * (1 + SECANT_STEP)
+    f0, f1 = miss(x0), miss(x1)
+    if 1.0 not in (f0, f1) and abs(f1 - f0) < NEUTRAL * SECANT_STEP and abs(f0) < NEUTRAL:
+        raise _Neutral(guess)
+    for _ in range(iterations):
+        if f0 == 1.0 or f1 == 1.0 or f1 == f0:  # a stall: not smooth there
+            return None
+        x0, f0, x1 = x1, f1, x1 - f1 * (x1 - x0) / (f1 - f0)
+        if not (SPEED_RANGE[0] < x1 < MAX_RATE):
+            return None
+        f1 = miss(x1)
+        if abs(f1) <= ROOT_STEP and abs(x1 - x0) <= 1e3 * ROOT_STEP * x1:
+            return x1
+    return None
+
+
+def _bracket(miss: Callable[[float], float], guess: float, *, step: float = BRACKET_STEP,
+             limit: float = MAX_RATE) -> tuple[float, float, float, float] | None:
+    """(a, b, miss(a), miss(b)) with miss(a) ≥ 0 ≥ miss(b), a ≤ b, searched from ``guess`` by steps
+    growing ×2 (the miss falls across its root: a faster start loses more to the brake, and a
+    stall counts as +1); None where none is found within the speed range."""
+    here = miss(guess)
+    if here == 0.0:
+        return guess, guess, 0.0, 0.0
+    up = here > 0  # too slow at the guess: look above it
+    a, fa, factor = guess, here, step
+    while True:
+        b = a * (1 + factor) if up else a / (1 + factor)
+        if not (SPEED_RANGE[0] < b < limit):
+            return None
+        fb = miss(b)
+        if (fb > 0) != up or fb == 0.0:
+            return (a, b, fa, fb) if up else (b, a, fb, fa)
+        a, fa, factor = b, fb, factor * 2
 
 
 def steady_state(
@@ -143,7 +189,9 @@ def steady_state(
     samples: int = 721,
 ) -> SteadyState:
     """The steady periodic motion of a one-input machine under its motor (or ``drive``) and
-    cyclic loads, with an extra flywheel inertia ``flywheel`` (kg·m²) on the input."""
+    cyclic loads, with an extra flywheel inertia ``flywheel`` (kg·m²) on the input: the ω₀ at
+    ``phi0`` whose cycle returns to it, bracketed and found by Brent's method on the cycle map
+    (solver.dynamics._cycle), each cycle integrated in φ from kink to kink of the load."""
     args, phi0, rtol, atol = _arguments("steady_state", scene, phi0=phi0, rtol=rtol, atol=atol)
     flywheel = args.number("flywheel", flywheel, low=0.0, unit="kg·m²")
     omega_guess = args.number("omega_guess", omega_guess, low=0.0, low_open=True, unit="rad/s", none=True)
@@ -152,44 +200,57 @@ def steady_state(
     fn, kind = make_drive(drive, scene.inputs, model.motors, scene=scene.name)
     cycle = cycle_of(scene)
     guess = omega_guess if omega_guess is not None else _mean_balance(model, fn, phi0, cycle, scene.name)
-    machine = with_flywheel(scene, flywheel)
+    runs = CycleMap(model, fn, phi0=phi0, cycle=cycle, flywheel=flywheel, rtol=rtol, atol=atol)
 
     def miss(w0: float) -> float:
-        traj = _cycle(machine, drive, phi0, cycle, w0, rtol, atol)
-        if traj is None:  # stalled within the cycle
-            return -w0
-        return float(traj.omega[-1]) - w0
+        run = runs.run(w0)
+        if run is None:  # stalled within the cycle: too slow
+            return 1.0
+        return (run.omega_end - w0) / w0
 
-    # the miss is smooth and nearly linear in ω₀; its noise is the integrator's (≈ rtol·ω)
-    root = root_scalar(miss, x0=guess, x1=guess * 1.01, method="secant", xtol=ROOT_STEP * abs(guess), maxiter=100)
-    if not root.root > 0 or abs(miss(float(root.root))) > CYCLE_CLOSURE * abs(root.root):
-        raise DynamicsError(f"no steady periodic motion found near ω = {guess:.6g} rad/s (the machine stalls or "
-                            "runs away: is the drive able to carry the load?)", scene=scene.name)
-    w0 = float(root.root)
-    traj = _cycle(machine, drive, phi0, cycle, w0, rtol, atol)
-    if traj is None:
-        raise DynamicsError("the steady motion stops within a cycle (ω reaches 0)", scene=scene.name)
-    period = float(traj.t[-1])
-    t = np.linspace(0.0, period, samples)
-    phi, omega = traj.at(t)
-    lo, hi = _extremes(traj, t)
-    mean = cycle / period
+    neutral = DynamicsError(f"no isolated steady motion: the cycle closes at every ω₀ near {guess:.6g} rad/s — a "
+                            "machine without losses (no brake, damper or motor characteristic) has a periodic motion "
+                            "at every speed that carries it round", scene=scene.name)
+    try:
+        w0 = _secant(miss, guess)
+    except _Neutral:
+        raise neutral from None
+    if w0 is None:
+        found = _bracket(miss, guess)
+        if found is None:
+            raise DynamicsError(_no_steady_reason(guess, miss), scene=scene.name)
+        a, b, fa, fb = found
+        w0 = a if fa == 0.0 else b if fb == 0.0 else float(brentq(miss, a, b, xtol=ROOT_STEP * b, rtol=ROOT_STEP))
+        if abs(miss(w0 * (1 + BRACKET_STEP))) < NEUTRAL:  # closes above the root too: no isolated one
+            raise DynamicsError(f"no isolated steady motion: the cycle closes at every ω₀ from {w0:.6g} rad/s up — a "
+                                "machine without losses (no brake, damper or motor characteristic) has a periodic "
+                                "motion at every speed that carries it round", scene=scene.name)
+    run = runs.run(w0, keep=True)
+    if run is None or abs(run.omega_end - w0) > CYCLE_CLOSURE * w0:
+        # the miss jumps from a stall (+) to a loss (−) at w0: no cycle closes
+        raise DynamicsError(f"no steady periodic motion: from ω₀ below {w0:.6g} rad/s at φ₀ = {phi0:g} rad the machine "
+                            "stalls within the cycle, from above it ends the cycle slower than it began — too little "
+                            "inertia to carry it through the cycle at its mean speed (a flywheel: flywheel_for)",
+                            scene=scene.name)
+    phi = np.linspace(phi0, phi0 + cycle, samples)
+    omega, t = run.at(phi)
+    lo, hi = run.extreme(np.argmin), run.extreme(np.argmax)
+    mean = cycle / run.period
     return SteadyState(phi=phi, omega=omega, t=t, omega_mean=mean, omega_min=lo, omega_max=hi,
-                       delta=(hi - lo) / mean, period=period, cycle=cycle, flywheel=flywheel,
+                       delta=(hi - lo) / mean, period=run.period, cycle=cycle, flywheel=flywheel,
                        method=f"periodic solution over one {math.degrees(cycle):.0f}° cycle: the equation of "
-                              f"motion in time (DOP853, rtol {rtol:g}) from φ₀ to φ₀ + cycle, ω₀ with ω(end) = ω₀ by"
-                              f" the secant method; drive: {kind}")
+                              f"motion in φ (u = ω², DOP853 rtol {rtol:g} from kink to kink of the load), ω₀ with "
+                              f"ω(end) = ω₀ bracketed and found by Brent's method in {runs.runs} cycles; drive: "
+                              f"{kind}")
 
 
-def _extremes(traj: Any, t: np.ndarray) -> tuple[float, float]:
-    """ω's extremes over the cycle: the samples' refined on the dense output around each."""
-    w = traj.at(t)[1]
-    out = []
-    for pick, best in ((np.argmin, np.min), (np.argmax, np.max)):
-        i = int(pick(w))
-        ts = np.linspace(t[max(i - 1, 0)], t[min(i + 1, t.size - 1)], 201)
-        out.append(float(best(traj.at(ts)[1])))
-    return out[0], out[1]
+def _no_steady_reason(guess: float, miss: Callable[[float], float]) -> str:
+    """Why there is no steady motion (one line)."""
+    if miss(MAX_RATE / 2) > 0:
+        return (f"no steady periodic motion: the machine gains speed over a cycle from every ω₀ up to "
+                f"{MAX_RATE / 2:g} rad/s, or stalls within it: nothing brakes the drive enough")
+    return (f"no steady periodic motion near ω = {guess:.6g} rad/s: the cycle's miss never changes sign (the "
+            "drive cannot carry the load)")
 
 
 def _mean_balance(model: ReducedModel, drive: Any, phi0: float, cycle: float, scene: str) -> float:
@@ -215,30 +276,78 @@ def _mean_balance(model: ReducedModel, drive: Any, phi0: float, cycle: float, sc
 def flywheel_for(scene: Any, delta: float, *, drive: Any = None, phi0: float = 0.0, rtol: float = 1e-10,
                  atol: float = 1e-10) -> tuple[float, SteadyState, float]:
     """The flywheel inertia (kg·m²) on the input that gives the coefficient of speed fluctuation
-    ``delta``, exact on the periodic solution; also that steady state and the classical estimate."""
+    ``delta``, exact on the periodic solution; also that steady state and the classical estimate.
+
+    The classical estimate J_F ≈ ΔE_max/(δ·ω_m²) − J_min is taken at the mean-balance speed (no
+    steady state is needed for it: the bare machine may have none); the exact J_F is bracketed
+    around it and found by Brent's method on δ(J_F) (decreasing; a flywheel too small for any
+    steady motion counts as too small), each steady state started from the last one's ω₀."""
     args, phi0, rtol, atol = _arguments("flywheel_for", scene, phi0=phi0, rtol=rtol, atol=atol)
     delta = args.number("delta", delta, low=0.0, high=2.0, low_open=True, high_open=True)
     model = _one_input(scene, "flywheel_for")
-    bare = steady_state(scene, drive=drive, phi0=phi0, rtol=rtol, atol=atol)
     fn, _ = make_drive(drive, scene.inputs, model.motors, scene=scene.name)
-    phi = bare.phi[:-1]
-    w = bare.omega_mean
+    cycle = cycle_of(scene)
+    w = _mean_balance(model, fn, phi0, cycle, scene.name)
+    phi = np.linspace(phi0, phi0 + cycle, 1441)
     excess = np.array([fn(0.0, (p,), (w,))[0] for p in phi]) - model.bias(phi, w)
     work = np.concatenate([[0.0], np.cumsum(0.5 * (excess[1:] + excess[:-1]) * np.diff(phi))])
     j_min = float(np.min(model.mass(phi)))
     estimate = max(float(np.ptp(work)) / (delta * w * w) - j_min, 0.0)
-    if bare.delta <= delta:
-        return 0.0, bare, estimate
+    last = {"w0": w}
+    states: dict[float, SteadyState] = {}
+
+    def state(jf: float) -> SteadyState | None:
+        try:
+            s = steady_state(scene, drive=drive, flywheel=jf, phi0=phi0, omega_guess=last["w0"], rtol=rtol, atol=atol)
+        except DynamicsError:
+            return None
+        last["w0"] = float(s.omega[0])
+        states[jf] = s
+        return s
+
+    seen: dict[float, float] = {}
 
     def miss(jf: float) -> float:
-        return steady_state(scene, drive=drive, flywheel=jf, phi0=phi0, omega_guess=w, rtol=rtol,
-                            atol=atol).delta - delta
+        if jf not in seen:
+            s = state(jf)
+            seen[jf] = 1.0 if s is None else s.delta / delta - 1.0
+        return seen[jf]
 
-    hi = 2 * estimate if estimate > 0 else 2 * float(np.max(model.mass(phi)))
-    while miss(hi) > 0:
-        hi *= 4
-    jf = float(brentq(miss, 0.0, hi, xtol=FLYWHEEL_STEP * hi))
-    return jf, steady_state(scene, drive=drive, flywheel=jf, phi0=phi0, omega_guess=w, rtol=rtol, atol=atol), estimate
+    # the machine as it is, unless the estimate says a flywheel well beyond its own inertia is
+    # needed (then it may have no steady motion at all, and finding that out costs most)
+    bare = state(0.0) if estimate <= j_min else None
+    if bare is not None and bare.delta <= delta:
+        return 0.0, bare, estimate
+    # 1/δ grows nearly linearly with J_F (classically (J + J_F)·ω_m²/ΔE_max): predict J_F from the
+    # bare machine (or the estimate), then bracket it by steps growing ×2 around the prediction
+    slope = w * w / max(float(np.ptp(work)), 1e-300)
+    guess = (1 / delta - 1 / bare.delta) / slope if bare is not None else max(estimate, 1e-6 * j_min)
+    lo, hi = 0.0, guess
+    step = 0.05
+    if miss(guess) > 0:
+        while True:
+            lo, hi = hi, hi * (1 + step)
+            if miss(hi) <= 0:
+                break
+            step *= 2
+            if hi > 1e9 * max(guess, j_min):
+                raise DynamicsError(f"no flywheel up to {hi:g} kg·m² brings δ to {delta:g}", scene=scene.name)
+    else:
+        while True:
+            lo = hi / (1 + step)
+            if lo < 1e-12 * guess:  # down to no flywheel at all: the machine as it is may do
+                lo = 0.0
+                if miss(0.0) <= 0:
+                    return 0.0, states[0.0], estimate
+                break
+            if miss(lo) > 0:
+                break
+            hi, step = lo, step * 2
+    jf = float(brentq(miss, lo, hi, xtol=FLYWHEEL_STEP * (hi + j_min), rtol=FLYWHEEL_STEP))
+    final = states[jf] if jf in states else state(jf)
+    if final is None:
+        raise DynamicsError(f"no steady motion with the flywheel found ({jf:g} kg·m²)", scene=scene.name)
+    return jf, final, estimate
 
 
 def run_up(scene: Any, *, drive: Any = None, phi0: float = 0.0, t_max: float = 600.0, rtol: float = 1e-9,

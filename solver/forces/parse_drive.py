@@ -1,6 +1,7 @@
 """``motor``, ``flywheel`` and ``damping`` of a scene file: what drives and brakes its inputs.
 
-    motor:    {INPUT: {stall_torque: T₀, no_load_speed: ω₀}}    T = T₀·(1 − ω/ω₀)   (N·m, rad/s)
+    motor:    {INPUT: {stall_torque: T₀, no_load_speed: ω₀}}    T = T₀·(1 − ω/ω₀)   (N·m, rad/s;
+              T₀ and ω₀ of one sign: the torque falls as the speed rises, never the other way)
               {INPUT: {speed: [ω…], torque: [T…]}}             linear between, constant beyond
               an actuator's stroke: stall_force and force (N) against speeds in m/s
     flywheel: {INPUT: I_F}       kg·m² about the crank's pivot, added to the crank's body
@@ -117,6 +118,10 @@ def _motor(top: Entry, joint: str, inputs: Mapping[str | None, Group]) -> Motor:
     no_load = _bounded(e, "no_load_speed", speed, signed=True)
     if no_load == 0.0:
         raise e.error(f"must not be 0: the speed at which the motor's {effort} falls to zero", "no_load_speed")
+    if stall * no_load < 0.0:
+        raise e.error(f"{stall:g} {unit} against a no-load speed of {no_load:g} {speed}: a {effort} that grows "
+                      f"with the speed it drives (the line's slope −{stall_key}/no_load_speed is positive) runs away; "
+                      "a motor that turns backwards has both negative", stall_key)
     e.done()
     return Motor(joint, stall=stall, no_load=no_load)
 

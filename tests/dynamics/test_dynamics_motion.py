@@ -125,6 +125,8 @@ BAD_SCENES = [
     (lambda d: d.update(motor={"crank": {"stall_torque": 1.0}}), r"motor\.crank: a motor needs stall_torque"),
     (lambda d: d.update(motor={"crank": {"speed": [0, 1], "torque": [1.0, 2.0, 3.0]}}), r"has 3 torques for 2 speeds"),
     (lambda d: d.update(motor={"crank": {"stall_torque": 1.0, "no_load_speed": 0}}), r"no_load_speed: must not be 0"),
+    (lambda d: d.update(motor={"crank": {"stall_torque": -1.0, "no_load_speed": 2.0}}),
+     r"motor\.crank\.stall_torque: -1 N·m against a no-load speed of 2 rad/s: a torque that grows with the speed"),
     (lambda d: d.update(flywheel={"crank": -0.2}), r"flywheel\.crank: must not be negative, got -0.2 kg·m²"),
     (lambda d: d.update(flywheel={"crnk": 0.2}), r"'crnk' is not an input of the scene \(did you mean 'crank'\?\)"),
     (lambda d: d.update(damping={"rocker": -1.0}), r"damping\.rocker: must not be negative"),
