@@ -1,13 +1,14 @@
-"""Forward dynamics: q̈ = M(q)⁻¹·(Q_drive − h(q, q̇)) integrated by scipy (docs/dynamics.md).
+"""Forward dynamics: q̈ = M(q)⁻¹·(Q_drive − h(q, q̇)) integrated in time (docs/dynamics.md).
 
 The state is (q, q̇) and two work integrals, W_drive = ∫Q_drive·q̇ dt and W_other = ∫Q_other·q̇ dt
 (the loads other than gravity and springs: dampers, forces, torques, tables), so that the energy
 balance T + V_gravity + V_springs − W_drive − W_other = const is checked on the run's own numbers.
 Positions always come from the closed form, so the loop cannot open: nothing is stabilised.
 
-``simulate`` hands the equation to :func:`scipy.integrate.solve_ivp` (DOP853 by default, dense
-output, events); :class:`Stepper` advances the same equation tick by tick with one of scipy's
-step-by-step solvers (the node: real time, efforts that change between ticks).
+``simulate`` integrates with DOP853 (adaptive, the accurate path) or RK4 (a fixed step) on the
+own step loop (solver.dynamics._stepping: plain Python numbers, breakpoint to breakpoint across
+the tables' kinks), or hands the equation to :func:`scipy.integrate.solve_ivp` (RK45, Radau);
+:class:`~solver.dynamics.stepper.Stepper` advances it tick by tick (the node).
 """
 
 from __future__ import annotations
@@ -22,12 +23,16 @@ from scipy.integrate import DOP853, RK45, Radau, solve_ivp
 
 from ..errors import AssemblyError, DynamicsError
 from ..tolerances import DYNAMICS_TOGGLE
+from ._run import run
 from .drive import Drive, make_drive
 from .reduced import ReducedModel, reduced_model
 
-__all__ = ["Equation", "Stepper", "Trajectory", "simulate"]
+__all__ = ["Equation", "Trajectory", "simulate"]
 
+#: scipy's methods (solve_ivp; the Stepper's adaptive one by name); DOP853 and RK4 run on the own
+#: step loop (solver.dynamics._stepping: breakpoint to breakpoint, no per-step numpy overhead)
 _METHODS = {"DOP853": DOP853, "RK45": RK45, "Radau": Radau}
+OWN_METHODS = ("DOP853", "RK4")
 
 
 class Equation:
@@ -36,6 +41,7 @@ class Equation:
     def __init__(self, model: ReducedModel, drive: Drive, *, works: bool = True) -> None:
         self.model, self.drive, self.k = model, drive, model.k
         self.fault: tuple[str, str] | None = None  # (group, reason) of the last unassemblable call
+        self.last_conditioning = 1.0  # of the last state :meth:`rates` was called at
         #: whether the two work integrals are integrated (False: their rates are 0, no pass for the
         #: other loads with several inputs)
         self.works = works
@@ -72,6 +78,19 @@ class Equation:
             w = qd[0]
             return np.array((w, qdd[0], qdrive[0] * w, other[0] * w))
         return np.array([*qd, *qdd, sum(a * b for a, b in zip(qdrive, qd)), sum(a * b for a, b in zip(other, qd))])
+
+    def rates(self, t: float, y: list[float]) -> list[float]:
+        """y' at (t, y) on plain lists (solver.dynamics._stepping); AssemblyError where the state
+        cannot be assembled. Keeps the state's conditioning in ``last_conditioning``."""
+        k = self.k
+        q, qd = y[:k], y[k:2 * k]
+        qdd, qdrive, other, self.last_conditioning = self._solve(t, q, qd)
+        if not self.works:
+            return [*qd, *qdd, 0.0, 0.0]
+        if k == 1:
+            w = qd[0]
+            return [w, qdd[0], qdrive[0] * w, other[0] * w]
+        return [*qd, *qdd, sum(a * b for a, b in zip(qdrive, qd)), sum(a * b for a, b in zip(other, qd))]
 
     def conditioning(self, t: float, y: np.ndarray) -> float:
         k = self.k
@@ -206,6 +225,7 @@ def simulate(
     events: Sequence[Callable[[float, Any, Any], float]] = (),
     on_singular: str = "raise",
     max_step: float = math.inf,
+    step: float | None = None,
 ) -> Trajectory:
     """Integrate the inputs from (``phi0``, ``omega0``) at t = 0 to ``t_end`` (s) under ``drive``
     (solver.dynamics.drive: the scene's motors by default) and the scene's loads.
@@ -220,8 +240,9 @@ def simulate(
     name = scene.name
     if not (isinstance(t_end, (int, float)) and math.isfinite(t_end) and t_end > 0):
         raise DynamicsError(f"t_end must be a positive number of seconds, got {t_end!r:.40}", scene=name)
-    if method not in _METHODS:
-        raise DynamicsError(f"method must be one of {', '.join(_METHODS)}, got {method!r}", scene=name)
+    if method not in _METHODS and method not in OWN_METHODS:
+        raise DynamicsError(f"method must be one of {', '.join((*OWN_METHODS, *_METHODS))}, got {method!r}",
+                            scene=name)
     if on_singular not in ("raise", "stop"):
         raise DynamicsError(f"on_singular must be 'raise' or 'stop', got {on_singular!r}", scene=name)
     model = reduced_model(scene)
@@ -267,15 +288,31 @@ def simulate(
         t_eval = np.append(np.arange(0.0, t_end, dt), t_end)
         if t_eval.size > 1 and t_eval[-2] >= t_end:
             t_eval = t_eval[:-1]
-    sol = solve_ivp(eq, (0.0, float(t_end)), y0, method=method, rtol=rtol, atol=atol, dense_output=True,
-                    events=all_events, t_eval=t_eval, max_step=max_step)
-    ts, ys = sol.t, sol.y
+    if method in OWN_METHODS:
+        if method == "RK4" and not (isinstance(step, (int, float)) and step > 0 and math.isfinite(step)):
+            raise DynamicsError(f"method RK4 needs step, a positive number of seconds, got {step!r}", scene=name)
+        out = run(eq, float(t_end), y0.tolist(), method=method, rtol=rtol, atol=atol, step=step,
+                  max_step=max_step, events=[(ev, int(getattr(ev, "direction", 0))) for ev in all_events],
+                  t_eval=t_eval)
+        ts, ys, sol_status, hit, dense, nfev = out.t, out.y, out.status, out.hit, out.sol, out.nfev
+        if out.fault is not None:
+            eq.fault = out.fault
+        last = dense.t_max
+    else:
+        sol = solve_ivp(eq, (0.0, float(t_end)), y0, method=method, rtol=rtol, atol=atol, dense_output=True,
+                        events=all_events, t_eval=t_eval, max_step=max_step)
+        ts, ys, sol_status, dense, nfev = sol.t, sol.y, sol.status, sol.sol, sol.nfev
+        hit = None
+        if sol.status == 1:  # an event
+            hit = next(i for i, te in enumerate(sol.t_events) if len(te))
+            te, ye = sol.t_events[hit][0], sol.y_events[hit][0]
+            if ts.size == 0 or ts[-1] < te:
+                ts, ys = np.append(ts, te), np.column_stack([ys, ye])
+        last = sol.sol.t_max if sol.sol is not None else ts[-1]
     status, message = "done", ""
-    if sol.status == 1:  # an event
-        hit = next(i for i, te in enumerate(sol.t_events) if len(te))
-        te, ye = sol.t_events[hit][0], sol.y_events[hit][0]
-        if ts.size == 0 or ts[-1] < te:
-            ts, ys = np.append(ts, te), np.column_stack([ys, ye])
+    if sol_status == 1:  # an event
+        ye = ys[:, -1]
+        assert hit is not None
         if hit == 0:
             status = "toggle"
             message = (f"reaches a singular position of group '{eq.worst_group(ye)}' (a toggle: the inputs cannot "
@@ -285,15 +322,14 @@ def simulate(
             message = strokes[hit - 1].message  # type: ignore[attr-defined]
         else:
             status = "until"
-    elif sol.status == -1:
-        group, reason = eq.fault or ("?", sol.message)
+    elif sol_status == -1:
+        group, reason = eq.fault or ("?", "the step size fell below the spacing of floats")
         status = "assembly"
         message = f"stops at an assembly limit of group '{group}' ({reason})"
-        last = sol.sol.t_max if sol.sol is not None else ts[-1]
         if ts.size and last > ts[-1]:  # the last accepted step, past the last requested sample
-            ts, ys = np.append(ts, last), np.column_stack([ys, sol.sol(last)])
-    traj = _trajectory(scene, eq, ts, ys, sol.sol, status=status, message=message, kind=kind, method=method,
-                       rtol=rtol, atol=atol, nfev=sol.nfev)
+            ts, ys = np.append(ts, last), np.column_stack([ys, dense(last)])
+    traj = _trajectory(scene, eq, ts, ys, dense, status=status, message=message, kind=kind, method=method,
+                       rtol=rtol, atol=atol, nfev=nfev)
     if status in ("toggle", "assembly"):
         text = DynamicsError(message, scene=name, time=float(ts[-1]), at=_where(scene, ys[:, -1]),
                              group=None)
@@ -329,106 +365,3 @@ def _trajectory(
         work_drive=ys[2 * k].copy(), work_other=ys[2 * k + 1].copy(), status=status, message=message, drive=kind,
         method=method, rtol=rtol, atol=atol, evaluations=nfev, _dense=dense,
     )
-
-
-def _interpolant(dense: Any) -> Callable[[float], np.ndarray]:
-    """A step's dense output as a function of one time. DOP853's (scipy's ``Dop853DenseOutput``)
-    is evaluated as one dot product of its coefficient rows ``F`` with their weights — the same
-    nested form scipy evaluates row by row, y = y_old + Σ F[n−1−i]·Π_{j≥i} m_j with m_j = x for
-    even j and 1 − x for odd j, x = (t − t_old)/h — in a quarter of the time at a tick; any other
-    dense output as it is."""
-    coefficients = getattr(dense, "F", None)
-    if coefficients is None or not all(hasattr(dense, a) for a in ("t_old", "h", "y_old")):
-        return dense  # type: ignore[no-any-return]
-    rows = np.ascontiguousarray(coefficients[::-1])
-    t_old, h, y_old, n = float(dense.t_old), float(dense.h), dense.y_old, len(coefficients)
-
-    def at(t: float) -> np.ndarray:
-        x = (t - t_old) / h
-        weights = [0.0] * n
-        w = 1.0
-        for i in range(n - 1, -1, -1):
-            w *= x if i % 2 == 0 else 1.0 - x
-            weights[i] = w
-        return y_old + np.dot(weights, rows)  # type: ignore[no-any-return]
-
-    return at
-
-
-class Stepper:
-    """The equation advanced tick by tick (the node): ``advance(t)`` steps scipy's solver until it
-    passes ``t`` and returns the state there from its dense output; ``set_drive`` changes the
-    drive (an effort command), restarting the solver at the current time so that no step
-    straddles the change. Accuracy: each step's local error within ``rtol``/``atol`` as in
-    :func:`simulate`; the output at a tick is the step's dense interpolant (same order).
-    ``works=False``: the work integrals W_drive, W_other stay 0 (the node does without them: one
-    force pass fewer per evaluation in a scene with forces, torques or dampers)."""
-
-    def __init__(
-        self, scene: Any, *, phi0: Any = None, omega0: Any = 0.0, drive: Any = None, rtol: float = 1e-9,
-        atol: float = 1e-9, method: str = "DOP853", t0: float = 0.0, works: bool = True,
-    ) -> None:
-        self.scene = scene
-        self.model = reduced_model(scene)
-        k = self.k = self.model.k
-        q0 = _initial(phi0, k, "phi0", scene.name)
-        w0 = _initial(omega0, k, "omega0", scene.name)
-        fn, self.kind = make_drive(drive, scene.inputs, self.model.motors, scene=scene.name)
-        self.works = works
-        self.eq = Equation(self.model, fn, works=works)
-        self.rtol, self.atol, self._method = rtol, atol, _METHODS[method]
-        self.t = t0
-        self.y = np.array([*q0, *w0, 0.0, 0.0])
-        self._spans = tuple(getattr(scene, "input_ranges", ())) or (None,) * k
-        try:
-            self.eq.accelerations(t0, q0, w0)
-        except AssemblyError as exc:
-            raise DynamicsError(f"cannot be assembled at the initial state ({exc.reason})", scene=scene.name,
-                                time=t0, at=_where(scene, self.y), group=exc.group) from None
-        self._restart()
-
-    def _restart(self) -> None:
-        self._solver = self._method(self.eq, self.t, self.y, math.inf, rtol=self.rtol, atol=self.atol)
-        self._dense: tuple[float, Any] | None = None
-
-    def set_drive(self, drive: Any) -> None:
-        fn, self.kind = make_drive(drive, self.scene.inputs, self.model.motors, scene=self.scene.name)
-        self.eq = Equation(self.model, fn, works=self.works)
-        self._restart()
-
-    def advance(self, t: float) -> np.ndarray:
-        """The state y = (q, q̇, W_drive, W_other) at time ``t`` ≥ the last one; DynamicsError where
-        the motion reaches a toggle or an assembly limit on the way."""
-        s = self._solver
-        while s.t < t:
-            msg = s.step()
-            if s.status == "failed" or msg is not None:
-                group, reason = self.eq.fault or ("?", str(msg))
-                raise DynamicsError(f"stops at an assembly limit ({reason})", scene=self.scene.name, time=s.t,
-                                    at=_where(self.scene, s.y), group=group)
-            for i, span in enumerate(self._spans):
-                if span is not None and not span[0] <= s.y[i] <= span[1]:
-                    raise DynamicsError(f"reaches an end of the stroke of '{self.scene.inputs[i]}' [{span[0]:g}, "
-                                        f"{span[1]:g}] m (an assembly limit)", scene=self.scene.name, time=s.t,
-                                        at=_where(self.scene, s.y), group=None)
-            if self.eq.conditioning(s.t, s.y) < DYNAMICS_TOGGLE:
-                raise DynamicsError("reaches a singular position (a toggle: the inputs cannot drive through it)",
-                                    scene=self.scene.name, time=s.t, at=_where(self.scene, s.y),
-                                    group=self.eq.worst_group(s.y))
-        if t == s.t:
-            y = s.y.copy()
-        else:
-            # one interpolant per step (DOP853's costs three more evaluations): ticks between
-            # two steps only evaluate it
-            if self._dense is None or self._dense[0] != s.t:
-                self._dense = (s.t, _interpolant(s.dense_output()))
-            y = self._dense[1](t)
-        self.t, self.y = t, y
-        return y
-
-    def accelerations(self) -> tuple[list[float], list[float]]:
-        """(q̈, Q_drive) at the last state returned."""
-        k = self.k
-        state = self.y.tolist()
-        qdd, qdrive, _ = self.eq.accelerations(self.t, state[:k], state[k:2 * k])
-        return qdd, qdrive

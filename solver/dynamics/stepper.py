@@ -1,0 +1,164 @@
+"""The equation of motion advanced tick by tick (the node's dynamic mode; docs/dynamics.md).
+
+:class:`Stepper` steps the compiled instant (M, h) on the own step loop
+(solver.dynamics._stepping), breakpoint to breakpoint across the tables' kinks:
+
+* ``method="RK4"`` (real time): a fixed step ``step`` (s), the steps landing on every time asked
+  for — a bounded cost per tick, four evaluations a step (more only where a kink falls in it).
+  :func:`fixed_step` chooses the step for a tick period from a tolerance;
+* ``method="DOP853"`` (accurate): the adaptive steps go across the ticks and a tick reads the
+  step's dense output.
+
+``set_drive`` changes the drive (an effort command) at the current time, so that no step
+straddles the change.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from ..errors import AssemblyError, DynamicsError
+from ..tolerances import DYNAMICS_TOGGLE
+from ._breaks import breaks_of
+from ._rk import Dense
+from ._stepping import Integrator, StepFailure
+from .drive import make_drive
+from .integrate import Equation, _initial, _where
+from .reduced import reduced_model
+
+__all__ = ["FIXED_HORIZON", "MAX_SUBSTEPS", "Stepper", "fixed_step"]
+
+#: :func:`fixed_step`: the most steps per tick it allows (the node's cost per tick is bounded)
+MAX_SUBSTEPS = 16
+#: :func:`fixed_step`: the run (in ticks) over which the error of a step size is estimated
+FIXED_HORIZON = 50
+
+
+class Stepper:
+    """``advance(t)`` → the state y = (q, q̇, W_drive, W_other) at ``t`` (numpy, as the run's
+    samples); ``works=False``: the work integrals stay 0 (with several inputs one force pass
+    fewer per evaluation)."""
+
+    def __init__(
+        self, scene: Any, *, phi0: Any = None, omega0: Any = 0.0, drive: Any = None, rtol: float = 1e-9,
+        atol: float = 1e-9, method: str = "DOP853", t0: float = 0.0, works: bool = True, step: float | None = None,
+    ) -> None:
+        if method not in ("DOP853", "RK4"):
+            raise DynamicsError(f"the stepper's method must be DOP853 or RK4, got {method!r}", scene=scene.name)
+        if method == "RK4" and not (isinstance(step, (int, float)) and step > 0 and math.isfinite(step)):
+            raise DynamicsError(f"method RK4 needs step, a positive number of seconds, got {step!r}",
+                                scene=scene.name)
+        self.scene = scene
+        self.model = reduced_model(scene)
+        k = self.k = self.model.k
+        q0 = _initial(phi0, k, "phi0", scene.name)
+        w0 = _initial(omega0, k, "omega0", scene.name)
+        fn, self.kind = make_drive(drive, scene.inputs, self.model.motors, scene=scene.name)
+        self.works = works
+        self.eq = Equation(self.model, fn, works=works)
+        self.rtol, self.atol, self.method, self.step = rtol, atol, method, step
+        self.t = float(t0)
+        self.y = np.array([*q0, *w0, 0.0, 0.0])
+        self._spans = tuple(getattr(scene, "input_ranges", ())) or (None,) * k
+        self._breaks = breaks_of(self.model)
+        try:
+            self.eq.accelerations(self.t, q0, w0)
+        except AssemblyError as exc:
+            raise DynamicsError(f"cannot be assembled at the initial state ({exc.reason})", scene=scene.name,
+                                time=self.t, at=_where(scene, self.y), group=exc.group) from None
+        self._restart()
+
+    def _restart(self) -> None:
+        self._integ = Integrator(self.eq.rates, self.t, self.y.tolist(), k=self.k, method=self.method,
+                                 rtol=self.rtol, atol=self.atol, step=self.step, breaks=self._breaks)
+        self._dense: Dense | None = None
+
+    @property
+    def evaluations(self) -> int:
+        """Evaluations of (M, h) by the integrator since the last (re)start."""
+        return self._integ.nfev
+
+    def set_drive(self, drive: Any) -> None:
+        fn, self.kind = make_drive(drive, self.scene.inputs, self.model.motors, scene=self.scene.name)
+        self.eq = Equation(self.model, fn, works=self.works)
+        self._restart()
+
+    def advance(self, t: float) -> np.ndarray:
+        """The state at time ``t`` ≥ the last one; DynamicsError where the motion reaches a
+        toggle or an assembly limit on the way."""
+        integ = self._integ
+        fixed = self.method == "RK4"
+        while integ.t < t:
+            try:
+                self._dense = integ.step(t if fixed else math.inf)
+            except StepFailure as failure:
+                raise DynamicsError(f"stops at an assembly limit ({failure.reason})", scene=self.scene.name,
+                                    time=failure.t, at=_where(self.scene, np.array(failure.y)),
+                                    group=failure.group) from None
+            self._check(integ.t, integ.y)
+        if integ.t == t or self._dense is None:
+            y = np.array(integ.y)
+        else:
+            y = np.array(self._dense(t))
+        self.t, self.y = t, y
+        return y
+
+    def _check(self, t: float, y: list[float]) -> None:
+        for i, span in enumerate(self._spans):
+            if span is not None and not span[0] <= y[i] <= span[1]:
+                raise DynamicsError(f"reaches an end of the stroke of '{self.scene.inputs[i]}' [{span[0]:g}, "
+                                    f"{span[1]:g}] m (an assembly limit)", scene=self.scene.name, time=t,
+                                    at=_where(self.scene, np.array(y)), group=None)
+        if self.eq.last_conditioning < DYNAMICS_TOGGLE:  # of the step's last evaluation: its end
+            arr = np.array(y)
+            raise DynamicsError("reaches a singular position (a toggle: the inputs cannot drive through it)",
+                                scene=self.scene.name, time=t, at=_where(self.scene, arr),
+                                group=self.eq.worst_group(arr))
+
+    def accelerations(self) -> tuple[list[float], list[float]]:
+        """(q̈, Q_drive) at the last state returned."""
+        k = self.k
+        state = self.y.tolist()
+        qdd, qdrive, _ = self.eq.accelerations(self.t, state[:k], state[k:2 * k])
+        return qdd, qdrive
+
+
+def fixed_step(
+    scene: Any, *, period: float, tolerance: float, phi0: Any = None, omega0: Any = 0.0, drive: Any = None,
+    max_substeps: int = MAX_SUBSTEPS, horizon: int = FIXED_HORIZON,
+) -> tuple[float, float]:
+    """(step, error): the RK4 step for ticks of ``period`` s — period/n, n = 1, 2, 4 … up to
+    ``max_substeps`` — whose error over ``horizon`` ticks from the initial state, against the
+    adaptive DOP853 at a hundredth of ``tolerance``, is within ``tolerance``·(1 + |q|, |q̇|) (the
+    error's size in those units, > 1 where even the largest n misses it). (Not n against 2n: the
+    kinks of a table cut the steps of both alike.) A run that stops on the way (a toggle, an
+    assembly limit) is compared up to where both reached."""
+    k = len(scene.inputs)
+    fine = tolerance / 100.0
+    reference = Stepper(scene, phi0=phi0, omega0=omega0, drive=drive, rtol=fine, atol=fine, works=False)
+    ticks = []
+    for i in range(1, horizon + 1):
+        try:
+            ticks.append(reference.advance(i * period)[:2 * k].copy())
+        except DynamicsError:
+            break
+    n = 1
+    error = math.inf
+    while ticks:
+        stepper = Stepper(scene, phi0=phi0, omega0=omega0, drive=drive, method="RK4", step=period / n, works=False)
+        worst = 0.0
+        for i, expected in enumerate(ticks, start=1):
+            try:
+                got = stepper.advance(i * period)[:2 * k]
+            except DynamicsError:
+                worst = math.inf
+                break
+            worst = max(worst, float(np.max(np.abs(got - expected) / (tolerance * (1.0 + np.abs(expected))))))
+        error = worst
+        if error <= 1.0 or 2 * n > max_substeps:
+            break
+        n *= 2
+    return period / n, error
