@@ -3,8 +3,10 @@
 In ``mode: dynamic`` (docs/ros.md, "Dynamic mode") the node does not prescribe φ(t): each tick
 asks a :class:`DynamicMotion` (one input) or :class:`DynamicMotions` (several) for the input state
 at the tick's run time, and that law advances the scene's forward dynamics
-(:class:`solver.dynamics.Stepper`: scipy's DOP853 stepped across the ticks, the state at a tick
-from its dense output) from ``phi0`` / ``omega`` (``input_phi0s`` / ``input_omegas``). The
+(:class:`solver.dynamics.Stepper` with RK4 at a fixed step landing on every tick, breakpoint to
+breakpoint across a table's kinks; the step is chosen from ``dynamics_tolerance`` for the
+``rate_hz`` at the start by :func:`solver.dynamics.fixed_step`: at most 16 steps a tick) from
+``phi0`` / ``omega`` (``input_phi0s`` / ``input_omegas``). The
 laws have the interface of :class:`~linkage_ros.motion.Motion` / :class:`~linkage_ros.motion.Motions`,
 so the engine, the fast path, the messages and the recorder are those of the kinematic mode: a
 tick publishes (φ, ω, ε) with ε = M⁻¹(Q_drive − h) from the equation of motion, and the efforts
@@ -18,6 +20,14 @@ has one, else the effort commands). A command of the wrong length, with a non-fi
 while the drive is not ``effort`` is refused (:meth:`DynamicMotion.command` gives the one-line
 reason) and the last good command stays in force.
 
+The law keeps count of the wall time its ticks take against the run time they advance: over each
+second of run time, the real-time factor (run time / wall time computing it) and the share of the
+ticks it was asked for (against ``rate_hz``). Below 1 or under 99 % it says so — once in the
+node's log (``events``) and, while it lasts, in the frames' status ``behind`` (diagnostics WARN,
+with the factor): it never falls behind silently. A command's ``effort_timeout`` is enforced at
+its exact run time, whatever the ticks do (a late tick first advances to the moment the command
+went stale, then on with zero).
+
 Where the motion reaches a position the inputs cannot drive through (a toggle, an assembly
 limit: :class:`solver.DynamicsError`) the law holds the last state it reached (φ frozen, ω = ε =
 0): its segment is a hold, so the engine reports ``unassemblable`` with the error's message (the
@@ -28,13 +38,14 @@ time, the angle, the group) until a set of ``omega`` (any of
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from solver.dynamics import Stepper, reduced_model
+from solver.dynamics import Stepper, fixed_step, reduced_model
 from solver.errors import SolverError
 
 from .motion import SEGMENT_HOLD, Motion, Motions, Segment
@@ -67,6 +78,10 @@ EFFORT_TIMEOUT_RANGE = (1.0e-3, 3600.0)
 #: ``dynamics_tolerance``: the integrator's rtol = atol; its default and range.
 DEFAULT_TOLERANCE = 1.0e-9
 TOLERANCE_RANGE = (1.0e-13, 1.0e-3)
+#: The run time (s) over which the law measures its real-time factor and the ticks it was asked for.
+REALTIME_WINDOW = 1.0
+#: Below this share of ``rate_hz`` ticks in a window the law says it falls behind.
+TICKS_WANTED = 0.99
 #: Parameters whose change restarts a dynamic run at ``phi0`` (as ``scene`` does).
 RESTARTING = frozenset({"mode", "dynamics_tolerance"})
 #: The tag of a dynamic law's segment while it moves (a hold is SEGMENT_HOLD).
@@ -109,7 +124,7 @@ class _DynamicLaw:
     Values are Python floats with one input and k-tuples with several (``self._pack``)."""
 
     def _setup(self, scene: Any, *, phi0: Any, omega: Any, drive: str, tolerance: float,
-               timeout: float, t0: float) -> None:
+               timeout: float, t0: float, rate: float = 1000.0) -> None:
         self.scene = scene
         self.k = len(scene.inputs)
         #: what drives the inputs now: motor, effort or free
@@ -127,8 +142,15 @@ class _DynamicLaw:
         #: the drive's effort at the last state (a float, or a k-tuple), and that state (φ, ω, ε)
         self.effort: Any = 0.0
         self._state: tuple[Any, Any, Any] = (0.0, 0.0, 0.0)
-        self._stepper = Stepper(scene, phi0=phi0, omega0=omega, drive=self._drive(), rtol=self.tolerance,
-                                atol=self.tolerance, t0=float(t0), works=False)
+        self.rate = float(rate)
+        #: the RK4 step (s) and its error over 50 ticks in units of the tolerance (solver.dynamics.fixed_step)
+        self.step, self.step_error = fixed_step(scene, period=1.0 / self.rate, tolerance=self.tolerance, phi0=phi0,
+                                                omega0=omega, drive=self._drive())
+        self._stepper = self._new_stepper(phi0, omega, float(t0))
+        #: run time over wall time of the last full window (inf before the first); "" or why it is behind
+        self.realtime_factor = math.inf
+        self.behind = ""
+        self._window = (float(t0), 0.0, 0)  # (run time at its start, wall seconds spent, ticks)
         self._t = float(t0)
         self._read()
         phi, w, e = self._state
@@ -139,9 +161,31 @@ class _DynamicLaw:
         """(φ, ω, ε) at run time ``t``: the dynamics advanced to ``t`` (a time before the last
         one asked for gives the last state: the run cannot go back)."""
         if not self._held and t > self._t:
+            start = time.perf_counter()
             self._expire(t)
             self._advance(t)
+            self._count(t, time.perf_counter() - start)
         return self._state
+
+    def _count(self, t: float, spent: float) -> None:
+        """One tick's wall time into the window; at its end, the real-time factor and the ticks."""
+        t_start, busy, ticks = self._window
+        busy, ticks = busy + spent, ticks + 1
+        span = t - t_start
+        if span < REALTIME_WINDOW:
+            self._window = (t_start, busy, ticks)
+            return
+        self._window = (t, 0.0, 0)
+        self.realtime_factor = span / busy if busy > 0 else math.inf
+        share = ticks / (span * self.rate)
+        if self.realtime_factor < 1.0 or share < TICKS_WANTED:
+            behind = (f"dynamics fall behind real time: {self.realtime_factor:.2f}× real time, {100 * share:.1f} % "
+                      f"of the {self.rate:g} Hz ticks over the last {span:.2f} s")
+            if not self.behind:
+                self.events.append(behind)
+            self.behind = behind
+        else:
+            self.behind = ""
 
     def moving_state(self, t: float) -> Any:
         """:meth:`state`, or None while the law holds."""
@@ -288,13 +332,16 @@ class _DynamicLaw:
         self._state = (phi, zero, zero)
         self.effort = zero
 
+    def _new_stepper(self, phi0: Any, omega0: Any, t0: float) -> Stepper:
+        return Stepper(self.scene, phi0=phi0, omega0=omega0, drive=self._drive(), method="RK4", step=self.step,
+                       t0=t0, works=False)
+
     def _resume(self, phi: Any, omega: Any, t: float) -> None:
         phis = [phi] if self.k == 1 else list(phi)
         rates = [float(omega)] * self.k if isinstance(omega, (int, float)) else [float(w) for w in omega]
-        self._stepper = Stepper(self.scene, phi0=phis if self.k > 1 else phis[0],
-                                omega0=rates if self.k > 1 else rates[0], drive=self._drive(),
-                                rtol=self.tolerance, atol=self.tolerance, t0=t, works=False)
+        self._stepper = self._new_stepper(phis if self.k > 1 else phis[0], rates if self.k > 1 else rates[0], t)
         self._held, self.stop_message, self._t = False, "", t
+        self._window = (t, 0.0, 0)
         self._read()
 
     def _pack(self, values: Any) -> Any:
@@ -312,8 +359,9 @@ class DynamicMotion(_DynamicLaw, Motion):
 
     def __init__(self, scene: Any, *, phi0: float = 0.0, omega: float = 0.0, drive: str = "auto",
                  tolerance: float = DEFAULT_TOLERANCE, timeout: float = DEFAULT_EFFORT_TIMEOUT,
-                 t0: float = 0.0) -> None:
-        self._setup(scene, phi0=phi0, omega=omega, drive=drive, tolerance=tolerance, timeout=timeout, t0=t0)
+                 t0: float = 0.0, rate: float = 1000.0) -> None:
+        self._setup(scene, phi0=phi0, omega=omega, drive=drive, tolerance=tolerance, timeout=timeout, t0=t0,
+                    rate=rate)
 
     def __repr__(self) -> str:
         return f"DynamicMotion({self.scene.name}, drive {self.kind}, t = {self._t:g} s, state {self._state})"
@@ -324,9 +372,9 @@ class DynamicMotions(_DynamicLaw, Motions):
 
     def __init__(self, scene: Any, *, phi0: Sequence[float], omega: Sequence[float], drive: str = "auto",
                  tolerance: float = DEFAULT_TOLERANCE, timeout: float = DEFAULT_EFFORT_TIMEOUT,
-                 t0: float = 0.0) -> None:
+                 t0: float = 0.0, rate: float = 1000.0) -> None:
         self._setup(scene, phi0=list(phi0), omega=list(omega), drive=drive, tolerance=tolerance,
-                    timeout=timeout, t0=t0)
+                    timeout=timeout, t0=t0, rate=rate)
 
     def __len__(self) -> int:
         return self.k
@@ -346,7 +394,8 @@ def dynamic_law(scene: Any, settings: Mapping[str, Any], *, phi0: Any, omega: An
     without inertia) or ValueError (``drive: motor`` without a motor) when there is none."""
     options = {"drive": str(settings.get("drive", "auto")),
                "tolerance": float(settings.get("dynamics_tolerance", DEFAULT_TOLERANCE)),
-               "timeout": float(settings.get("effort_timeout", DEFAULT_EFFORT_TIMEOUT)), "t0": t0}
+               "timeout": float(settings.get("effort_timeout", DEFAULT_EFFORT_TIMEOUT)), "t0": t0,
+               "rate": float(settings.get("rate_hz", 1000.0))}
     if len(scene.inputs) == 1:
         return DynamicMotion(scene, phi0=float(phi0), omega=float(omega), **options)  # type: ignore[arg-type]
     return DynamicMotions(scene, phi0=tuple(phi0), omega=tuple(omega), **options)  # type: ignore[arg-type]

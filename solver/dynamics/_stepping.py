@@ -15,12 +15,12 @@ rejected and shrunk fivefold; below the spacing of floats at t the integrator fa
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 from ..errors import AssemblyError
 from ..forces import frames
-from ..tolerances import DYNAMICS_KINK_AIM, DYNAMICS_KINK_MISS
+from ..tolerances import DYNAMICS_KINK_AIM, DYNAMICS_KINK_MISS, DYNAMICS_TOGGLE
 from ._breaks import Breaks
 from ._rk import (
     ERROR_EXPONENT,
@@ -59,10 +59,13 @@ class Integrator:
 
     def __init__(self, f: Rhs, t0: float, y0: Sequence[float], *, k: int, method: str = "DOP853",
                  rtol: float = 1e-9, atol: float = 1e-9, step: float | None = None, max_step: float = math.inf,
-                 breaks: Breaks | None = None) -> None:
+                 breaks: Breaks | None = None, conditioning: Callable[[], float] | None = None) -> None:
         if method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         self.f, self.k, self.method = f, k, method
+        #: RK4: the conditioning of f's last evaluation (a step whose stages pass a toggle while its
+        #: end does not is halved until its end is there: a fixed step must not jump across one)
+        self._conditioning = conditioning
         self.rtol, self.atol, self.max_step = rtol, atol, max_step
         self.breaks = breaks if breaks else None
         self.t = float(t0)
@@ -81,7 +84,7 @@ class Integrator:
                 self.h = initial_step(self._f, self.t, self.y, self.fy, rtol, atol, max_step)
             finally:
                 self._let_go()
-        self.fixed = float(step) if step is not None else None
+        self.fixed = float(step) if method == "RK4" and step is not None else None
 
     # ------------------------------------------------------------------ the right-hand side
     def _f(self, t: float, y: list[float]) -> list[float]:
@@ -142,6 +145,9 @@ class Integrator:
         rest = t_bound - t
         if not rest > 0:
             raise ValueError(f"t_bound {t_bound!r} is not after t = {t!r}")
+        if rest <= self._min_step(t):  # t_bound a rounding past t (a tick's time from ns): there already
+            self.t = t_bound
+            return Dense(t, rest, self.y, [[0.0] * len(self.y)])
         h = min(self.fixed if self.fixed is not None else self.h, self.max_step)
         h, _ = self._aim(h)
         end = None
@@ -200,12 +206,29 @@ class Integrator:
         while True:
             if h < self._min_step(t):
                 raise StepFailure(t, y, *fault)
+            worst = [math.inf]
+            f = self._f
+            if self._conditioning is not None:
+                read = self._conditioning
+
+                def f(t: float, y: list[float], worst: list[float] = worst, read: Any = read) -> list[float]:
+                    out = self._f(t, y)
+                    worst[0] = min(worst[0], read())
+                    return out
             try:
-                y_new = rk4_step(self._f, t, y, fy, h)
+                y_new = rk4_step(f, t, y, fy, h)
                 f_new = self._f(t + h, y_new)
             except AssemblyError as exc:
                 fault = (exc.group, exc.reason)
                 h, end = 0.5 * h, None
+                continue
+            if not all(map(math.isfinite, f_new)) or not all(map(math.isfinite, y_new)):
+                # past a toggle (M singular within the step): shorter, until its end is a state
+                fault = ("?", "the motion is not finite beyond this point (a singular position)")
+                h, end = 0.5 * h, None
+                continue
+            if self._conditioning is not None and worst[0] < DYNAMICS_TOGGLE <= self._conditioning():
+                h, end = 0.5 * h, None  # across a toggle: shorter, until the step ends at it
                 continue
             crossing = self._crossing(y_new)
             if crossing is None or tries:

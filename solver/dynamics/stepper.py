@@ -29,8 +29,11 @@ from .drive import make_drive
 from .integrate import Equation, _initial, _where
 from .reduced import reduced_model
 
-__all__ = ["FIXED_HORIZON", "MAX_SUBSTEPS", "Stepper", "fixed_step"]
+__all__ = ["ADAPTIVE_BELOW", "FIXED_HORIZON", "MAX_SUBSTEPS", "Stepper", "fixed_step"]
 
+#: RK4: under this conditioning of the groups (1 well conditioned, DYNAMICS_TOGGLE a toggle) the
+#: stepper takes DOP853's adaptive steps, which resolve where the threshold is crossed
+ADAPTIVE_BELOW = 0.1
 #: :func:`fixed_step`: the most steps per tick it allows (the node's cost per tick is bounded)
 MAX_SUBSTEPS = 16
 #: :func:`fixed_step`: the run (in ticks) over which the error of a step size is estimated
@@ -71,10 +74,16 @@ class Stepper:
                                 time=self.t, at=_where(scene, self.y), group=exc.group) from None
         self._restart()
 
+    def _integrator(self, method: str, t: float, y: list[float]) -> Integrator:
+        return Integrator(self.eq.rates, t, y, k=self.k, method=method, rtol=self.rtol, atol=self.atol,
+                          step=self.step, breaks=self._breaks, conditioning=self._last_conditioning)
+
     def _restart(self) -> None:
-        self._integ = Integrator(self.eq.rates, self.t, self.y.tolist(), k=self.k, method=self.method,
-                                 rtol=self.rtol, atol=self.atol, step=self.step, breaks=self._breaks)
+        self._integ = self._integrator(self.method, self.t, self.y.tolist())
         self._dense: Dense | None = None
+
+    def _last_conditioning(self) -> float:
+        return float(self.eq.last_conditioning)
 
     @property
     def evaluations(self) -> int:
@@ -88,21 +97,30 @@ class Stepper:
 
     def advance(self, t: float) -> np.ndarray:
         """The state at time ``t`` ≥ the last one; DynamicsError where the motion reaches a
-        toggle or an assembly limit on the way."""
-        integ = self._integ
-        fixed = self.method == "RK4"
-        while integ.t < t:
+        toggle or an assembly limit on the way. RK4 hands over to DOP853 (at rtol, atol) while
+        the conditioning is under ADAPTIVE_BELOW — near a toggle, whose threshold a fixed step
+        could jump across — and takes over again at the first tick above it."""
+        while self._integ.t < t:
+            integ = self._integ
+            adaptive = integ.method == "DOP853"
+            if self.method == "RK4" and not adaptive and self.eq.last_conditioning < ADAPTIVE_BELOW:
+                self._integ = self._integrator("DOP853", integ.t, integ.y)
+                continue
             try:
-                self._dense = integ.step(t if fixed else math.inf)
+                self._dense = integ.step(math.inf if adaptive else t)
             except StepFailure as failure:
                 raise DynamicsError(f"stops at an assembly limit ({failure.reason})", scene=self.scene.name,
                                     time=failure.t, at=_where(self.scene, np.array(failure.y)),
                                     group=failure.group) from None
             self._check(integ.t, integ.y)
+        integ = self._integ
         if integ.t == t or self._dense is None:
             y = np.array(integ.y)
         else:
             y = np.array(self._dense(t))
+        if self.method == "RK4" and integ.method == "DOP853" and self.eq.last_conditioning >= ADAPTIVE_BELOW:
+            self._integ = self._integrator("RK4", t, y.tolist())
+            self._dense = None
         self.t, self.y = t, y
         return y
 
