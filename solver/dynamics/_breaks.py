@@ -11,8 +11,9 @@ smooth; the step is aimed at the piece's end and, where it passes it, cut there 
 output; then the next piece is held. Landing a distance δ off the kink costs O(δ²·Δslope), not
 O(δ).
 
-Only tables of an input's own coordinate have kinks at known values of the state; a table of
-another joint (a piston's x) is evaluated as it is, kinks and all.
+A motor's torque–speed table has its kinks in the input's rate: there the window is on q̇ (held
+in solver.dynamics.drive.HELD). Only tables of an input's own coordinate or rate have kinks at
+known values of the state; a table of another joint (a piston's x) is evaluated as it is.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from typing import Any
 
 from ..forces import frames
 from ..forces.spec import TableForce
+from .drive import HELD as drive_held
 
 __all__ = ["Breaks", "breaks_of"]
 
@@ -34,7 +36,8 @@ class _Table:
     """One table of input ``index``: its knots (the entries, and the end of its period where the
     table is shorter than it) in the wrapped coordinate, the values there, the period."""
 
-    key: tuple[int, int]
+    key: Any
+    #: the state component whose value the table reads: q_i (i), or a motor's q̇_i (k + i)
     index: int
     knots: tuple[float, ...]
     values: tuple[float, ...]
@@ -69,43 +72,48 @@ class Breaks:
     """The kinks of a scene's tables of its inputs; :meth:`hold` holds the pieces the motion is
     in and gives the window of each input they are valid in; :meth:`release` lets them go."""
 
-    def __init__(self, tables: Sequence[_Table], k: int) -> None:
+    def __init__(self, tables: Sequence[_Table], k: int, stores: Sequence[dict[Any, Any]] = ()) -> None:
         self.tables = tuple(tables)
         self.k = k
-        #: (lo, hi) per input while held: where the held pieces are the tables themselves
-        self.window: list[tuple[float, float]] = [(-math.inf, math.inf)] * k
+        #: per table, the dict its held line goes into (frames.HELD, or drive.HELD for a motor)
+        self.stores = tuple(stores) or (frames.HELD,) * len(self.tables)
+        #: (lo, hi) per state component q_1 … q_k, q̇_1 … q̇_k while held: where the held pieces are
+        #: the tables themselves
+        self.window: list[tuple[float, float]] = [(-math.inf, math.inf)] * (2 * k)
 
     def __bool__(self) -> bool:
         return bool(self.tables)
 
-    def hold(self, q: Sequence[float], direction: Sequence[float]) -> list[tuple[float, float]]:
-        """Hold, for the state ``q`` moving in ``direction`` (the rates, or the accelerations
-        where a rate is 0), each table's piece; the window of each input."""
-        window = [(-math.inf, math.inf)] * self.k
-        for table in self.tables:
+    def hold(self, y: Sequence[float], direction: Sequence[float]) -> list[tuple[float, float]]:
+        """Hold, for the state ``y`` = (q, q̇) moving in ``direction`` (per component: its rate,
+        or where that is 0 its acceleration), each table's piece; the window of each component."""
+        window = [(-math.inf, math.inf)] * (2 * self.k)
+        for table, store in zip(self.tables, self.stores):
             i = table.index
-            lo, hi, line = table.piece(q[i], direction[i])
-            frames.HELD[table.key] = line
+            lo, hi, line = table.piece(y[i], direction[i])
+            store[table.key] = line
             w_lo, w_hi = window[i]
             window[i] = (max(lo, w_lo), min(hi, w_hi))
         self.window = window
         return window
 
-    def held(self) -> dict[tuple[int, int], tuple[float, float, float, float]]:
-        """The lines held now (a copy: what a step's dense output is evaluated with later)."""
-        return {t.key: frames.HELD[t.key] for t in self.tables if t.key in frames.HELD}
+    def held(self) -> list[tuple[dict[Any, Any], Any, tuple[float, float, float, float]]]:
+        """The lines held now, (store, key, line) (what a step's dense output is evaluated with later)."""
+        return [(store, t.key, store[t.key]) for t, store in zip(self.tables, self.stores) if t.key in store]
 
     def release(self) -> None:
-        for table in self.tables:
-            frames.HELD.pop(table.key, None)
-        self.window = [(-math.inf, math.inf)] * self.k
+        for table, store in zip(self.tables, self.stores):
+            store.pop(table.key, None)
+        self.window = [(-math.inf, math.inf)] * (2 * self.k)
 
 
 def breaks_of(model: Any) -> Breaks:
-    """The breakpoints of a :class:`~solver.dynamics.ReducedModel`'s scene (none without tables
-    of an input)."""
+    """The breakpoints of a :class:`~solver.dynamics.ReducedModel`'s scene: its tables of an
+    input's coordinate and its motors' torque–speed tables (kinks in the input's rate)."""
     inputs = list(model.inputs)
+    k = len(inputs)
     tables = []
+    stores: list[dict[Any, Any]] = []
     for load in model.spec.loads:
         if not isinstance(load, TableForce) or load.joint not in inputs:
             continue
@@ -116,4 +124,9 @@ def breaks_of(model: Any) -> Breaks:
             knots.append(at[0] + period)
         key = (id(load.at), id(load.force))
         tables.append(_Table(key, inputs.index(load.joint), tuple(knots), tuple(values), period))
-    return Breaks(tables, len(inputs))
+        stores.append(frames.HELD)
+    for joint, motor in model.motors.items():
+        if not motor.linear and joint in inputs and len(motor.speeds) > 1:
+            tables.append(_Table(id(motor), k + inputs.index(joint), tuple(motor.speeds), tuple(motor.torques), 0.0))
+            stores.append(drive_held)
+    return Breaks(tables, k, stores)

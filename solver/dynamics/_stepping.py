@@ -19,7 +19,6 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from ..errors import AssemblyError
-from ..forces import frames
 from ..tolerances import DYNAMICS_KINK_AIM, DYNAMICS_KINK_MISS, DYNAMICS_TOGGLE
 from ._breaks import Breaks
 from ._rk import (
@@ -59,7 +58,8 @@ class Integrator:
 
     def __init__(self, f: Rhs, t0: float, y0: Sequence[float], *, k: int, method: str = "DOP853",
                  rtol: float = 1e-9, atol: float = 1e-9, step: float | None = None, max_step: float = math.inf,
-                 breaks: Breaks | None = None, conditioning: Callable[[], float] | None = None) -> None:
+                 breaks: Breaks | None = None, conditioning: Callable[[], float] | None = None,
+                 caps: Sequence[float] = ()) -> None:
         if method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         self.f, self.k, self.method = f, k, method
@@ -67,11 +67,14 @@ class Integrator:
         #: end does not is halved until its end is there: a fixed step must not jump across one)
         self._conditioning = conditioning
         self.rtol, self.atol, self.max_step = rtol, atol, max_step
+        #: per component, the size that the relative tolerance is at most taken of (an angle: a
+        #: turn's worth, not the turns it has made)
+        self.caps = tuple(caps)
         self.breaks = breaks if breaks else None
         self.t = float(t0)
         self.y = [float(v) for v in y0]
         self.nfev = 0
-        self._held: dict[Any, Any] = {}
+        self._held: list[tuple[dict[Any, Any], Any, Any]] = []
         self._window: list[tuple[float, float]] | None = None  # held at the first step, with fy's direction
         self.fy = self._f(self.t, self.y)
         if method == "RK4":
@@ -96,15 +99,15 @@ class Integrator:
             return
         if self._window is None:
             k = self.k
-            q = at if at is not None else self.y[:k]
+            q = at if at is not None else self.y[:2 * k]
             if direction is None:
-                rates = self.y[k:2 * k]
-                accel = self.fy[k:2 * k]
-                direction = [w if w != 0.0 else a for w, a in zip(rates, accel)]
+                rates = self.fy[:2 * k]
+                direction = [w if w != 0.0 else a for w, a in zip(rates, self.fy[k:2 * k] + [0.0] * k)]
             self._window = self.breaks.hold(q, direction)
             self._held = self.breaks.held()
         else:
-            frames.HELD.update(self._held)
+            for store, key, line in self._held:
+                store[key] = line
 
     def _let_go(self) -> None:
         if self.breaks is not None:
@@ -129,7 +132,9 @@ class Integrator:
         k, y, fy = self.k, self.y, self.fy
         best = h
         for i, (lo, hi) in enumerate(window):
-            q, w, e = y[i], y[k + i], fy[k + i]
+            if lo == -math.inf and hi == math.inf:
+                continue
+            q, w, e = y[i], fy[i], (fy[k + i] if i < k else 0.0)  # a rate's window: linear in time
             for bound, ahead in ((lo, q > lo), (hi, q < hi)):
                 # (a state a rounding outside its window, just past a kink: that end is behind it)
                 if ahead and math.isfinite(bound):
@@ -169,7 +174,7 @@ class Integrator:
                 raise StepFailure(t, y, *fault)
             try:
                 y_new, f_new, cols = dop853_step(self._f, t, y, fy, h)
-                err = error_norm(cols, h, y, y_new, self.rtol, self.atol)
+                err = error_norm(cols, h, y, y_new, self.rtol, self.atol, self.caps)
             except AssemblyError as exc:
                 fault = (exc.group, exc.reason)
                 err = math.nan
@@ -279,8 +284,8 @@ class Integrator:
             return
         i, bound = crossed
         k = self.k
-        q = list(y[:k])
-        direction = [w if w != 0.0 else 1.0 for w in y[k:2 * k]]
+        q = list(y[:2 * k])
+        direction = [w if w != 0.0 else 1.0 for w in y[k:2 * k]] + [0.0] * k
         lo, hi = self._window[i] if self._window is not None else (-math.inf, math.inf)
         up = bound == hi
         direction[i] = 1.0 if up else -1.0
@@ -301,19 +306,20 @@ class _LazyDense(Dense):
     def __init__(self, owner: Integrator, t: float, y: list[float], y_new: list[float], fy: list[float],
                  f_new: list[float], cols: list[list[float]], h: float) -> None:
         super().__init__(t, h, y, [])
-        self._owner, self._held, self._dense = owner, dict(owner._held), None
+        self._owner, self._held, self._dense = owner, list(owner._held), None
         self._args = (y_new, fy, f_new, cols)
 
     def __call__(self, t: float) -> list[float]:
         if self._dense is None:
             y_new, fy, f_new, cols = self._args
             owner = self._owner
-            frames.HELD.update(self._held)
+            for store, key, line in self._held:
+                store[key] = line
             try:
                 self._dense = dop853_dense(owner._f, self.t_old, self.y_old, y_new, fy, f_new, cols, self.h)
             finally:
-                for key in self._held:
-                    frames.HELD.pop(key, None)
+                for store, key, _ in self._held:
+                    store.pop(key, None)
             self._args = None  # type: ignore[assignment]
         return self._dense(t)
 
