@@ -106,7 +106,7 @@ DYNAMICS_TOGGLE: float = NEAR_SINGULAR
 #: Breakpoints (solver.dynamics._breaks): an adaptive step toward a table's kink is aimed this
 #: fraction past the predicted crossing (q + q̇τ + ½q̈τ², off by O(τ³)), so that it passes the kink
 #: and is cut there on its dense output instead of ending just short of it (a tiny step more).
-DYNAMICS_KINK_AIM: float = 1.0e-3
+DYNAMICS_KINK_AIM: float = 0.0
 #: A fixed (RK4) step that ends within this fraction of its move from a kink counts as on it (the
 #: next piece is taken from there: an error O(miss²·Δslope), below RK4's own); beyond, the step is
 #: tried once more to the crossing of its cubic Hermite interpolant.

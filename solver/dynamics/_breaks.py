@@ -77,6 +77,10 @@ class Breaks:
         self.k = k
         #: per table, the dict its held line goes into (frames.HELD, or drive.HELD for a motor)
         self.stores = tuple(stores) or (frames.HELD,) * len(self.tables)
+        #: whether a table jumps at a kink (one shorter than its period, its ends unequal): f must
+        #: then be evaluated anew on the next piece
+        self.jumps = any(t.period and t.knots[-1] != t.knots[len(t.values) - 1] and t.values[-1] != t.values[0]
+                         for t in self.tables)
         #: (lo, hi) per state component q_1 … q_k, q̇_1 … q̇_k while held: where the held pieces are
         #: the tables themselves
         self.window: list[tuple[float, float]] = [(-math.inf, math.inf)] * (2 * k)

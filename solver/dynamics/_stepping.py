@@ -75,6 +75,8 @@ class Integrator:
         self.y = [float(v) for v in y0]
         self.nfev = 0
         self._held: list[tuple[dict[Any, Any], Any, Any]] = []
+        #: (t, q̈) at the last step's start: the jerk for aiming at a kink
+        self._previous: tuple[float, list[float]] | None = None
         self._window: list[tuple[float, float]] | None = None  # held at the first step, with fy's direction
         self.fy = self._f(self.t, self.y)
         if method == "RK4":
@@ -131,14 +133,24 @@ class Integrator:
             return h, False
         k, y, fy = self.k, self.y, self.fy
         best = h
+        previous = self._previous
         for i, (lo, hi) in enumerate(window):
             if lo == -math.inf and hi == math.inf:
                 continue
             q, w, e = y[i], fy[i], (fy[k + i] if i < k else 0.0)  # a rate's window: linear in time
+            # the jerk from the last step's two accelerations: q + q̇τ + ½q̈τ² + ⅙q⃛τ³, off by O(τ⁴)
+            jerk = (e - previous[1][i]) / (self.t - previous[0]) if previous and i < k else 0.0
             for bound, ahead in ((lo, q > lo), (hi, q < hi)):
                 # (a state a rounding outside its window, just past a kink: that end is behind it)
                 if ahead and math.isfinite(bound):
                     tau = _reach(bound - q, w, e)
+                    if tau is not None and jerk:
+                        for _ in range(2):  # Newton on the cubic from the quadratic's root
+                            slope = w + e * tau + 0.5 * jerk * tau * tau
+                            if slope == 0.0:
+                                break
+                            tau -= (w * tau + 0.5 * e * tau * tau + jerk * tau ** 3 / 6.0 - (bound - q)) / slope
+                        tau = tau if tau > 0.0 else None
                     if tau is not None and tau < best:
                         best = tau
         if best >= h:
@@ -187,8 +199,13 @@ class Integrator:
             rejected, end = True, None
         h_next = h * factor
         dense: Dense | None = None
-        crossing = self._crossing(y_new)
-        if crossing is not None:
+        land = math.sqrt(self.rtol)  # a step this share of its move off a kink lands on it: O(δ²·Δslope)
+        crossing = self._crossing(y_new, slack=land)
+        if crossing is not None and (abs(y_new[crossing[0]] - crossing[1])
+                                     <= land * abs(y_new[crossing[0]] - y[crossing[0]])):
+            dense = _LazyDense(self, t, y, y_new, fy, f_new, cols, h)
+            self._advance(t + h if end is None else end, y_new, f_new=f_new, crossed=crossing)
+        elif crossing is not None:
             dense = dop853_dense(self._f, t, y, y_new, fy, f_new, cols, h)
             i, bound = crossing
             tau = _root(lambda s: dense.component(t + s, i) - bound, h)
@@ -245,7 +262,7 @@ class Integrator:
             if miss <= DYNAMICS_KINK_MISS * abs(y_new[i] - y[i]) or tau <= 0.0:
                 break
             h, tries, end = tau, 1, None  # once more, from the interpolant's crossing
-        crossing = self._crossing(y_new, snap=True)
+        crossing = self._crossing(y_new, slack=DYNAMICS_KINK_MISS)
         t_new = t + h if end is None else end
         if crossing is not None:
             self._advance(t_new, y_new, crossed=crossing)
@@ -253,9 +270,9 @@ class Integrator:
             self._advance(t_new, y_new, f_new=f_new)
         return hermite(t, h, y, y_new, fy, self.fy if crossing is not None else f_new)
 
-    def _crossing(self, y_new: list[float], *, snap: bool = False) -> tuple[int, float] | None:
-        """(input, the window's end) that the step passed first (or, ``snap``: reached within
-        DYNAMICS_KINK_MISS of the step), or None."""
+    def _crossing(self, y_new: list[float], *, slack: float = 0.0) -> tuple[int, float] | None:
+        """(component, the window's end) that the step passed first (or reached within ``slack``
+        of the step's move), or None."""
         window = self._window
         if window is None:
             return None
@@ -264,9 +281,9 @@ class Integrator:
         best = -math.inf
         for i, (lo, hi) in enumerate(window):
             q, dq = y_new[i], y_new[i] - y[i]
-            slack = DYNAMICS_KINK_MISS * abs(dq) if snap else 0.0
+            near = slack * abs(dq)
             for bound, past, toward in ((hi, q - hi, dq > 0.0), (lo, lo - q, dq < 0.0)):
-                if toward and past > -slack and math.isfinite(bound):
+                if toward and past > -near and math.isfinite(bound):
                     # the earliest crossing: the one the step passed by the most, relative to its move
                     share = past / abs(dq) if dq else math.inf
                     if share > best:
@@ -277,6 +294,8 @@ class Integrator:
     def _advance(self, t: float, y: list[float], *, f_new: list[float] | None = None,
                  crossed: tuple[int, float] | None = None) -> None:
         """The new step's start; after a crossing, the next piece is held and f evaluated anew."""
+        k = self.k
+        self._previous = (self.t, self.fy[k:2 * k]) if t > self.t else None
         self.t, self.y = t, y
         if crossed is None:
             assert f_new is not None
@@ -284,6 +303,7 @@ class Integrator:
             return
         i, bound = crossed
         k = self.k
+        reuse = f_new is not None and not self.breaks.jumps  # type: ignore[union-attr]
         q = list(y[:2 * k])
         direction = [w if w != 0.0 else 1.0 for w in y[k:2 * k]] + [0.0] * k
         lo, hi = self._window[i] if self._window is not None else (-math.inf, math.inf)
@@ -293,7 +313,8 @@ class Integrator:
         self._let_go()
         self._window = None
         self._hold(q, direction)
-        self.fy = self._f(t, y)
+        # the tables are continuous at their kinks: f there is the same on either piece
+        self.fy = f_new if reuse else self._f(t, y)  # type: ignore[assignment]
 
 
 class _LazyDense(Dense):

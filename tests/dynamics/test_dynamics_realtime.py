@@ -81,11 +81,12 @@ def test_dop853_steps_breakpoint_to_breakpoint_through_the_gas_table(engine: sol
     run = engine.simulate(0.1, omega0=200.0, rtol=1e-8, atol=1e-8)
     assert abs(run.phi[-1] - reference.phi[-1]) <= 1e-9 * abs(reference.phi[-1])
     assert abs(run.omega[-1] - reference.omega[-1]) <= 1e-9 * abs(reference.omega[-1])
-    # every 5° entry crossed lands on a step's end, and no step crawls into one: ≈ 16 evaluations each
+    # every 5° entry crossed lands on a step's end (within √rtol of the step's move: an error
+    # O(δ²·Δslope)), and no step crawls into one: about 12 evaluations a kink
     kinks = (reference.phi[-1] - reference.phi[0]) / math.radians(5.0)
-    assert run.evaluations <= 20 * kinks
+    assert run.evaluations <= 14 * kinks
     on_kinks = np.abs(np.remainder(np.degrees(run.phi[1:-1]) + 2.5, 5.0) - 2.5)
-    assert np.median(on_kinks) < 1e-9
+    assert np.median(on_kinks) < math.sqrt(1e-8) * 5.0
     # the energy balance holds across the kinks (W_other carries the gas force's work)
     assert np.max(np.abs(run.energy()["balance"])) < 1e-6 * np.ptp(run.energy()["kinetic"])
 
