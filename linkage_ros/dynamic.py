@@ -82,6 +82,9 @@ TOLERANCE_RANGE = (1.0e-13, 1.0e-3)
 REALTIME_WINDOW = 1.0
 #: Below this share of ``rate_hz`` ticks in a window the law says it falls behind.
 TICKS_WANTED = 0.99
+#: A tick advances the law by at most this many periods; a longer gap slips (the law falls
+#: behind the clock instead of taking ever longer ticks to catch up with it).
+MAX_GAP_TICKS = 20
 #: Parameters whose change restarts a dynamic run at ``phi0`` (as ``scene`` does).
 RESTARTING = frozenset({"mode", "dynamics_tolerance"})
 #: The tag of a dynamic law's segment while it moves (a hold is SEGMENT_HOLD).
@@ -151,6 +154,11 @@ class _DynamicLaw:
         self.realtime_factor = math.inf
         self.behind = ""
         self._window = (float(t0), 0.0, 0)  # (run time at its start, wall seconds spent, ticks)
+        #: the law's own time is the run time less ``_offset``: the time it let slip where a tick
+        #: found it more than MAX_GAP_TICKS ticks behind (it never catches up by ever longer ticks)
+        self._offset = 0.0
+        self._max_gap = MAX_GAP_TICKS / self.rate
+        self._command_wall: float | None = None  # the run time of the command in force
         self._t = float(t0)
         self._read()
         phi, w, e = self._state
@@ -160,12 +168,22 @@ class _DynamicLaw:
     def state(self, t: float) -> Any:
         """(φ, ω, ε) at run time ``t``: the dynamics advanced to ``t`` (a time before the last
         one asked for gives the last state: the run cannot go back)."""
-        if not self._held and t > self._t:
+        if not self._held and t > self._t + self._offset:
             start = time.perf_counter()
-            self._expire(t)
-            self._advance(t)
+            law = self._law_time(t)
+            self._expire(law, t)
+            self._advance(law)
             self._count(t, time.perf_counter() - start)
         return self._state
+
+    def _law_time(self, t: float) -> float:
+        """The law's time for run time ``t``; where that is more than MAX_GAP_TICKS ticks ahead of
+        the law, the rest slips (``_offset``): the law falls behind, it does not spiral."""
+        law = t - self._offset
+        if law - self._t > self._max_gap:
+            self._offset += law - self._t - self._max_gap
+            law = self._t + self._max_gap
+        return law
 
     def _count(self, t: float, spent: float) -> None:
         """One tick's wall time into the window; at its end, the real-time factor and the ticks."""
@@ -230,13 +248,15 @@ class _DynamicLaw:
                     f"keeping {list(self.efforts)}")
         if not all(isinstance(v, (int, float)) and math.isfinite(v) for v in values):
             return f"effort command rejected: non-finite value(s) {values}; keeping {list(self.efforts)}"
+        wall, t = t, t - self._offset
         if self._held:
             self._resume(self._state[0], (0.0,) * self.k, max(t, self._t))
         elif t > self._t:
-            self._expire(t)
+            t = self._law_time(wall)
+            self._expire(t, wall)
             self._advance(t)
         self.efforts = tuple(float(v) for v in values)
-        self._command_t = t
+        self._command_t, self._command_wall = max(t, self._t), wall
         self._restart_drive()
         return None
 
@@ -249,7 +269,7 @@ class _DynamicLaw:
         """From ``t`` on, the inputs' rates ``omega`` at the angle reached (φ continuous; a
         held law resumes there). ``epsilon`` is not used: the equation of motion gives it."""
         phi = self._state[0] if self._held else self.state(t)[0]
-        self._resume(phi, omega, max(t, self._t))
+        self._resume(phi, omega, max(t - self._offset, self._t))
         return self.segment_at(t)
 
     def set_epsilon(self, t: float, epsilon: Any) -> Segment:
@@ -283,12 +303,16 @@ class _DynamicLaw:
         self._stepper.set_drive(self._drive())
         self._read()
 
-    def _expire(self, t: float) -> None:
-        """A command older than ``timeout`` at ``t``: zero from the moment it went stale."""
+    def _expire(self, t: float, wall: float | None = None) -> None:
+        """A command older than ``timeout`` at law time ``t`` (or at run time ``wall``, the node's
+        clock, where the law let time slip): zero from the moment it went stale."""
         since = self._command_t
-        if since is None or t <= since + self.timeout or self.kind != "effort":
+        if since is None or self.kind != "effort":
             return
-        stale = since + self.timeout
+        late = wall is not None and self._command_wall is not None and wall > self._command_wall + self.timeout
+        if t <= since + self.timeout and not late:
+            return
+        stale = min(since + self.timeout, t)
         if stale > self._t:
             self._advance(stale)
             if self._held:
