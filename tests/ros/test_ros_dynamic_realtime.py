@@ -106,3 +106,22 @@ def test_a_law_that_falls_behind_says_so_once_and_reports_its_factor(monkeypatch
     ticks(2300, 4600)
     assert law.behind == "" and law.realtime_factor > 1.0 and not rt.take_events()
     assert rt.engine.frame(4.6).status == "ok"
+
+
+def test_a_long_gap_slips_and_the_timeout_still_holds_on_the_run_clock() -> None:
+    rt = Runtime({"mode": "dynamic", "rate_hz": RATE, "scene": "four_bar_loaded", "phi0": 0.3, "omega": 0.0,
+                  "effort_timeout": TIMEOUT_S})
+    start = 5 * NS
+    for i in range(51):
+        rt.tick(start + i * NS // 1000)
+    assert rt.command_efforts([COMMAND], start + 50 * NS // 1000) is None
+    rt.tick(start + 51 * NS // 1000)
+    assert rt.last_frame is not None and rt.last_frame.efforts["crank"] == pytest.approx(COMMAND, rel=1e-9)
+    law = rt.engine.motion
+    rt.tick(start + 3 * NS)  # the next tick 2.95 s later (a stalled process)
+    # the law went on by 20 ticks only (the rest slipped) and the command, stale on the run clock, is off
+    assert law._t == pytest.approx(0.051 + 0.020, abs=1e-9)
+    assert abs(rt.last_frame.efforts["crank"]) < 1e-9
+    assert "effort command timed out (0.2 s without one): efforts set to zero" in rt.take_events()
+    rt.tick(start + 3 * NS + NS // 1000)  # and from there on one tick a tick
+    assert law._t == pytest.approx(0.072, abs=1e-9)
