@@ -2,14 +2,17 @@
 breakpoint to breakpoint (solver.dynamics._breaks), on plain Python lists (solver.dynamics._rk).
 
 :meth:`Integrator.step` makes one accepted step and returns its interpolant (:class:`~._rk.Dense`,
-valid from the step's start to ``Integrator.t``). Where the scene has tables of an input, each
-step holds the pieces the motion is in; the step is aimed a little past the nearest end of the
-held window (from q + q̇τ + ½q̈τ² at its start) and, where it passes it, cut there — on DOP853's
-dense output (7th order) at the crossing; RK4 lands on its aim, with one more try from its
-cubic Hermite interpolant where it missed by more than ``tolerances.DYNAMICS_KINK_MISS`` of the
-step. The next step holds the next piece. Where a stage cannot be assembled the step is
-rejected and shrunk fivefold; below the spacing of floats at t the integrator fails with
-:class:`StepFailure` (the caller says where, with the group and the reason).
+valid from the step's start to ``Integrator.t``). Where the scene has tables of an input (or a
+motor's torque–speed table), each step holds the pieces the motion is in, and a step that would
+pass the nearest end of the held window is aimed at it (q + q̇τ + ½q̈τ² + ⅙q⃛τ³ at its start, the
+jerk from the last step). DOP853: a step that ends within √rtol of its move from the kink lands
+on it (the error O(δ²·Δslope)); one that passes it further is cut there on its dense output (7th
+order). RK4: it lands on its aim, with one more try from its cubic Hermite interpolant where it
+missed by more than ``tolerances.DYNAMICS_KINK_MISS`` of its move. The next step holds the next
+piece. Where a stage cannot be assembled the step is rejected and shrunk (DOP853: fivefold, RK4:
+halved, also where its stages pass a toggle its end does not reach); below the spacing of floats
+at t the integrator fails with :class:`StepFailure` (the caller says where, with the group and
+the reason).
 """
 
 from __future__ import annotations
@@ -58,8 +61,7 @@ class Integrator:
 
     def __init__(self, f: Rhs, t0: float, y0: Sequence[float], *, k: int, method: str = "DOP853",
                  rtol: float = 1e-9, atol: float = 1e-9, step: float | None = None, max_step: float = math.inf,
-                 breaks: Breaks | None = None, conditioning: Callable[[], float] | None = None,
-                 caps: Sequence[float] = ()) -> None:
+                 breaks: Breaks | None = None, conditioning: Callable[[], float] | None = None) -> None:
         if method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         self.f, self.k, self.method = f, k, method
@@ -67,9 +69,6 @@ class Integrator:
         #: end does not is halved until its end is there: a fixed step must not jump across one)
         self._conditioning = conditioning
         self.rtol, self.atol, self.max_step = rtol, atol, max_step
-        #: per component, the size that the relative tolerance is at most taken of (an angle: a
-        #: turn's worth, not the turns it has made)
-        self.caps = tuple(caps)
         self.breaks = breaks if breaks else None
         self.t = float(t0)
         self.y = [float(v) for v in y0]
@@ -186,7 +185,7 @@ class Integrator:
                 raise StepFailure(t, y, *fault)
             try:
                 y_new, f_new, cols = dop853_step(self._f, t, y, fy, h)
-                err = error_norm(cols, h, y, y_new, self.rtol, self.atol, self.caps)
+                err = error_norm(cols, h, y, y_new, self.rtol, self.atol)
             except AssemblyError as exc:
                 fault = (exc.group, exc.reason)
                 err = math.nan
