@@ -104,8 +104,10 @@ ZERO_TO_ROUNDING: float = 1e-12
 DYNAMICS_TOGGLE: float = NEAR_SINGULAR
 
 #: Breakpoints (solver.dynamics._breaks): an adaptive step toward a table's kink is aimed this
-#: fraction past the predicted crossing (q + q̇τ + ½q̈τ², off by O(τ³)), so that it passes the kink
-#: and is cut there on its dense output instead of ending just short of it (a tiny step more).
+#: fraction past its predicted crossing (q + q̇τ + ½q̈τ² + ⅙q⃛τ³, off by O(τ⁴)). 0: at it — a step
+#: that ends within √rtol of its move from the kink lands on it (an error O(δ²·Δslope)), one past
+#: it by more is cut on its dense output (three more evaluations), one short of it by more is
+#: followed by a short step. (1e-3, always past and cut: 16 evaluations a kink against 12.)
 DYNAMICS_KINK_AIM: float = 0.0
 #: A fixed (RK4) step that ends within this fraction of its move from a kink counts as on it (the
 #: next piece is taken from there: an error O(miss²·Δslope), below RK4's own); beyond, the step is
