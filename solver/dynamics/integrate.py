@@ -81,15 +81,25 @@ class Equation:
 
     def rates(self, t: float, y: list[float]) -> list[float]:
         """y' at (t, y) on plain lists (solver.dynamics._stepping); AssemblyError where the state
-        cannot be assembled. Keeps the state's conditioning in ``last_conditioning``."""
+        cannot be assembled. Keeps the state's conditioning in ``last_conditioning``. One input:
+        the stacked compiled pass read in place (ReducedModel.state's layout), no layer between."""
         k = self.k
+        if k == 1:
+            unit = self.model._stacked_unit  # (its ``function`` is replaced on the first call: read it each time)
+            flat = unit.function(y[0], y[1], 0.0)
+            size = unit.size
+            start = size + len(unit.conditioning)
+            self.last_conditioning = min(flat[size:start]) if start > size else 1.0
+            w = y[1]
+            effort = self.drive(t, y[:1], y[1:2])[0]
+            accel = (effort - flat[start]) / flat[start + 1]
+            if not self.works:
+                return [w, accel, 0.0, 0.0]
+            return [w, accel, effort * w, (-flat[start + 2] * w) if self.model.other is not None else 0.0]
         q, qd = y[:k], y[k:2 * k]
         qdd, qdrive, other, self.last_conditioning = self._solve(t, q, qd)
         if not self.works:
             return [*qd, *qdd, 0.0, 0.0]
-        if k == 1:
-            w = qd[0]
-            return [w, qdd[0], qdrive[0] * w, other[0] * w]
         return [*qd, *qdd, sum(a * b for a, b in zip(qdrive, qd)), sum(a * b for a, b in zip(other, qd))]
 
     def conditioning(self, t: float, y: np.ndarray) -> float:
