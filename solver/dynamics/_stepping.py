@@ -43,6 +43,9 @@ __all__ = ["Integrator", "StepFailure", "METHODS"]
 
 #: the methods of this loop: adaptive DOP853, fixed-step RK4
 METHODS = ("DOP853", "RK4")
+#: RK4 watches its stages' conditioning (for a toggle between a step's ends) from a step that
+#: starts below this (1: well conditioned)
+WATCH_BELOW = 0.5
 
 
 class StepFailure(Exception):
@@ -229,7 +232,7 @@ class Integrator:
                 raise StepFailure(t, y, *fault)
             worst = [math.inf]
             f = self._f
-            if self._conditioning is not None:
+            if self._conditioning is not None and self._conditioning() < WATCH_BELOW:
                 read = self._conditioning
 
                 def f(t: float, y: list[float], worst: list[float] = worst, read: Any = read) -> list[float]:
