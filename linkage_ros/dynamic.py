@@ -5,7 +5,8 @@ asks a :class:`DynamicMotion` (one input) or :class:`DynamicMotions` (several) f
 at the tick's run time, and that law advances the scene's forward dynamics
 (:class:`solver.dynamics.Stepper` with RK4 at a fixed step landing on every tick, breakpoint to
 breakpoint across a table's kinks; the step is chosen from ``dynamics_tolerance`` for the
-``rate_hz`` at the start by :func:`solver.dynamics.fixed_step`: at most 16 steps a tick) from
+``rate_hz`` at the start by :func:`solver.dynamics.fixed_step`: at most 16 steps a tick, and
+only as many as fit in a quarter of a tick on this machine) from
 ``phi0`` / ``omega`` (``input_phi0s`` / ``input_omegas``). The
 laws have the interface of :class:`~linkage_ros.motion.Motion` / :class:`~linkage_ros.motion.Motions`,
 so the engine, the fast path, the messages and the recorder are those of the kinematic mode: a
@@ -82,6 +83,9 @@ TOLERANCE_RANGE = (1.0e-13, 1.0e-3)
 REALTIME_WINDOW = 1.0
 #: Below this share of ``rate_hz`` ticks in a window the law says it falls behind.
 TICKS_WANTED = 0.99
+#: The share of a tick's period the law's steps may take (solver.dynamics.fixed_step's budget:
+#: more steps a tick only while they fit, the tolerance second to real time).
+TICK_BUDGET = 0.25
 #: A tick advances the law by at most this many periods; a longer gap slips (the law falls
 #: behind the clock instead of taking ever longer ticks to catch up with it).
 MAX_GAP_TICKS = 20
@@ -148,7 +152,7 @@ class _DynamicLaw:
         self.rate = float(rate)
         #: the RK4 step (s) and its error over 50 ticks in units of the tolerance (solver.dynamics.fixed_step)
         self.step, self.step_error = fixed_step(scene, period=1.0 / self.rate, tolerance=self.tolerance, phi0=phi0,
-                                                omega0=omega, drive=self._drive())
+                                                omega0=omega, drive=self._drive(), budget=TICK_BUDGET / self.rate)
         self._stepper = self._new_stepper(phi0, omega, float(t0))
         #: run time over wall time of the last full window (inf before the first); "" or why it is behind
         self.realtime_factor = math.inf

@@ -16,6 +16,7 @@ straddles the change.
 from __future__ import annotations
 
 import math
+import time
 from typing import Any
 
 import numpy as np
@@ -146,14 +147,16 @@ class Stepper:
 
 def fixed_step(
     scene: Any, *, period: float, tolerance: float, phi0: Any = None, omega0: Any = 0.0, drive: Any = None,
-    max_substeps: int = MAX_SUBSTEPS, horizon: int = FIXED_HORIZON,
+    max_substeps: int = MAX_SUBSTEPS, horizon: int = FIXED_HORIZON, budget: float | None = None,
 ) -> tuple[float, float]:
     """(step, error): the RK4 step for ticks of ``period`` s — period/n, n = 1, 2, 4 … up to
     ``max_substeps`` — whose error over ``horizon`` ticks from the initial state, against the
     adaptive DOP853 at a hundredth of ``tolerance``, is within ``tolerance``·(1 + |q|, |q̇|) (the
-    error's size in those units, > 1 where even the largest n misses it). (Not n against 2n: the
-    kinks of a table cut the steps of both alike.) A run that stops on the way (a toggle, an
-    assembly limit) is compared up to where both reached."""
+    error's size in those units, > 1 where the n taken misses it). (Not n against 2n: the kinks
+    of a table cut the steps of both alike.) ``budget`` (s): the wall time a tick may take here;
+    an n whose ticks took longer is not taken (real time before the tolerance: the error says by
+    how much it is missed). A run that stops on the way (a toggle, an assembly limit) is
+    compared up to where both reached."""
     k = len(scene.inputs)
     fine = tolerance / 100.0
     reference = Stepper(scene, phi0=phi0, omega0=omega0, drive=drive, rtol=fine, atol=fine, works=False)
@@ -164,10 +167,11 @@ def fixed_step(
         except DynamicsError:
             break
     n = 1
-    error = math.inf
+    best = (period, math.inf)
     while ticks:
         stepper = Stepper(scene, phi0=phi0, omega0=omega0, drive=drive, method="RK4", step=period / n, works=False)
         worst = 0.0
+        start = time.perf_counter()
         for i, expected in enumerate(ticks, start=1):
             try:
                 got = stepper.advance(i * period)[:2 * k]
@@ -175,8 +179,11 @@ def fixed_step(
                 worst = math.inf
                 break
             worst = max(worst, float(np.max(np.abs(got - expected) / (tolerance * (1.0 + np.abs(expected))))))
-        error = worst
-        if error <= 1.0 or 2 * n > max_substeps:
+        per_tick = (time.perf_counter() - start) / len(ticks)
+        if budget is not None and per_tick > budget and n > 1:
+            break  # the last n that kept within the budget
+        best = (period / n, worst)
+        if worst <= 1.0 or 2 * n > max_substeps:
             break
         n *= 2
-    return period / n, error
+    return best

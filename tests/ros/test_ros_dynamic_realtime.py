@@ -39,7 +39,16 @@ def test_an_effort_command_stops_at_its_timeout_within_a_tick_and_the_stamps_fol
     start = len(listener.by_topic["/rt/joint_states"])
     sent_ns = time.time_ns()
     publisher.publish(Float64MultiArray(data=[COMMAND]))
-    client.spin_for(1.0)
+
+    def latest() -> int:
+        topic = listener.by_topic["/rt/joint_states"]
+        if len(topic) <= start:
+            return 0
+        js = decode(topic[-1], "sensor_msgs/msg/JointState")
+        return int(js.header.stamp.sec * NS + js.header.stamp.nanosec)
+
+    # (on a loaded machine the ticks come late: wait for one well past the timeout)
+    assert client.spin_until(lambda: latest() > sent_ns + round((TIMEOUT_S + 0.3) * NS), 30.0), process.output()
     ticks = []
     for data in listener.by_topic["/rt/joint_states"][start:]:
         js = decode(data, "sensor_msgs/msg/JointState")
@@ -56,7 +65,7 @@ def test_an_effort_command_stops_at_its_timeout_within_a_tick_and_the_stamps_fol
     # the stamps: the wall clock's, increasing (how many ticks a second a loaded machine delivers
     # is bench.node_dynamic's to measure, not a test's)
     stamps = [stamp for stamp, _ in ticks]
-    assert abs(stamps[-1] - time.time_ns()) < 2 * NS
+    assert sent_ns - 5 * NS < stamps[0] and stamps[-1] <= time.time_ns()  # the wall clock's epoch, not run time
     assert all(b > a for a, b in zip(stamps, stamps[1:]))
     assert "effort command timed out (0.2 s without one): efforts set to zero" in process.output()
 
