@@ -140,3 +140,9 @@ def test_fixed_step_meets_the_tolerance_at_a_ticks_rate(engine: solver.Scene) ->
     for i in range(1, 21):
         a, b = fixed.advance(i * 1e-3), adaptive.advance(i * 1e-3)
         assert abs(a[1] - b[1]) <= 1e-9 * (1 + abs(b[1]))
+
+
+def test_fixed_step_takes_no_more_steps_than_fit_its_budget() -> None:
+    scene = solver.load_scene("harvester_finger")  # 8 steps a tick for 1e-9 without a budget
+    step, error = fixed_step(scene, period=1e-3, tolerance=1e-9, horizon=10, budget=0.0)
+    assert step == 1e-3 and error > 1.0  # one step a tick, and the error says the tolerance is missed
