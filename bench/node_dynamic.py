@@ -2,6 +2,7 @@
 
     .venv/bin/python -m bench.node_dynamic                          # four_bar_loaded, 1 kHz, 3 rounds
     .venv/bin/python -m bench.node_dynamic --rounds 5 --seconds 20 --scene four_bar_loaded
+    .venv/bin/python -m bench.node_dynamic --scenes --rounds 2 --seconds 10   # issue 32: four scenes
 
 Two node processes on localhost, one at a time, in a ROS domain of their own (as
 :mod:`bench.node_floor`, whose measuring it uses): the ``kinematic`` node (``-p omega:=OMEGA``,
@@ -88,6 +89,83 @@ def run(opts: argparse.Namespace) -> list[dict[str, dict[str, float]]]:
     return results
 
 
+#: issue 32: every shipped scene with a motor or an effort input, with its start (tipper: inside
+#: its stroke; under zero effort it sinks to the closed end and holds there)
+SCENES: dict[str, list[str]] = {
+    "engine": ["-p", "omega:=200.0"],
+    "four_bar_loaded": ["-p", "phi0:=0.3", "-p", "omega:=0.0"],
+    "harvester_finger": ["-p", "omega:=0.0"],
+    "tipper": ["-p", "phi0:=1.0", "-p", "omega:=0.0"],
+}
+
+
+def run_scenes(opts: argparse.Namespace) -> dict[str, list[dict[str, float]]]:
+    """The dynamic node alone on each of SCENES: ``{scene: [measure per round]}``."""
+    os.environ["ROS_DOMAIN_ID"] = os.environ.get("LINKAGE_ROS_DOMAIN_ID", str(150 + os.getpid() % 50))
+    os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
+    node_exe = str(Path(sys.prefix) / "bin" / "mechanism_node")
+    if not Path(node_exe).is_file():
+        node_exe = shutil.which("mechanism_node") or sys.exit("mechanism_node is not installed")
+    import rclpy
+    from rclpy.qos import QoSProfile, ReliabilityPolicy
+
+    from linkage_ros.messages import JOINT_STATES
+    from linkage_ros.node import make_executor, message_classes
+    from linkage_ros.runtime import Runtime
+
+    rclpy.init()
+    node = rclpy.create_node("node_dynamic_scenes_bench")
+    executor = make_executor("events")
+    executor.add_node(node)
+    qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
+    counters = {}
+    for scene in SCENES:
+        counters[scene] = Counter()
+        topics = dict(Runtime({"scene": scene, "phi0": 1.0}).topics if scene == "tipper" else _topics(scene))
+        classes = message_classes(sorted(set(topics.values())))
+        for topic, typename in topics.items():
+            node.create_subscription(classes[typename], f"/{scene}/{topic}",
+                                     counters[scene] if topic == JOINT_STATES else _ignore, qos, raw=True)
+    root = Path(__file__).resolve().parents[1]
+    results: dict[str, list[dict[str, float]]] = {scene: [] for scene in SCENES}
+    process: subprocess.Popen[bytes] | None = None
+    try:
+        for k in range(opts.rounds):
+            for scene, extra in SCENES.items():
+                argv = [node_exe, "--ros-args", "-r", f"__ns:=/{scene}", "-p", f"scene:={scene}", "-p",
+                        "mode:=dynamic", "-p", f"rate_hz:={float(opts.rate)!r}", *extra]
+                process = subprocess.Popen(argv, cwd=root, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                           env=dict(os.environ))
+                row = measure(process, counters[scene], executor, seconds=opts.seconds, warmup=opts.warmup,
+                              rate=opts.rate)
+                _end(process)
+                process = None
+                _print_round("events", k + 1, scene, row)
+                results[scene].append(row)
+    finally:
+        if process is not None:
+            _end(process)
+        executor.shutdown(timeout_sec=1.0)
+        node.destroy_node()
+        rclpy.try_shutdown()
+    return results
+
+
+def scenes_summary(results: dict[str, list[dict[str, float]]]) -> list[str]:
+    lines = []
+    worst = 1.0
+    for scene, rows in results.items():
+        got = [r["delivered"] for r in rows]
+        cpu = [r["cpu"] for r in rows]
+        worst = min(worst, min(got))
+        lines.append(f"{scene}: delivered {100 * statistics.median(got):.2f} % [{100 * min(got):.2f}–"
+                     f"{100 * max(got):.2f}], CPU {100 * statistics.median(cpu):.1f} % of a core")
+    verdict = "PASS" if worst >= TARGET_DELIVERED else "FAIL"
+    lines.append(f"RESULT {verdict}: every scene delivered >= {100 * worst:.2f} % of its ticks "
+                 f"(target >= {100 * TARGET_DELIVERED:g} %)")
+    return lines
+
+
 def summary(results: Sequence[dict[str, dict[str, float]]]) -> list[str]:
     """The medians [min–max], the per-round ratio dynamic / kinematic, the worst delivered, RESULT."""
     def spread(values: list[float], scale: float = 100.0, fmt: str = ".1f") -> str:
@@ -116,7 +194,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--scene", default="four_bar_loaded")
     parser.add_argument("--omega", type=float, default=3.0, help="the kinematic node's omega, rad/s")
     parser.add_argument("--phi0", type=float, default=0.3, help="the dynamic node's phi0, rad (released from rest)")
+    parser.add_argument("--scenes", action="store_true",
+                        help="the dynamic node alone on engine (omega 200), four_bar_loaded, harvester_finger, "
+                             "tipper (issue 32)")
     opts = parser.parse_args(argv)
+    if opts.scenes:
+        print(f"dynamic node on {', '.join(SCENES)} at {opts.rate:g} Hz, {opts.seconds:g} s windows after "
+              f"{opts.warmup:g} s warm-up, {opts.rounds} round(s), {os.cpu_count()} cores, load "
+              f"{' '.join(f'{v:.2f}' for v in os.getloadavg())}", flush=True)
+        for line in scenes_summary(run_scenes(opts)):
+            print(line)
+        print(f"load {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
+        return 0
     print(f"{opts.scene} at {opts.rate:g} Hz, {opts.seconds:g} s windows after {opts.warmup:g} s warm-up, "
           f"{opts.rounds} round(s) of the kinematic and the dynamic node, {os.cpu_count()} cores, "
           "a subscriber on every topic", flush=True)

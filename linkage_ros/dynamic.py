@@ -3,8 +3,11 @@
 In ``mode: dynamic`` (docs/ros.md, "Dynamic mode") the node does not prescribe φ(t): each tick
 asks a :class:`DynamicMotion` (one input) or :class:`DynamicMotions` (several) for the input state
 at the tick's run time, and that law advances the scene's forward dynamics
-(:class:`solver.dynamics.Stepper`: scipy's DOP853 stepped across the ticks, the state at a tick
-from its dense output) from ``phi0`` / ``omega`` (``input_phi0s`` / ``input_omegas``). The
+(:class:`solver.dynamics.Stepper` with RK4 at a fixed step landing on every tick, breakpoint to
+breakpoint across a table's kinks; the step is chosen from ``dynamics_tolerance`` for the
+``rate_hz`` at the start by :func:`solver.dynamics.fixed_step`: at most 16 steps a tick, and
+only as many as fit in a quarter of a tick on this machine) from
+``phi0`` / ``omega`` (``input_phi0s`` / ``input_omegas``). The
 laws have the interface of :class:`~linkage_ros.motion.Motion` / :class:`~linkage_ros.motion.Motions`,
 so the engine, the fast path, the messages and the recorder are those of the kinematic mode: a
 tick publishes (φ, ω, ε) with ε = M⁻¹(Q_drive − h) from the equation of motion, and the efforts
@@ -18,6 +21,14 @@ has one, else the effort commands). A command of the wrong length, with a non-fi
 while the drive is not ``effort`` is refused (:meth:`DynamicMotion.command` gives the one-line
 reason) and the last good command stays in force.
 
+The law keeps count of the wall time its ticks take against the run time they advance: over each
+second of run time, the real-time factor (run time / wall time computing it) and the share of the
+ticks it was asked for (against ``rate_hz``). Below 1 or under 99 % it says so — once in the
+node's log (``events``) and, while it lasts, in the frames' status ``behind`` (diagnostics WARN,
+with the factor): it never falls behind silently. A command's ``effort_timeout`` is enforced at
+its exact run time, whatever the ticks do (a late tick first advances to the moment the command
+went stale, then on with zero).
+
 Where the motion reaches a position the inputs cannot drive through (a toggle, an assembly
 limit: :class:`solver.DynamicsError`) the law holds the last state it reached (φ frozen, ω = ε =
 0): its segment is a hold, so the engine reports ``unassemblable`` with the error's message (the
@@ -29,13 +40,14 @@ from __future__ import annotations
 
 import math
 import threading
+import time
 from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from solver.dynamics import Stepper, reduced_model
+from solver.dynamics import Stepper, fixed_step, reduced_model
 from solver.errors import SolverError
 
 from .motion import SEGMENT_HOLD, Motion, Motions, Segment
@@ -69,6 +81,16 @@ EFFORT_TIMEOUT_RANGE = (1.0e-3, 3600.0)
 #: ``dynamics_tolerance``: the integrator's rtol = atol; its default and range.
 DEFAULT_TOLERANCE = 1.0e-9
 TOLERANCE_RANGE = (1.0e-13, 1.0e-3)
+#: The run time (s) over which the law measures its real-time factor and the ticks it was asked for.
+REALTIME_WINDOW = 1.0
+#: Below this share of ``rate_hz`` ticks in a window the law says it falls behind.
+TICKS_WANTED = 0.99
+#: The share of a tick's period the law's steps may take (solver.dynamics.fixed_step's budget:
+#: more steps a tick only while they fit, the tolerance second to real time).
+TICK_BUDGET = 0.25
+#: A tick advances the law by at most this many periods; a longer gap slips (the law falls
+#: behind the clock instead of taking ever longer ticks to catch up with it).
+MAX_GAP_TICKS = 20
 #: Parameters whose change restarts a dynamic run at ``phi0`` (as ``scene`` does).
 RESTARTING = frozenset({"mode", "dynamics_tolerance"})
 #: The tag of a dynamic law's segment while it moves (a hold is SEGMENT_HOLD).
@@ -114,7 +136,7 @@ class _DynamicLaw:
     Values are Python floats with one input and k-tuples with several (``self._pack``)."""
 
     def _setup(self, scene: Any, *, phi0: Any, omega: Any, drive: str, tolerance: float,
-               timeout: float, t0: float) -> None:
+               timeout: float, t0: float, rate: float = 1000.0) -> None:
         self.scene = scene
         self.k = len(scene.inputs)
         #: what drives the inputs now: motor, effort or free
@@ -132,8 +154,20 @@ class _DynamicLaw:
         #: the drive's effort at the last state (a float, or a k-tuple), and that state (φ, ω, ε)
         self.effort: Any = 0.0
         self._state: tuple[Any, Any, Any] = (0.0, 0.0, 0.0)
-        self._stepper = Stepper(scene, phi0=phi0, omega0=omega, drive=self._drive(), rtol=self.tolerance,
-                                atol=self.tolerance, t0=float(t0), works=False, interrupted=INTERRUPT.is_set)
+        self.rate = float(rate)
+        #: the RK4 step (s) and its error over 50 ticks in units of the tolerance (solver.dynamics.fixed_step)
+        self.step, self.step_error = fixed_step(scene, period=1.0 / self.rate, tolerance=self.tolerance, phi0=phi0,
+                                                omega0=omega, drive=self._drive(), budget=TICK_BUDGET / self.rate)
+        self._stepper = self._new_stepper(phi0, omega, float(t0))
+        #: run time over wall time of the last full window (inf before the first); "" or why it is behind
+        self.realtime_factor = math.inf
+        self.behind = ""
+        self._window = (float(t0), 0.0, 0)  # (run time at its start, wall seconds spent, ticks)
+        #: the law's own time is the run time less ``_offset``: the time it let slip where a tick
+        #: found it more than MAX_GAP_TICKS ticks behind (it never catches up by ever longer ticks)
+        self._offset = 0.0
+        self._max_gap = MAX_GAP_TICKS / self.rate
+        self._command_wall: float | None = None  # the run time of the command in force
         self._t = float(t0)
         self._read()
         phi, w, e = self._state
@@ -143,10 +177,42 @@ class _DynamicLaw:
     def state(self, t: float) -> Any:
         """(φ, ω, ε) at run time ``t``: the dynamics advanced to ``t`` (a time before the last
         one asked for gives the last state: the run cannot go back)."""
-        if not self._held and t > self._t:
-            self._expire(t)
-            self._advance(t)
+        if not self._held and t > self._t + self._offset:
+            start = time.perf_counter()
+            law = self._law_time(t)
+            self._expire(law, t)
+            self._advance(law)
+            self._count(t, time.perf_counter() - start)
         return self._state
+
+    def _law_time(self, t: float) -> float:
+        """The law's time for run time ``t``; where that is more than MAX_GAP_TICKS ticks ahead of
+        the law, the rest slips (``_offset``): the law falls behind, it does not spiral."""
+        law = t - self._offset
+        if law - self._t > self._max_gap:
+            self._offset += law - self._t - self._max_gap
+            law = self._t + self._max_gap
+        return law
+
+    def _count(self, t: float, spent: float) -> None:
+        """One tick's wall time into the window; at its end, the real-time factor and the ticks."""
+        t_start, busy, ticks = self._window
+        busy, ticks = busy + spent, ticks + 1
+        span = t - t_start
+        if span < REALTIME_WINDOW:
+            self._window = (t_start, busy, ticks)
+            return
+        self._window = (t, 0.0, 0)
+        self.realtime_factor = span / busy if busy > 0 else math.inf
+        share = ticks / (span * self.rate)
+        if self.realtime_factor < 1.0 or share < TICKS_WANTED:
+            behind = (f"dynamics fall behind real time: {self.realtime_factor:.2f}× real time, {100 * share:.1f} % "
+                      f"of the {self.rate:g} Hz ticks over the last {span:.2f} s")
+            if not self.behind:
+                self.events.append(behind)
+            self.behind = behind
+        else:
+            self.behind = ""
 
     def moving_state(self, t: float) -> Any:
         """:meth:`state`, or None while the law holds."""
@@ -191,13 +257,15 @@ class _DynamicLaw:
                     f"keeping {list(self.efforts)}")
         if not all(isinstance(v, (int, float)) and math.isfinite(v) for v in values):
             return f"effort command rejected: non-finite value(s) {values}; keeping {list(self.efforts)}"
+        wall, t = t, t - self._offset
         if self._held:
             self._resume(self._state[0], (0.0,) * self.k, max(t, self._t))
         elif t > self._t:
-            self._expire(t)
+            t = self._law_time(wall)
+            self._expire(t, wall)
             self._advance(t)
         self.efforts = tuple(float(v) for v in values)
-        self._command_t = t
+        self._command_t, self._command_wall = max(t, self._t), wall
         self._restart_drive()
         return None
 
@@ -210,7 +278,7 @@ class _DynamicLaw:
         """From ``t`` on, the inputs' rates ``omega`` at the angle reached (φ continuous; a
         held law resumes there). ``epsilon`` is not used: the equation of motion gives it."""
         phi = self._state[0] if self._held else self.state(t)[0]
-        self._resume(phi, omega, max(t, self._t))
+        self._resume(phi, omega, max(t - self._offset, self._t))
         return self.segment_at(t)
 
     def set_epsilon(self, t: float, epsilon: Any) -> Segment:
@@ -244,12 +312,16 @@ class _DynamicLaw:
         self._stepper.set_drive(self._drive())
         self._read()
 
-    def _expire(self, t: float) -> None:
-        """A command older than ``timeout`` at ``t``: zero from the moment it went stale."""
+    def _expire(self, t: float, wall: float | None = None) -> None:
+        """A command older than ``timeout`` at law time ``t`` (or at run time ``wall``, the node's
+        clock, where the law let time slip): zero from the moment it went stale."""
         since = self._command_t
-        if since is None or t <= since + self.timeout or self.kind != "effort":
+        if since is None or self.kind != "effort":
             return
-        stale = since + self.timeout
+        late = wall is not None and self._command_wall is not None and wall > self._command_wall + self.timeout
+        if t <= since + self.timeout and not late:
+            return
+        stale = min(since + self.timeout, t)
         if stale > self._t:
             self._advance(stale)
             if self._held:
@@ -293,14 +365,16 @@ class _DynamicLaw:
         self._state = (phi, zero, zero)
         self.effort = zero
 
+    def _new_stepper(self, phi0: Any, omega0: Any, t0: float) -> Stepper:
+        return Stepper(self.scene, phi0=phi0, omega0=omega0, drive=self._drive(), method="RK4", step=self.step,
+                       t0=t0, works=False, interrupted=INTERRUPT.is_set)
+
     def _resume(self, phi: Any, omega: Any, t: float) -> None:
         phis = [phi] if self.k == 1 else list(phi)
         rates = [float(omega)] * self.k if isinstance(omega, (int, float)) else [float(w) for w in omega]
-        self._stepper = Stepper(self.scene, phi0=phis if self.k > 1 else phis[0],
-                                omega0=rates if self.k > 1 else rates[0], drive=self._drive(),
-                                rtol=self.tolerance, atol=self.tolerance, t0=t, works=False,
-                                interrupted=INTERRUPT.is_set)
+        self._stepper = self._new_stepper(phis if self.k > 1 else phis[0], rates if self.k > 1 else rates[0], t)
         self._held, self.stop_message, self._t = False, "", t
+        self._window = (t, 0.0, 0)
         self._read()
 
     def _pack(self, values: Any) -> Any:
@@ -318,8 +392,9 @@ class DynamicMotion(_DynamicLaw, Motion):
 
     def __init__(self, scene: Any, *, phi0: float = 0.0, omega: float = 0.0, drive: str = "auto",
                  tolerance: float = DEFAULT_TOLERANCE, timeout: float = DEFAULT_EFFORT_TIMEOUT,
-                 t0: float = 0.0) -> None:
-        self._setup(scene, phi0=phi0, omega=omega, drive=drive, tolerance=tolerance, timeout=timeout, t0=t0)
+                 t0: float = 0.0, rate: float = 1000.0) -> None:
+        self._setup(scene, phi0=phi0, omega=omega, drive=drive, tolerance=tolerance, timeout=timeout, t0=t0,
+                    rate=rate)
 
     def __repr__(self) -> str:
         return f"DynamicMotion({self.scene.name}, drive {self.kind}, t = {self._t:g} s, state {self._state})"
@@ -330,9 +405,9 @@ class DynamicMotions(_DynamicLaw, Motions):
 
     def __init__(self, scene: Any, *, phi0: Sequence[float], omega: Sequence[float], drive: str = "auto",
                  tolerance: float = DEFAULT_TOLERANCE, timeout: float = DEFAULT_EFFORT_TIMEOUT,
-                 t0: float = 0.0) -> None:
+                 t0: float = 0.0, rate: float = 1000.0) -> None:
         self._setup(scene, phi0=list(phi0), omega=list(omega), drive=drive, tolerance=tolerance,
-                    timeout=timeout, t0=t0)
+                    timeout=timeout, t0=t0, rate=rate)
 
     def __len__(self) -> int:
         return self.k
@@ -352,7 +427,8 @@ def dynamic_law(scene: Any, settings: Mapping[str, Any], *, phi0: Any, omega: An
     without inertia) or ValueError (``drive: motor`` without a motor) when there is none."""
     options = {"drive": str(settings.get("drive", "auto")),
                "tolerance": float(settings.get("dynamics_tolerance", DEFAULT_TOLERANCE)),
-               "timeout": float(settings.get("effort_timeout", DEFAULT_EFFORT_TIMEOUT)), "t0": t0}
+               "timeout": float(settings.get("effort_timeout", DEFAULT_EFFORT_TIMEOUT)), "t0": t0,
+               "rate": float(settings.get("rate_hz", 1000.0))}
     if len(scene.inputs) == 1:
         return DynamicMotion(scene, phi0=float(phi0), omega=float(omega), **options)  # type: ignore[arg-type]
     return DynamicMotions(scene, phi0=tuple(phi0), omega=tuple(omega), **options)  # type: ignore[arg-type]

@@ -30,6 +30,7 @@ from solver.tolerances import NEAR_SINGULAR
 from .forces import LoadPair, force_layout, forces_row, frame_forces, run_forces, sampled_loads
 from .frame import (
     NO_VALUES,
+    STATUS_BEHIND,
     STATUS_NEAR_SINGULAR,
     STATUS_OK,
     STATUS_UNASSEMBLABLE,
@@ -308,6 +309,8 @@ class Engine:
                 conditioning, worst = value, group
         if holding:  # a dynamic law (linkage_ros.dynamic) says why it holds itself
             status, message = STATUS_UNASSEMBLABLE, getattr(self.motion, "stop_message", "") or self._event_message
+        elif getattr(self.motion, "behind", ""):  # a dynamic law that does not keep up with real time
+            status, message = STATUS_BEHIND, self.motion.behind  # type: ignore[union-attr]
         elif conditioning < self.near_singular_below:
             status = STATUS_NEAR_SINGULAR
             message = f"group '{worst}' near singular: conditioning {conditioning:.3g}"

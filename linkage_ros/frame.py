@@ -20,6 +20,7 @@ from numpy.typing import NDArray
 
 __all__ = [
     "NO_VALUES",
+    "STATUS_BEHIND",
     "STATUS_NEAR_SINGULAR",
     "STATUS_OK",
     "STATUS_UNASSEMBLABLE",
@@ -34,6 +35,8 @@ __all__ = [
 STATUS_OK = "ok"
 STATUS_NEAR_SINGULAR = "near_singular"
 STATUS_UNASSEMBLABLE = "unassemblable"
+#: A dynamic law that does not keep up with real time (diagnostics WARN with its real-time factor).
+STATUS_BEHIND = "behind"
 #: The efforts and loads of a frame without forces (read only).
 NO_VALUES: Mapping[str, Any] = MappingProxyType({})
 

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from .engine import Engine
-from .frame import STATUS_NEAR_SINGULAR, STATUS_OK, Frame
+from .frame import STATUS_BEHIND, STATUS_NEAR_SINGULAR, STATUS_OK, Frame
 from .load_messages import LoadMessages, tree_effort_joints
 from .msgtypes import TYPE_NAMES, MessageTypes
 from .topics import (
@@ -346,8 +346,8 @@ class MessageBuilder:
         S = self._DiagnosticStatus
         if frame.status == STATUS_OK:
             level, text = S.OK, "ok"
-        elif frame.status == STATUS_NEAR_SINGULAR:
-            level, text = S.WARN, frame.message or "near singular"
+        elif frame.status in (STATUS_NEAR_SINGULAR, STATUS_BEHIND):
+            level, text = S.WARN, frame.message or frame.status
         else:
             level, text = S.ERROR, frame.message or "cannot be assembled"
         KV = self._KeyValue
@@ -358,6 +358,9 @@ class MessageBuilder:
             else:
                 values.append(KV(key=key, value=repr(row)))
         values.append(KV(key="conditioning", value=f"{frame.conditioning:.6g}"))
+        factor = getattr(self.engine.motion, "realtime_factor", None)  # a dynamic law's
+        if factor is not None:
+            values.append(KV(key="realtime_factor", value=f"{factor:.3g}"))
         status = S(
             level=level,
             name=self.diagnostic_name,

@@ -23,6 +23,8 @@ __all__ = [
     "CLOSURE_ROUNDING",
     "ZERO_TO_ROUNDING",
     "DYNAMICS_TOGGLE",
+    "DYNAMICS_KINK_AIM",
+    "DYNAMICS_KINK_MISS",
     "EXACT_MISS",
 ]
 
@@ -100,6 +102,17 @@ ZERO_TO_ROUNDING: float = 1e-12
 #: still well resolved in double precision (M within about 1e6 of its typical size), so the
 #: integrator's event locates the stop to its tolerance instead of failing on a stiff step.
 DYNAMICS_TOGGLE: float = NEAR_SINGULAR
+
+#: Breakpoints (solver.dynamics._breaks): an adaptive step toward a table's kink is aimed this
+#: fraction past its predicted crossing (q + q̇τ + ½q̈τ² + ⅙q⃛τ³, off by O(τ⁴)). 0: at it — a step
+#: that ends within √rtol of its move from the kink lands on it (an error O(δ²·Δslope)), one past
+#: it by more is cut on its dense output (three more evaluations), one short of it by more is
+#: followed by a short step. (1e-3, always past and cut: 16 evaluations a kink against 12.)
+DYNAMICS_KINK_AIM: float = 0.0
+#: A fixed (RK4) step that ends within this fraction of its move from a kink counts as on it (the
+#: next piece is taken from there: an error O(miss²·Δslope), below RK4's own); beyond, the step is
+#: tried once more to the crossing of its cubic Hermite interpolant.
+DYNAMICS_KINK_MISS: float = 1.0e-6
 
 #: Synthesis (solver.synthesis): a design whose largest miss of its targets, checked by solving the
 #: returned scene, is at most this (m, or the joint's unit: rad, m) is "exact" — the round-off of

@@ -17,10 +17,16 @@ from typing import Any
 from ..errors import SolverError
 from ..forces.spec import Motor
 
-__all__ = ["Drive", "motor_torque", "make_drive"]
+__all__ = ["Drive", "HELD", "motor_torque", "make_drive"]
 
 #: Q_drive(t, q, qd) → one effort per input (N·m; N for a length input)
 Drive = Callable[[float, Sequence[float], Sequence[float]], Sequence[float]]
+
+
+#: The pieces of motors' torque–speed tables held by the integrators between two of a table's
+#: kinks (solver.dynamics._breaks, as solver.forces.frames.HELD for the loads' tables):
+#: id(motor) → (ω_mid, T_mid, slope, 0.0), the line of one piece, extended beyond its ends.
+HELD: dict[int, tuple[float, float, float, float]] = {}
 
 
 def motor_torque(motor: Motor, omega: float) -> float:
@@ -28,6 +34,10 @@ def motor_torque(motor: Motor, omega: float) -> float:
     if motor.linear:
         assert motor.stall is not None and motor.no_load is not None
         return motor.stall * (1.0 - omega / motor.no_load)
+    if HELD:
+        line = HELD.get(id(motor))
+        if line is not None:
+            return line[1] + line[2] * (omega - line[0])
     at, ts = motor.speeds, motor.torques
     if omega <= at[0]:
         return ts[0]

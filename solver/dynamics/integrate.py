@@ -1,13 +1,14 @@
-"""Forward dynamics: q̈ = M(q)⁻¹·(Q_drive − h(q, q̇)) integrated by scipy (docs/dynamics.md).
+"""Forward dynamics: q̈ = M(q)⁻¹·(Q_drive − h(q, q̇)) integrated in time (docs/dynamics.md).
 
 The state is (q, q̇) and two work integrals, W_drive = ∫Q_drive·q̇ dt and W_other = ∫Q_other·q̇ dt
 (the loads other than gravity and springs: dampers, forces, torques, tables), so that the energy
 balance T + V_gravity + V_springs − W_drive − W_other = const is checked on the run's own numbers.
 Positions always come from the closed form, so the loop cannot open: nothing is stabilised.
 
-``simulate`` hands the equation to :func:`scipy.integrate.solve_ivp` (DOP853 by default, dense
-output, events); :class:`Stepper` advances the same equation tick by tick with one of scipy's
-step-by-step solvers (the node: real time, efforts that change between ticks).
+``simulate`` integrates with DOP853 (adaptive, the accurate path) or RK4 (a fixed step) on the
+own step loop (solver.dynamics._stepping: plain Python numbers, breakpoint to breakpoint across
+the tables' kinks), or hands the equation to :func:`scipy.integrate.solve_ivp` (RK45, Radau);
+:class:`~solver.dynamics.stepper.Stepper` advances it tick by tick (the node).
 """
 
 from __future__ import annotations
@@ -23,13 +24,17 @@ from scipy.integrate import DOP853, RK45, Radau, solve_ivp
 from .._arguments import Arguments
 from ..errors import AssemblyError, DynamicsArgumentError, DynamicsError
 from ..tolerances import DYNAMICS_TOGGLE
-from ._guard import MAX_RATE, MAX_STEPS, STEPPER_STIFF_STEPS, RunGuard, rates_text
+from ._guard import MAX_RATE, MAX_STEPS, RunGuard, rates_text
+from ._run import run
 from .drive import Drive, make_drive
 from .reduced import ReducedModel, reduced_model
 
-__all__ = ["Equation", "Stepper", "Trajectory", "simulate"]
+__all__ = ["Equation", "Trajectory", "simulate"]
 
+#: scipy's methods (solve_ivp; the Stepper's adaptive one by name); DOP853 and RK4 run on the own
+#: step loop (solver.dynamics._stepping: breakpoint to breakpoint, no per-step numpy overhead)
 _METHODS = {"DOP853": DOP853, "RK45": RK45, "Radau": Radau}
+OWN_METHODS = ("DOP853", "RK4")
 
 
 class Equation:
@@ -40,6 +45,7 @@ class Equation:
         #: (group, reason, q) of the last call that could not be assembled
         self.fault: tuple[str, str, list[float]] | None = None
         self.faults = 0  # how many calls were unassemblable (trial stages beyond an assembly limit)
+        self.last_conditioning = 1.0  # of the last state :meth:`rates` was called at
         #: whether the two work integrals are integrated (False: their rates are 0, no pass for the
         #: other loads with several inputs)
         self.works = works
@@ -77,6 +83,42 @@ class Equation:
             w = qd[0]
             return np.array((w, qdd[0], qdrive[0] * w, other[0] * w))
         return np.array([*qd, *qdd, sum(a * b for a, b in zip(qdrive, qd)), sum(a * b for a, b in zip(other, qd))])
+
+    def rates(self, t: float, y: list[float]) -> list[float]:
+        """y' at (t, y) on plain lists (solver.dynamics._stepping); AssemblyError where the state
+        cannot be assembled (kept in ``fault`` with the state's coordinates, and counted, as
+        :meth:`__call__` does), NaN where it is not finite (a trial stage of a step that overflowed).
+        Keeps the state's conditioning in ``last_conditioning``."""
+        try:
+            return self._rates(t, y)
+        except AssemblyError as exc:
+            self.fault = (exc.group, exc.reason, list(y[:self.k]))
+            self.faults += 1
+            raise
+
+    def _rates(self, t: float, y: list[float]) -> list[float]:
+        """:meth:`rates` itself. Keeps the state's conditioning in ``last_conditioning``. One input:
+        the stacked compiled pass read in place (ReducedModel.state's layout), no layer between."""
+        k = self.k
+        if not all(map(math.isfinite, y[:2 * k])):  # a trial stage beyond an overflowing one: rejected too
+            return [math.nan] * len(y)
+        if k == 1:
+            unit = self.model._stacked_unit  # (its ``function`` is replaced on the first call: read it each time)
+            flat = unit.function(y[0], y[1], 0.0)
+            size = unit.size
+            start = size + len(unit.conditioning)
+            self.last_conditioning = min(flat[size:start]) if start > size else 1.0
+            w = y[1]
+            effort = self.drive(t, y[:1], y[1:2])[0]
+            accel = (effort - flat[start]) / flat[start + 1]
+            if not self.works:
+                return [w, accel, 0.0, 0.0]
+            return [w, accel, effort * w, (-flat[start + 2] * w) if self.model.other is not None else 0.0]
+        q, qd = y[:k], y[k:2 * k]
+        qdd, qdrive, other, self.last_conditioning = self._solve(t, q, qd)
+        if not self.works:
+            return [*qd, *qdd, 0.0, 0.0]
+        return [*qd, *qdd, sum(a * b for a, b in zip(qdrive, qd)), sum(a * b for a, b in zip(other, qd))]
 
     def conditioning(self, t: float, y: np.ndarray) -> float:
         k = self.k
@@ -173,11 +215,11 @@ def _initial(args: Arguments, value: Any, k: int, label: str) -> list[float]:
 
 
 def _checked(
-    args: Arguments, *, rtol: Any, atol: Any, method: Any
+    args: Arguments, *, rtol: Any, atol: Any, method: Any, methods: Sequence[str] = (*OWN_METHODS, *_METHODS)
 ) -> tuple[float, float, str]:
     """The integrator's tolerances and method, checked (simulate, Stepper)."""
     return (args.number("rtol", rtol, low=0.0, low_open=True), args.number("atol", atol, low=0.0, low_open=True),
-            args.choice("method", method, tuple(_METHODS)))
+            args.choice("method", method, tuple(dict.fromkeys(methods))))
 
 
 def _where(scene: Any, y: np.ndarray) -> str:
@@ -256,6 +298,7 @@ def simulate(
     max_step: float = math.inf,
     max_steps: float = MAX_STEPS,
     max_rate: float = MAX_RATE,
+    step: float | None = None,
 ) -> Trajectory:
     """Integrate the inputs from (``phi0``, ``omega0``) at t = 0 to ``t_end`` (s) under ``drive``
     (``phi0`` None: 0 for an angle, the closed length of an actuator's stroke)
@@ -280,6 +323,9 @@ def simulate(
     until_phi = args.number("until_phi", until_phi, none=True)
     events = args.functions("events", events)
     max_step = args.number("max_step", max_step, low=0.0, low_open=True, unit="s", infinite=True)
+    step = args.number("step", step, low=0.0, low_open=True, unit="s", none=True)
+    if method == "RK4" and step is None:
+        args.fail("step", step, "must be given with method 'RK4': the fixed step, a positive number of seconds")
     model = reduced_model(scene)
     k = model.k
     q0 = _start(scene) if phi0 is None else _initial(args, phi0, k, "phi0")
@@ -326,15 +372,29 @@ def simulate(
         t_eval = np.append(np.arange(0.0, t_end, dt), t_end)
         if t_eval.size > 1 and t_eval[-2] >= t_end:
             t_eval = t_eval[:-1]
-    sol = solve_ivp(eq, (0.0, float(t_end)), y0, method=method, rtol=rtol, atol=atol, dense_output=True,
-                    events=all_events, t_eval=t_eval, max_step=max_step)
-    ts, ys = sol.t, sol.y
+    if method in OWN_METHODS:
+        out = run(eq, float(t_end), y0.tolist(), method=method, rtol=rtol, atol=atol, step=step,
+                  max_step=max_step, events=[(ev, int(getattr(ev, "direction", 0))) for ev in all_events],
+                  t_eval=t_eval)
+        ts, ys, sol_status, hit, dense, nfev = out.t, out.y, out.status, out.hit, out.sol, out.nfev
+        if out.fault is not None and eq.fault is None:  # (the trial state's own, where a stage could not be assembled)
+            eq.fault = out.fault
+        last = dense.t_max
+    else:
+        sol = solve_ivp(eq, (0.0, float(t_end)), y0, method=method, rtol=rtol, atol=atol, dense_output=True,
+                        events=all_events, t_eval=t_eval, max_step=max_step)
+        ts, ys, sol_status, dense, nfev = sol.t, sol.y, sol.status, sol.sol, sol.nfev
+        hit = None
+        if sol.status == 1:  # an event
+            hit = next(i for i, te in enumerate(sol.t_events) if len(te))
+            te, ye = sol.t_events[hit][0], sol.y_events[hit][0]
+            if ts.size == 0 or ts[-1] < te:
+                ts, ys = np.append(ts, te), np.column_stack([ys, ye])
+        last = sol.sol.t_max if sol.sol is not None else ts[-1]
     status, message = "done", ""
-    if sol.status == 1:  # an event
-        hit = next(i for i, te in enumerate(sol.t_events) if len(te))
-        te, ye = sol.t_events[hit][0], sol.y_events[hit][0]
-        if ts.size == 0 or ts[-1] < te:
-            ts, ys = np.append(ts, te), np.column_stack([ys, ye])
+    if sol_status == 1:  # an event
+        ye = ys[:, -1]
+        assert hit is not None
         if hit == 0:
             status = "toggle"
             message = (f"reaches a singular position of group '{eq.worst_group(ye)}' (a toggle: the inputs cannot "
@@ -347,14 +407,13 @@ def simulate(
             message = guard.runaway_text() if status == "runaway" else guard.reason or ""
         else:
             status = "until"
-    elif sol.status == -1:
+    elif sol_status == -1:
         status = "assembly"
-        message = _limit_message(scene, eq.fault, sol.message)
-        last = sol.sol.t_max if sol.sol is not None else ts[-1]
+        message = _limit_message(scene, eq.fault, "the step size fell below the spacing of floats")
         if ts.size and last > ts[-1]:  # the last accepted step, past the last requested sample
-            ts, ys = np.append(ts, last), np.column_stack([ys, sol.sol(last)])
-    traj = _trajectory(scene, eq, ts, ys, sol.sol, status=status, message=message, kind=kind, method=method,
-                       rtol=rtol, atol=atol, nfev=sol.nfev)
+            ts, ys = np.append(ts, last), np.column_stack([ys, dense(last)])
+    traj = _trajectory(scene, eq, ts, ys, dense, status=status, message=message, kind=kind, method=method,
+                       rtol=rtol, atol=atol, nfev=nfev)
     if status in ("toggle", "assembly", "runaway", "steps"):
         at = _where(scene, ys[:, -1])
         if status in ("runaway", "steps"):
@@ -392,131 +451,3 @@ def _trajectory(
         work_drive=ys[2 * k].copy(), work_other=ys[2 * k + 1].copy(), status=status, message=message, drive=kind,
         method=method, rtol=rtol, atol=atol, evaluations=nfev, _dense=dense,
     )
-
-
-def _interpolant(dense: Any) -> Callable[[float], np.ndarray]:
-    """A step's dense output as a function of one time. DOP853's (scipy's ``Dop853DenseOutput``)
-    is evaluated as one dot product of its coefficient rows ``F`` with their weights — the same
-    nested form scipy evaluates row by row, y = y_old + Σ F[n−1−i]·Π_{j≥i} m_j with m_j = x for
-    even j and 1 − x for odd j, x = (t − t_old)/h — in a quarter of the time at a tick; any other
-    dense output as it is."""
-    coefficients = getattr(dense, "F", None)
-    if coefficients is None or not all(hasattr(dense, a) for a in ("t_old", "h", "y_old")):
-        return dense  # type: ignore[no-any-return]
-    rows = np.ascontiguousarray(coefficients[::-1])
-    t_old, h, y_old, n = float(dense.t_old), float(dense.h), dense.y_old, len(coefficients)
-
-    def at(t: float) -> np.ndarray:
-        x = (t - t_old) / h
-        weights = [0.0] * n
-        w = 1.0
-        for i in range(n - 1, -1, -1):
-            w *= x if i % 2 == 0 else 1.0 - x
-            weights[i] = w
-        return y_old + np.dot(weights, rows)  # type: ignore[no-any-return]
-
-    return at
-
-
-class Stepper:
-    """The equation advanced tick by tick (the node): ``advance(t)`` steps scipy's solver until it
-    passes ``t`` and returns the state there from its dense output; ``set_drive`` changes the
-    drive (an effort command), restarting the solver at the current time so that no step
-    straddles the change. Accuracy: each step's local error within ``rtol``/``atol`` as in
-    :func:`simulate`; the output at a tick is the step's dense interpolant (same order).
-    ``works=False``: the work integrals W_drive, W_other stay 0 (the node does without them: one
-    force pass fewer per evaluation in a scene with forces, torques or dampers). An ``advance``
-    that would not end — pressed against an assembly limit, a step at the time's round-off, a
-    stiff equation with more than ``stiff_steps`` steps to go, a rate beyond ``max_rate`` — raises
-    one DynamicsError line (solver.dynamics._guard): a tick always ends; ``interrupted()``, asked
-    between steps, ends it early (the node's SIGINT during a long tick)."""
-
-    def __init__(
-        self, scene: Any, *, phi0: Any = None, omega0: Any = 0.0, drive: Any = None, rtol: float = 1e-9,
-        atol: float = 1e-9, method: str = "DOP853", t0: float = 0.0, works: bool = True,
-        stiff_steps: float = STEPPER_STIFF_STEPS, max_rate: float = MAX_RATE,
-        interrupted: Callable[[], bool] | None = None,
-    ) -> None:
-        self.scene = scene
-        args = Arguments("Stepper", scene=scene.name, error=DynamicsArgumentError)
-        rtol, atol, method = _checked(args, rtol=rtol, atol=atol, method=method)
-        t0 = args.number("t0", t0, unit="s")
-        works = args.flag("works", works)
-        self.model = reduced_model(scene)
-        k = self.k = self.model.k
-        q0 = _start(scene) if phi0 is None else _initial(args, phi0, k, "phi0")
-        w0 = _initial(args, omega0, k, "omega0")
-        fn, self.kind = make_drive(drive, scene.inputs, self.model.motors, scene=scene.name)
-        self.works = works
-        self.eq = Equation(self.model, fn, works=works)
-        self.rtol, self.atol, self._method = rtol, atol, _METHODS[method]
-        self.t = t0
-        self.y = np.array([*q0, *w0, 0.0, 0.0])
-        self._strokes = _strokes(scene)
-        try:
-            self.eq.accelerations(t0, q0, w0)
-        except AssemblyError as exc:
-            raise DynamicsError(f"cannot be assembled at the initial state ({exc.reason})", scene=scene.name,
-                                time=t0, at=_where(scene, self.y), group=exc.group) from None
-        #: asked between steps: True ends an ``advance`` with a DynamicsError (the node's SIGINT)
-        self.interrupted = interrupted
-        self.guard = RunGuard(self.eq, t_end=t0, max_steps=None, max_rate=max_rate, stiff=method != "Radau",
-                              stiff_steps=stiff_steps,
-                              limit_text=lambda fault: _limit_message(scene, fault, "pressed against it"))
-        if self.guard.runaway(self.y) is not None:
-            raise DynamicsError(f"omega0 is beyond max_rate = {max_rate:g}", scene=scene.name, time=t0,
-                                at=f"{_where(scene, self.y)}, {rates_text(scene, self.y)}")
-        self._restart()
-
-    def _restart(self) -> None:
-        self._solver = self._method(self.eq, self.t, self.y, math.inf, rtol=self.rtol, atol=self.atol)
-        self._dense: tuple[float, Any] | None = None
-
-    def set_drive(self, drive: Any) -> None:
-        fn, self.kind = make_drive(drive, self.scene.inputs, self.model.motors, scene=self.scene.name)
-        self.eq = self.guard.eq = Equation(self.model, fn, works=self.works)
-        self._restart()
-
-    def advance(self, t: float) -> np.ndarray:
-        """The state y = (q, q̇, W_drive, W_other) at time ``t`` ≥ the last one; DynamicsError where
-        the motion reaches a toggle or an assembly limit on the way."""
-        s = self._solver
-        guard = self.guard
-        guard.aim(t)
-        while s.t < t:
-            msg = s.step()
-            if s.status == "failed" or msg is not None:
-                raise DynamicsError(_limit_message(self.scene, self.eq.fault, str(msg)), scene=self.scene.name,
-                                    time=s.t, at=_where(self.scene, s.y), group=None)
-            for i, lo, hi, name in self._strokes:
-                if not lo <= s.y[i] <= hi:
-                    raise DynamicsError(_stroke_end(lo, hi, name, open_end=s.y[i] > hi), scene=self.scene.name,
-                                        time=s.t, at=_where(self.scene, s.y), group=None)
-            if self.eq.conditioning(s.t, s.y) < DYNAMICS_TOGGLE:
-                raise DynamicsError("reaches a singular position (a toggle: the inputs cannot drive through it)",
-                                    scene=self.scene.name, time=s.t, at=_where(self.scene, s.y),
-                                    group=self.eq.worst_group(s.y))
-            stop = guard.accept(s.t, s.y)
-            if stop is None and self.interrupted is not None and self.interrupted():
-                stop = "interrupted (the process is asked to stop)"
-            if stop is not None:
-                at = _where(self.scene, s.y)
-                raise DynamicsError(stop, scene=self.scene.name, time=s.t,
-                                    at=at if guard.kind == "assembly" else f"{at}, {rates_text(self.scene, s.y)}")
-        if t == s.t:
-            y = s.y.copy()
-        else:
-            # one interpolant per step (DOP853's costs three more evaluations): ticks between
-            # two steps only evaluate it
-            if self._dense is None or self._dense[0] != s.t:
-                self._dense = (s.t, _interpolant(s.dense_output()))
-            y = self._dense[1](t)
-        self.t, self.y = t, y
-        return y
-
-    def accelerations(self) -> tuple[list[float], list[float]]:
-        """(q̈, Q_drive) at the last state returned."""
-        k = self.k
-        state = self.y.tolist()
-        qdd, qdrive, _ = self.eq.accelerations(self.t, state[:k], state[k:2 * k])
-        return qdd, qdrive

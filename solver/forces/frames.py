@@ -220,8 +220,24 @@ def table_force(load: TableForce, values: Any, xp: Backend) -> Any:
     return f * load.direction
 
 
+#: The pieces of tables held by the dynamics' integrators (solver.dynamics._breaks) for the steps
+#: between two of a table's kinks: (id(``at``), id(``force``)) → (x_mid, f_mid, slope, period), the line
+#: of one piece, extended beyond its ends, so that the equation of motion is smooth within a step
+#: and the integrator places the kink on a step's end. Empty outside such a run (one truth test).
+#: Keyed by both tuples' ids: the compiled instant binds one object per distinct constant, so an
+#: equal ``at`` of another table is never taken for this one's (at worst it is not held).
+HELD: dict[tuple[int, int], tuple[float, float, float, float]] = {}
+
+
 def _interp(x: float, at: tuple[float, ...], fs: tuple[float, ...]) -> float:
     x = float(x)
+    if HELD:
+        line = HELD.get((id(at), id(fs)))
+        if line is not None:
+            mid, f_mid, slope, period = line
+            if period:  # the wrapped coordinate back onto the piece's own turn
+                x += round((mid - x) / period) * period
+            return f_mid + slope * (x - mid)
     if x <= at[0]:
         return fs[0]
     if x >= at[-1]:

@@ -59,7 +59,7 @@ DYNAMICS = [
     (lambda: _scene("four_bar_pendulum").simulate(1.0, omega0="fast"), r"simulate: omega0 must be a number or an "
                                                                        r"array of numbers, got 'fast' \(a str\)$"),
     (lambda: _scene("four_bar_pendulum").simulate(1.0, method="Euler"),
-     r"simulate: method must be one of 'DOP853', 'RK45', 'Radau', got 'Euler' \(a str\)$"),
+     r"simulate: method must be one of 'DOP853', 'RK4', 'RK45', 'Radau', got 'Euler' \(a str\)$"),
     (lambda: _scene("four_bar_pendulum").simulate(1.0, on_singular="ignore"),
      r"simulate: on_singular must be one of 'raise', 'stop', got 'ignore' \(a str\)$"),
     (lambda: _scene("four_bar_pendulum").simulate(1.0, phi_0=0.3),
