@@ -182,7 +182,7 @@ class Runtime:
         elif self._last_ns is not None and now_ns < self._last_ns:
             self.events.append("clock jumped backwards: restarting the run at phi0")
             self.start_ns = now_ns
-            self.engine = self._engine(self.settings, t0=0.0)
+            self.engine = self._engine(self.settings, t0=0.0, scene=self.engine.scene)
             self.builder, self.wire = self._builder(self.engine, self.settings["frame_id"], None)
         self._last_ns = now_ns
         t = self.run_time(now_ns)
@@ -327,6 +327,7 @@ class Runtime:
         t = self.run_time(now_ns)
         changed = {k for k, v in ours.items() if v != self.settings[k]}
         engine = self.engine
+        restart = False
         reason = mode_reason(new)
         if reason is not None:
             return reason
@@ -336,8 +337,9 @@ class Runtime:
             ):
                 new["points"] = []  # follow the new scene's outputs
             try:
-                restart = changed & {"scene", "phi0", "input_phi0s", *RESTARTING}
-                engine = self._engine(new, t0=t, keep_motion=not restart)
+                restart = bool(changed & {"scene", "phi0", "input_phi0s", *RESTARTING})
+                same = None if "scene" in changed else self.engine.scene  # reused: compiled once
+                engine = self._engine(new, t0=0.0 if restart else t, keep_motion=not restart, scene=same)
             except (SolverError, ValueError) as error:
                 return str(error)
             new["points"] = list(engine.published_points)
@@ -345,7 +347,7 @@ class Runtime:
         if reason is not None:
             return reason
         if "input_source" in changed and new["input_source"] == "clock":
-            engine = self._engine(new, t0=0.0)  # the run restarts at phi0
+            engine = self._engine(new, t0=0.0, scene=engine.scene)  # the run restarts at phi0
         dynamic = getattr(engine.motion, "set_kind", None)  # dynamic mode: drive from the state reached
         if dynamic is not None and "drive" in changed and engine.motion is self.engine.motion:
             reason = drive_reason(engine.scene, new["drive"])
@@ -383,8 +385,8 @@ class Runtime:
         if engine is not self.engine or "frame_id" in changed or relay is not self.relay:
             self.builder, self.wire = self._builder(engine, new["frame_id"], relay)
             self._diagnostics_key = None
-        if "input_source" in changed and new["input_source"] == "clock":
-            self.start_ns = self._last_ns = None
+        if restart or ("input_source" in changed and new["input_source"] == "clock"):
+            self.start_ns = self._last_ns = None  # a new run: its first tick is at t = 0, at phi0
         self.relay = relay
         if recorder is not self.recorder or (not new["record_mcap"] and self.recorder):
             if self.recorder is not None:
@@ -406,13 +408,17 @@ class Runtime:
             self.recorder = None
 
     # ------------------------------------------------------------------ helpers
-    def _engine(self, settings: Mapping[str, Any], *, t0: float, keep_motion: bool = False) -> Engine:
+    def _engine(self, settings: Mapping[str, Any], *, t0: float, keep_motion: bool = False,
+                scene: Any = None) -> Engine:
+        """A new engine for ``settings``: the current motion (``keep_motion``), or a new one
+        from ``phi0`` at run time ``t0``; ``scene``: the loaded scene to reuse (its compiled
+        instant is built once), else ``settings["scene"]`` is loaded."""
         points = points_of(settings.get("points")) or None
         if keep_motion:
             motion = self.engine.motion
-            scene: Any = self.engine.scene
+            scene = self.engine.scene
         else:
-            scene = solver.load_scene(settings["scene"])
+            scene = solver.load_scene(settings["scene"]) if scene is None else scene
             inputs = inputs_of(scene)
             reason = per_input_reason(settings, inputs)
             if reason is not None:
