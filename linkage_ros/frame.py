@@ -20,6 +20,7 @@ from numpy.typing import NDArray
 
 __all__ = [
     "NO_VALUES",
+    "STATUS_INPUT_DROPPED",
     "STATUS_NEAR_SINGULAR",
     "STATUS_OK",
     "STATUS_UNASSEMBLABLE",
@@ -34,6 +35,9 @@ __all__ = [
 STATUS_OK = "ok"
 STATUS_NEAR_SINGULAR = "near_singular"
 STATUS_UNASSEMBLABLE = "unassemblable"
+#: Topic mode only, in diagnostics (level WARN): an incoming JointState that could not be read
+#: (none of the input joints, a non-finite value, short arrays); its ``message`` says why.
+STATUS_INPUT_DROPPED = "input_dropped"
 #: The efforts and loads of a frame without forces (read only).
 NO_VALUES: Mapping[str, Any] = MappingProxyType({})
 

@@ -41,6 +41,9 @@ TYPE_NAMES: tuple[str, ...] = (
     "diagnostic_msgs/msg/DiagnosticArray",
     "diagnostic_msgs/msg/DiagnosticStatus",
     "diagnostic_msgs/msg/KeyValue",
+    "std_msgs/msg/MultiArrayDimension",
+    "std_msgs/msg/MultiArrayLayout",
+    "std_msgs/msg/Float64MultiArray",
 )
 
 

@@ -25,6 +25,11 @@ from .engine import Engine
 
 __all__ = [
     "DIAGNOSTICS",
+    "EFFORT_COMMANDS",
+    "ENERGIES",
+    "ENERGY_LABELS",
+    "INPUT_JOINT_STATES",
+    "INPUT_TYPES",
     "FIXED_TOPIC_TYPES",
     "JOINT_KINEMATICS",
     "JOINT_STATES",
@@ -47,6 +52,18 @@ JOINT_STATES = "joint_states"
 JOINT_KINEMATICS = "joint_kinematics"
 MARKERS = "markers"
 DIAGNOSTICS = "diagnostics"
+#: What the node receives (topic mode: the driver's JointStates; dynamic mode: effort commands)
+#: and, in dynamic mode, the energies of each tick: recorded beside what it publishes (issue 30).
+INPUT_JOINT_STATES = "input_joint_states"
+EFFORT_COMMANDS = "effort_commands"
+ENERGIES = "energies"
+#: The entries of one ``energies`` row, in order (J; :mod:`linkage_ros._runtime_dynamic`).
+ENERGY_LABELS = ("kinetic", "gravity", "springs", "total")
+INPUT_TYPES: dict[str, str] = {
+    INPUT_JOINT_STATES: "sensor_msgs/msg/JointState",
+    EFFORT_COMMANDS: "std_msgs/msg/Float64MultiArray",
+    ENERGIES: "std_msgs/msg/Float64MultiArray",
+}
 
 #: Topics that every engine publishes, with their types.
 FIXED_TOPIC_TYPES: dict[str, str] = {
