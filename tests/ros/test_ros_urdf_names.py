@@ -9,6 +9,7 @@ throttle; ``input_joints`` maps the inputs at run time (a wrong name rejected wi
 from __future__ import annotations
 
 import math
+import signal
 import subprocess
 from typing import Any
 
@@ -31,18 +32,20 @@ def test_help_prints_the_usage_and_starts_no_node() -> None:
 
 
 @pytest.fixture(scope="module")
-def excavator(start_node: Any, client: Client) -> Any:
+def excavator(start_node: Any, client: Client, tmp_path_factory: pytest.TempPathFactory) -> Any:
     from sensor_msgs.msg import JointState
 
+    recording = tmp_path_factory.mktemp("exc") / "topic.mcap"
     listener = client.listen({"/exc/joint_states": "sensor_msgs/msg/JointState",
                               "/exc/diagnostics": "diagnostic_msgs/msg/DiagnosticArray"})
-    process = start_node("-r", "__ns:=/exc", "-p", "scene:=excavator", "-p", "input_source:=topic")
+    process = start_node("-r", "__ns:=/exc", "-p", "scene:=excavator", "-p", "input_source:=topic",
+                         "-p", f"record_mcap:={recording}")
     publisher = client.node.create_publisher(JointState, "/exc/input_joint_states", 10)
     if not client.spin_until(lambda: publisher.get_subscription_count() > 0 and "publishing" in process.output(),
                              WAIT_S):
         process.kill()
         pytest.fail("mechanism_node in topic mode did not come up:\n" + process.output())
-    yield process, listener, publisher
+    yield process, listener, publisher, recording
     process.stop()
 
 
@@ -61,7 +64,7 @@ def answers(listener: Any, stamp_s: int) -> list[Any]:
 
 
 def test_a_joint_state_of_the_urdf_rod_joints_is_answered(excavator: Any, client: Client) -> None:
-    _, listener, publisher = excavator
+    _, listener, publisher, _ = excavator
     send(client, publisher, RODS, AT, 100)
     assert client.spin_until(lambda: answers(listener, 100), WAIT_S), "no answer to the URDF's names"
     (js,) = answers(listener, 100)
@@ -75,7 +78,7 @@ def test_a_joint_state_of_the_urdf_rod_joints_is_answered(excavator: Any, client
 
 
 def test_messages_without_the_inputs_warn_once_per_kind_and_in_diagnostics(excavator: Any, client: Client) -> None:
-    process, listener, publisher = excavator
+    process, listener, publisher, _ = excavator
     for k in range(5):
         send(client, publisher, ["swing_joint"], [0.1], 200 + k)
     send(client, publisher, RODS, [math.nan, 1.5, 1.1], 210)  # another kind: not hidden by the first's throttle
@@ -91,7 +94,7 @@ def test_messages_without_the_inputs_warn_once_per_kind_and_in_diagnostics(excav
 
 
 def test_input_joints_is_set_at_run_time_and_a_wrong_name_is_rejected(excavator: Any, client: Client) -> None:
-    _, listener, publisher = excavator
+    _, listener, publisher, _ = excavator
     (bad,) = client.set_parameters(NODE, input_joints=["", "", "bucket_joint"])
     assert not bad.successful and bad.reason.startswith(
         "input_joints 'bucket_joint' does not drive input 'bucket_stroke' of scene 'excavator'")
@@ -104,3 +107,17 @@ def test_input_joints_is_set_at_run_time_and_a_wrong_name_is_rejected(excavator:
     assert not answers(listener, 301)
     (back,) = client.set_parameters(NODE, input_joints=[""] * 3)
     assert back.successful
+
+
+def test_the_recording_holds_the_driver_messages_as_received(excavator: Any) -> None:
+    from rosbags.highlevel import AnyReader
+
+    process, _, _, recording = excavator
+    assert process.stop(signal.SIGINT) == 0
+    inputs = []
+    with AnyReader([recording]) as reader:
+        for connection, _, raw in reader.messages():
+            if connection.topic == "/exc/input_joint_states":
+                inputs.append(reader.deserialize(raw, connection.msgtype))
+    assert [list(m.name) for m in inputs[:2]] == [RODS, STROKES]
+    assert len(inputs) >= 10 and inputs[0].header.stamp.sec == 100
