@@ -141,6 +141,7 @@ class Runtime(TopicAnswers):
         self.settings["points"] = list(self.engine.published_points)
         self.relay = self._relay(self.engine, settings)
         self._command_t: float | None = None
+        self._description: tuple[tuple[int, str], str | None] | None = None
         self._recorded_inputs: set[str] = set()
         self._views: dict[tuple[str, ...], tuple[MessageBuilder, Serializer, FastPath | None]] = {}
         self._view: tuple[str, ...] = ()
@@ -392,6 +393,19 @@ class Runtime(TopicAnswers):
         self.engine = engine
         self.settings = new
         return None
+
+    def robot_description(self) -> str | None:
+        """The URDF of the scene's tree (``linkage-urdf``, root link ``frame_id``) for the node's
+        latched ``robot_description``; None for a scene the URDF export cannot open. Built once
+        per scene and frame_id."""
+        key = (id(self.engine.scene), self.settings["frame_id"])
+        if self._description is None or self._description[0] != key:
+            from .urdf import exportable_model, generate_urdf
+
+            text = (generate_urdf(self.engine.scene, frame_id=self.settings["frame_id"])
+                    if exportable_model(self.engine.scene) is not None else None)
+            self._description = (key, text)
+        return self._description[1]
 
     def close(self) -> None:
         """Close the recorder, if any."""
