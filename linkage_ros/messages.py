@@ -24,8 +24,12 @@ from .load_messages import LoadMessages, tree_effort_joints
 from .msgtypes import TYPE_NAMES, MessageTypes
 from .topics import (
     DIAGNOSTICS,
+    EFFORT_COMMANDS,
+    ENERGIES,
     ENERGY_LABELS,
     FIXED_TOPIC_TYPES,
+    INPUT_JOINT_STATES,
+    INPUT_TYPES,
     JOINT_KINEMATICS,
     JOINT_STATES,
     LOAD_LABELS_NAMESPACE,
@@ -33,6 +37,7 @@ from .topics import (
     MARKER_NAMESPACES,
     MARKERS,
     NS_PER_S,
+    ROBOT_DESCRIPTION,
     WRENCH_STAMPED,
     load_topic_types,
     point_topics,
@@ -43,7 +48,12 @@ from .urdf import TreeJointStates, exportable_model, frame_tree_joint_states
 
 __all__ = [
     "DIAGNOSTICS",
+    "EFFORT_COMMANDS",
+    "ENERGIES",
+    "ENERGY_LABELS",
     "FIXED_TOPIC_TYPES",
+    "INPUT_JOINT_STATES",
+    "INPUT_TYPES",
     "JOINT_KINEMATICS",
     "JOINT_STATES",
     "LOADS_NAMESPACE",
@@ -52,6 +62,7 @@ __all__ = [
     "MARKER_NAMESPACES",
     "NS_PER_S",
     "PATH_PERIOD",
+    "ROBOT_DESCRIPTION",
     "TYPE_NAMES",
     "WRENCH_STAMPED",
     "MessageBuilder",

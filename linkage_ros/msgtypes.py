@@ -44,6 +44,7 @@ TYPE_NAMES: tuple[str, ...] = (
     "std_msgs/msg/MultiArrayDimension",
     "std_msgs/msg/MultiArrayLayout",
     "std_msgs/msg/Float64MultiArray",
+    "std_msgs/msg/String",
 )
 
 

@@ -259,10 +259,11 @@ class MechanismNode(Node):
         self._sync_publishers()
         self._description_publisher = self.create_publisher(String, DESCRIPTION_TOPIC, description_qos_profile())
         self._description: str | None = None
-        self._publish_description()
+        self._described_recorder: Any = None
         #: the node clock's handle (ROS time: the system's, or /clock under use_sim_time), read
         #: per tick without a Time object (``_now_ns``: 1.2 µs against 2.5 for ``now().nanoseconds``)
         self._clock_handle = self.get_clock().handle
+        self._publish_description()
         self._tick_timer = self.create_timer(self.runtime.period_s, self._on_timer)
         self._input_subscription: Any = None
         self._input_type: Any = None
@@ -399,11 +400,17 @@ class MechanismNode(Node):
         """The scene's URDF on the latched ``robot_description`` (std_msgs/String, transient
         local): at start and whenever the scene or frame_id changes (RViz's RobotModel display
         reads it; with /tf from robot_state_publisher, or the node's own where tf2_msgs exists)."""
-        text = self.runtime.robot_description()
-        if text is None or text == self._description:
+        runtime = self.runtime
+        text = runtime.robot_description()
+        if text is None:
             return
-        self._description = text
-        self._description_publisher.publish(String(data=text))
+        if text != self._description:
+            self._description = text
+            self._description_publisher.publish(String(data=text))
+        elif runtime.recorder is self._described_recorder:
+            return
+        self._described_recorder = runtime.recorder  # a new recording gets the description too
+        runtime.record_description(self._now_ns())
 
     def _log_recording(self) -> None:
         """Log where the recording starts and that the previous one is finished."""

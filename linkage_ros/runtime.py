@@ -56,8 +56,8 @@ from .parameters import (
     points_of,
 )
 from .relay import Reading, Relay
-from .serialize import Serializer, pad4
-from .topics import ENERGIES, INPUT_TYPES, topic_types
+from .serialize import Serializer, cdr_bytes, pad4
+from .topics import ENERGIES, INPUT_TYPES, ROBOT_DESCRIPTION, topic_types
 
 __all__ = [
     "DIAGNOSTICS_PERIOD_S",
@@ -406,6 +406,14 @@ class Runtime(TopicAnswers):
                     if exportable_model(self.engine.scene) is not None else None)
             self._description = (key, text)
         return self._description[1]
+
+    def record_description(self, now_ns: int) -> None:
+        """Write :meth:`robot_description` to the recording, if any (the node calls it when it
+        publishes the description and when a new recording starts)."""
+        text = self.robot_description()
+        if self.recorder is not None and text is not None:
+            message = self.types.classes["std_msgs/msg/String"](data=text)
+            self.record_input(ROBOT_DESCRIPTION, now_ns, cdr_bytes(self._serialize, message, "std_msgs/msg/String"))
 
     def close(self) -> None:
         """Close the recorder, if any."""
