@@ -170,17 +170,22 @@ def median_time(fn: Callable[[], object], *, repeat: int, min_time: float = 0.0)
     return statistics.median(times)
 
 
-def median_times(fns: Mapping[str, Callable[[], object]], *, repeat: int) -> dict[str, float]:
+def median_times(fns: Mapping[str, Callable[[], object]], *, repeat: int,
+                 clock: Callable[[], float] = time.perf_counter,
+                 statistic: Callable[[list[float]], float] = statistics.median) -> dict[str, float]:
     """Median wall time (s) of each function, run round-robin so that a change of machine load
-    falls on all of them alike (after one warm-up round)."""
+    falls on all of them alike (after one warm-up round). ``clock=time.thread_time`` and
+    ``statistic=min`` give the least CPU time of this thread instead: on a shared machine the
+    other jobs then take wall time, not this thread's time (what is left is their sharing of the
+    caches and the core)."""
     times: dict[str, list[float]] = {name: [] for name in fns}
     for round_ in range(repeat + 1):
         for name, fn in fns.items():
-            start = time.perf_counter()
+            start = clock()
             fn()
             if round_:
-                times[name].append(time.perf_counter() - start)
-    return {name: statistics.median(values) for name, values in times.items()}
+                times[name].append(clock() - start)
+    return {name: statistic(values) for name, values in times.items()}
 
 
 def machine() -> dict[str, str]:

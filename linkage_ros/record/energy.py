@@ -51,7 +51,7 @@ def log_energy(rec: Any, data: RunData, times: Any) -> None:
     for i, (key, values) in enumerate(energy_series(data).items()):
         log_series(rec, f"{ENERGY_ORIGIN}/{key}", f"{ENERGY_SERIES[key]} (J)", times, values, i)
     if "balance" in data.energy:
-        log_series(rec, BALANCE_ENTITY, "T + V − W − (its start) (J)", times, data.energy["balance"], 0)
+        log_series(rec, BALANCE_ENTITY, "Δ(T + V − W) (J)", times, data.energy["balance"], 0)
 
 
 def energy_views(data: RunData) -> list[Any]:

@@ -10,7 +10,9 @@ Entity layout (beside :mod:`.rerun`'s)::
 
     mechanism/loads/<K>      Arrows per tick at the point of pin load K: along the force, its
                              length by the run's rule (the rule in the legend), wider than the
-                             links, labelled ``R_K`` (:func:`load_label`)
+                             links (named ``R_K``, :func:`load_label`, on hover)
+    mechanism/loads/<K>/label  Points per tick: the label ``R_K`` beyond the arrow's tip
+                             (:func:`label_positions`)
     plots/effort/<Q>         Scalars: the effort of input Q (N·m for a crank, N for a slider)
 
 The rule is the node's (:func:`linkage_ros.forces.load_arrows`, docs/ros.md "Forces"): a round
@@ -43,6 +45,7 @@ __all__ = [
     "forces_legend",
     "forces_metadata",
     "force_sections",
+    "label_positions",
     "load_label",
     "load_rule",
     "log_forces",
@@ -58,11 +61,38 @@ connecting rod's pin loads lie on the rod) covers it in its own colour instead o
 inside it as a thin stripe (the velocity and acceleration arrows are 0.5)."""
 
 
+LABEL_GAP, LABEL_REACH, LABEL_CHAR = 10.0, 20.0, 2.5
+"""A load's label is centred beyond its arrow's tip: ``LABEL_GAP`` link radii past it, plus
+``LABEL_CHAR`` per character of the label times the arrow's horizontal part (a label is wider
+than tall), and at least ``LABEL_REACH`` link radii from the pin (:func:`label_positions`). At
+the default window a link radius is 1–2 px and a character about 6 px."""
+
+
 def load_label(key: str) -> str:
     """The label drawn at a load's arrow: ``R_A`` for the pin A, ``R_B_slide`` for the slide at B."""
     return f"R_{key}"
 
+
 Array = NDArray[np.float64]
+
+
+def label_positions(origins: Array, vectors: Array, radius: float, turn: float, *, chars: int = 3) -> Array:
+    """(N, dim) anchors of a load's label of ``chars`` characters: along its arrow, beyond the
+    tip (:data:`LABEL_GAP`, :data:`LABEL_CHAR`) and never nearer the pin than
+    :data:`LABEL_REACH` link radii, so that the label clears the arrow and the pin's own name;
+    where the arrow vanishes, in the direction ``turn`` (rad). The viewer draws an arrow's own
+    label at its middle, where the labels of two short arrows at one pin (the engine's ``R_B``
+    and ``R_B_slide``) and the pin's name fall on each other."""
+    o = np.asarray(origins, dtype=np.float64)
+    v = np.asarray(vectors, dtype=np.float64)[:, :2]
+    length = np.hypot(v[:, 0], v[:, 1])
+    away = np.empty_like(v)
+    away[:] = (np.cos(turn), np.sin(turn))
+    np.divide(v, length[:, None], out=away, where=length[:, None] > 1e-9 * radius)
+    gap = (LABEL_GAP + LABEL_CHAR * chars * np.abs(away[:, 0])) * radius
+    out = np.array(o, dtype=np.float64, copy=True)
+    out[:, :2] += away * np.maximum(length + gap, LABEL_REACH * radius)[:, None]
+    return out
 
 
 def load_rule(data: RunData) -> LoadArrows:
@@ -88,17 +118,26 @@ def log_forces(rec: Any, data: RunData, times: Any, *, radius: float) -> LoadArr
     if not data.n:
         return rule
     arrows: Any = rr.Arrows3D if data.dim == 3 else rr.Arrows2D
+    points: Any = rr.Points3D if data.dim == 3 else rr.Points2D
     order: dict[str, Any] = {"draw_order": DRAW_ORDER["arrows"]} if data.dim == 2 else {}
+    at_pin: dict[str, int] = {}
     for key, values in data.loads.items():
         entity = f"{LOADS_ENTITY}/{key}"
         point = data.load_pins.get(key, (key,))[0]
         if point not in data.positions and point not in data.fixed:
             continue
         vectors = arrow_vectors(rule, values, data.dim)
+        origins = position_of(data, point)
         rec.log(entity, arrows.from_fields(radii=LOAD_ARROW_WIDTH * radius, colors=LOAD_COLOR,
-                                           labels=[load_label(key)], show_labels=True, **order), static=True)
-        rec.send_columns(entity, indexes=[times], columns=arrows.columns(
-            origins=position_of(data, point), vectors=vectors))
+                                           labels=[load_label(key)], show_labels=False, **order), static=True)
+        rec.send_columns(entity, indexes=[times], columns=arrows.columns(origins=origins, vectors=vectors))
+        # the label as a point of its own beyond the tip (the viewer puts an arrow's at its middle)
+        turn = 0.25 * np.pi + 0.5 * np.pi * at_pin.setdefault(point, 0)  # a vanished arrow: NE, NW, …
+        at_pin[point] += 1
+        rec.log(f"{entity}/label", points.from_fields(radii=0.5 * radius, colors=LOAD_COLOR, labels=[load_label(key)],
+                                                      show_labels=True, **order), static=True)
+        rec.send_columns(f"{entity}/label", indexes=[times], columns=points.columns(
+            positions=label_positions(origins, vectors, radius, turn, chars=len(load_label(key)))))
     joints = list(data.joints)
     for i, (joint, values) in enumerate(data.efforts.items()):
         unit = data.effort_units.get(joint, "N·m")

@@ -70,6 +70,7 @@ __all__ = [
     "blueprint",
     "nice_scale",
     "plot_columns",
+    "plot_column_count",
     "log_run",
     "write_rrd",
 ]
@@ -148,6 +149,12 @@ def plot_columns(data: RunData) -> list[list[tuple[str, list[str]]]]:
     return columns
 
 
+def plot_column_count(data: RunData) -> int:
+    """Columns of plots beside the mechanism: :func:`plot_columns`' and, for a dynamic run, its
+    energy column (the legend's width, and so its height, depends on all of them)."""
+    return len(plot_columns(data)) + (1 if data.energy else 0)
+
+
 def legend_share(text: str, columns: int) -> tuple[float, float]:
     """``row_shares`` of the mechanism view and its legend below it, so that the legend shows
     all of ``text`` at the default window when the plots take ``columns`` columns."""
@@ -169,9 +176,10 @@ def blueprint(data: RunData) -> Any:
     else:
         view = rrb.Spatial2DView(origin="mechanism", name=name, visual_bounds=_bounds(data))
     layout = plot_columns(data)
+    n_columns = plot_column_count(data)
     mechanism = rrb.Vertical(
         view, rrb.TextDocumentView(origin="mechanism/legend", name="legend"),
-        row_shares=list(legend_share(legend_text(data), len(layout))))
+        row_shares=list(legend_share(legend_text(data), n_columns)))
     values = {f"plots/input/{kind}" + (f"/{q}" if q else ""): v for kind, q, v in data.input_series()}
     for kind, i in (("position", 0), ("velocity", 1), ("acceleration", 2)):
         values.update({f"plots/joints/{kind}/{j}": data.plotted_joint(j)[i] for j in data.joints})
@@ -185,7 +193,7 @@ def blueprint(data: RunData) -> Any:
         columns.append(rrb.Vertical(*energy_views(data)))
     plots = rrb.Horizontal(*columns)
     return rrb.Blueprint(
-        rrb.Horizontal(mechanism, plots, column_shares=[PLOTS_SHARE[0], PLOTS_SHARE[1] * len(columns)]),
+        rrb.Horizontal(mechanism, plots, column_shares=[PLOTS_SHARE[0], PLOTS_SHARE[1] * n_columns]),
         rrb.TimePanel(state="collapsed"),
         collapse_panels=True,
     )

@@ -43,6 +43,7 @@ from typing import Any
 from solver.errors import SceneError
 from solver.groups import RRP, RRR, Actuator, Attached, Crank, JointExpression, Slotted, SphericalCrankSlider
 
+from .inertial import name_and_weigh
 from .tree import BASE_LINK, Body, Cut, TreeJoint, TreeModel, Vec3, check_names
 from .vectors import build_vector_model
 
@@ -269,8 +270,9 @@ class _Builder:
 def build_model(scene: object) -> TreeModel:
     """The spanning tree of ``scene``'s mechanism (a :class:`solver.Scene`).
 
-    Raises :class:`solver.SceneError` for a group kind the export does not know, or names that
-    would clash in the URDF or in ``joint_states``.
+    The links the scene names in ``bodies:`` take those names and carry their mass properties
+    (:mod:`.inertial`). Raises :class:`solver.SceneError` for a group kind the export does not
+    know, or names that would clash in the URDF or in ``joint_states``.
     """
     if any(getattr(g, "kind", "") == "vector_input" for g in scene.ordered):  # type: ignore[attr-defined]
         return build_vector_model(scene)
@@ -304,6 +306,7 @@ def build_model(scene: object) -> TreeModel:
         cuts=b.cuts,
         owner=b.owner,
     )
+    model = name_and_weigh(scene, model, b.error)
     check_names(model, tuple(scene.joint_names), b.error)  # type: ignore[attr-defined]
     return model
 

@@ -13,11 +13,21 @@ from functools import cached_property
 
 from solver.errors import SceneError
 
-__all__ = ["BASE_LINK", "Body", "Cut", "TreeJoint", "TreeModel", "Vec3", "check_names"]
+__all__ = ["BASE_LINK", "Body", "Cut", "Inertial", "TreeJoint", "TreeModel", "Vec3", "check_names"]
 
 BASE_LINK = "base_link"
 
 Vec3 = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class Inertial:
+    """A link's mass (kg), centre of mass in the link frame (m) and inertia about it (kg·m², +z)
+    (:mod:`.inertial`)."""
+
+    mass: float
+    center: Vec3
+    izz: float
 
 
 @dataclass
@@ -46,6 +56,8 @@ class Body:
     turn: float = 0.0
     #: A named point of ``local`` that locates the origin (None: the origin is read directly).
     anchor: str | None = None
+    #: Mass properties from the scene's ``bodies:`` (None: massless, no ``<inertial>``).
+    inertial: Inertial | None = None
 
 
 @dataclass(frozen=True)

@@ -2,10 +2,18 @@
 two fixed frames of every cut.
 
 Visuals are sized from the scene: ``size`` is the longest distance between two points of one body
-(the drum's diameter included); bars are cylinders of radius ``size/100``. Prismatic joints get
-the travel over one turn of the input as limits (URDF requires limits on them; effort and velocity
-are not modelled and written as 0), widened by ``TRAVEL_MARGIN`` on each side. Pins are
-``continuous`` joints (revolute without limits).
+(the drum's diameter included); bars are cylinders of radius ``size/100``. Links the scene gives a
+mass carry an ``<inertial>`` (:mod:`.inertial`).
+
+Limits (``<limit>``; never 0, which a ros2_control or simulator reads as "cannot move"):
+
+* position: a prismatic joint's travel over one turn of the input, widened by ``TRAVEL_MARGIN`` on
+  each side; an actuator's rod exactly its stroke [closed, open]. Pins are ``continuous`` joints.
+* effort and velocity of the joint an input's motor drives (the driving crank's pin, the
+  actuator's rod): the motor's stall torque or force and its no-load speed (a table: its largest
+  |torque| and the speed where it falls to zero); every other prismatic joint, and a driven joint
+  without a motor, :data:`DEFAULT_EFFORT` and :data:`DEFAULT_VELOCITY` (the scene sets no limit;
+  far above what the shipped scenes need). Passive pins carry no ``<limit>``.
 """
 
 from __future__ import annotations
@@ -18,10 +26,12 @@ import numpy as np
 
 from solver.errors import AssemblyError, SceneError
 
+from .inertial import tensor
 from .states import kinematics_tree_joint_states
-from .tree import BASE_LINK, Body, TreeModel
+from .tree import BASE_LINK, Body, TreeJoint, TreeModel
 
-__all__ = ["urdf_xml", "travel", "CYCLE_SAMPLES", "BAR_RADIUS_PER_SIZE"]
+__all__ = ["urdf_xml", "travel", "drive_limits", "CYCLE_SAMPLES", "BAR_RADIUS_PER_SIZE", "DEFAULT_EFFORT",
+           "DEFAULT_VELOCITY"]
 
 #: Samples of the input over one turn used to find the travel of the prismatic joints.
 CYCLE_SAMPLES = 720
@@ -30,6 +40,13 @@ CYCLE_SAMPLES = 720
 TRAVEL_MARGIN = 0.02
 #: Bar radius as a fraction of the scene's size.
 BAR_RADIUS_PER_SIZE = 1.0 / 100.0
+#: The effort limit (N·m for a pin, N for a slide) of a joint whose effort the scene does not bound:
+#: a megawatt-class figure, so that a controller clamping to it never limits a shipped scene (the
+#: excavator's cylinders hold some 10⁴–10⁵ N).
+DEFAULT_EFFORT = 1.0e6
+#: The velocity limit (rad/s for a pin, m/s for a slide) of a joint whose speed the scene does not
+#: bound (about 10⁴ rpm for a pin).
+DEFAULT_VELOCITY = 1.0e3
 
 _MATERIALS = {
     "frame": (0.45, 0.45, 0.48, 1.0),
@@ -78,6 +95,46 @@ def travel(scene: object, model: TreeModel, *, samples: int = CYCLE_SAMPLES) -> 
     return {**out, **rods}
 
 
+def drive_limits(scene: object, joint: str) -> tuple[float, float]:
+    """``(effort, velocity)`` limits of the tree joint that input ``joint`` drives: its motor's
+    stall torque (force) and no-load speed, a table's largest |torque| and the first speed at which
+    it reaches zero; :data:`DEFAULT_EFFORT`, :data:`DEFAULT_VELOCITY` for what the scene leaves open."""
+    forces = getattr(scene, "forces", None)
+    motor = None if forces is None else forces.spec.motors.get(joint)
+    if motor is None:
+        return DEFAULT_EFFORT, DEFAULT_VELOCITY
+    if motor.linear:
+        effort, speed = abs(float(motor.stall)), abs(float(motor.no_load))
+    else:
+        effort, speed = max(abs(t) for t in motor.torques), 0.0
+        pairs = list(zip(motor.speeds, motor.torques))
+        for (w0, t0), (w1, t1) in zip(pairs, pairs[1:]):
+            if w1 > 0.0 and t0 * t1 <= 0.0 and t0 != t1:
+                speed = abs(w0 + (w1 - w0) * t0 / (t0 - t1))
+                break
+    return (effort if effort > 0.0 else DEFAULT_EFFORT), (speed if speed > 0.0 else DEFAULT_VELOCITY)
+
+
+def _driven_by(scene: object, j: TreeJoint) -> str | None:
+    """The input joint whose value this tree joint follows (the driving crank, an actuator's rod,
+    the spherical shaft), or None for a passive joint."""
+    name = {"planar_pin": j.data[:1], "planar_slide": j.data[2:3], "joint_value": j.data[:1]}.get(j.rule, ())
+    inputs = tuple(getattr(scene, "inputs", ()))
+    return str(name[0]) if name and name[0] is not None and name[0] in inputs else None
+
+
+def _limit(scene: object, j: TreeJoint, slides: dict[str, tuple[float, float]]) -> dict[str, float] | None:
+    driven = _driven_by(scene, j)
+    if j.type != "prismatic" and driven is None:
+        return None
+    effort, velocity = drive_limits(scene, driven) if driven else (DEFAULT_EFFORT, DEFAULT_VELOCITY)
+    out = {"effort": effort, "velocity": velocity}
+    if j.type == "prismatic":
+        lo, hi = slides[j.name]
+        out = {"lower": lo, "upper": hi, **out}
+    return out
+
+
 def _size(model: TreeModel) -> float:
     size = 0.0
     for body in model.bodies.values():
@@ -109,7 +166,7 @@ class _Doc:
 
     def joint(self, name: str, kind: str, parent: str, child: str, xyz: Sequence[float],
               rpy: Sequence[float], axis: Sequence[float] | None = None,
-              limit: tuple[float, float] | None = None) -> None:
+              limit: dict[str, float] | None = None) -> None:
         j = ET.SubElement(self.robot, "joint", name=name, type=kind)
         ET.SubElement(j, "parent", link=parent)
         ET.SubElement(j, "child", link=child)
@@ -117,7 +174,16 @@ class _Doc:
         if axis is not None:
             ET.SubElement(j, "axis", xyz=_vec(axis))
         if limit is not None:
-            ET.SubElement(j, "limit", lower=_f(limit[0]), upper=_f(limit[1]), effort="0", velocity="0")
+            ET.SubElement(j, "limit", {k: _f(v) for k, v in limit.items()})
+
+    def inertial(self, link: ET.Element, body: Body, size: float) -> None:
+        if body.inertial is None:
+            return
+        ixx, iyy, izz = tensor(body.inertial, size)
+        el = ET.SubElement(link, "inertial")
+        ET.SubElement(el, "origin", xyz=_vec(body.inertial.center), rpy="0 0 0")
+        ET.SubElement(el, "mass", value=_f(body.inertial.mass))
+        ET.SubElement(el, "inertia", ixx=_f(ixx), ixy="0", ixz="0", iyy=_f(iyy), iyz="0", izz=_f(izz))
 
 
 def _bar(doc: _Doc, link: ET.Element, p: Sequence[float], q: Sequence[float], radius: float, material: str) -> None:
@@ -181,7 +247,8 @@ def urdf_xml(scene: object, model: TreeModel, *, frame_id: str = "world", proven
     if not frame_id or frame_id in model.bodies and frame_id != BASE_LINK:
         raise SceneError(f"URDF export: frame_id {frame_id!r} is empty or the name of a body")
     slides = travel(scene, model)
-    rb = _size(model) * BAR_RADIUS_PER_SIZE
+    size = _size(model)
+    rb = size * BAR_RADIUS_PER_SIZE
     doc = _Doc(str(model.scene_name).replace("/", "_"))
     doc.robot.insert(0, ET.Comment(
         f" Generated by linkage-urdf from scene '{model.scene_name}'. The mechanism is opened into a "
@@ -194,9 +261,11 @@ def urdf_xml(scene: object, model: TreeModel, *, frame_id: str = "world", proven
         doc.link(frame_id)
         doc.joint(f"{BASE_LINK}_joint", "fixed", frame_id, BASE_LINK, (0, 0, 0), (0, 0, 0))
     for body in model.bodies.values():
-        _body_visuals(doc, doc.link(body.name), body, rb, slides, model)
+        link = doc.link(body.name)
+        doc.inertial(link, body, size)
+        _body_visuals(doc, link, body, rb, slides, model)
     for j in model.joints:
-        doc.joint(j.name, j.type, j.parent, j.child, j.xyz, j.rpy, j.axis, slides.get(j.name))
+        doc.joint(j.name, j.type, j.parent, j.child, j.xyz, j.rpy, j.axis, _limit(scene, j, slides))
     for cut in model.cuts:
         doc.robot.append(ET.Comment(f" cut {cut.name}: {cut.why} "))
         for side, holder, local in (("a", cut.side_a, cut.local_a), ("b", cut.side_b, cut.local_b)):

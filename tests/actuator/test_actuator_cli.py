@@ -76,4 +76,4 @@ def test_the_urdf_opens_the_cylinder_into_barrel_and_rod_with_the_stroke_as_a_pr
     assert tree_effort_joints(model, scene.inputs) == [(j.name, q_) for j, q_ in zip(rods, scene.inputs)]
     text = generate_urdf(scene)
     assert '<joint name="arm_cylinder_rod_joint" type="prismatic">' in text
-    assert '<limit lower="1.3" upper="1.9" effort="0" velocity="0" />' in text
+    assert '<limit lower="1.3" upper="1.9" effort="1000000" velocity="1000" />' in text  # no motor: defaults

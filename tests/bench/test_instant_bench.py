@@ -34,7 +34,7 @@ def test_every_timed_loop_runs() -> None:
     scene = solver.load_scene("four_bar").everything()
     loops = instant._loops(scene, 1)
     assert set(loops) == {instant.OURS_API, instant.OURS_SOLVE, instant.OURS_OBJECTS, instant.OURS_FN,
-                          instant.OURS_OLD, instant.PLAIN, instant.GN}
+                          instant.OURS_OLD, instant.PLAIN, instant.READS, instant.GN}
     for run in loops.values():
         run()
 
@@ -44,7 +44,7 @@ def test_the_section_replaces_only_itself(tmp_path: Path) -> None:
     md.write_text("# Speed\n\n## four_bar\n\nfigures\n\n## Forces\n\nforces text\n")
     report = instant.Report(quick=True, machine={"cpu": "test", "python": "3"})
     methods = (instant.OURS_API, instant.OURS_SOLVE, instant.OURS_OBJECTS, instant.OURS_FN, instant.OURS_OLD,
-               instant.PLAIN, instant.GN)
+               instant.PLAIN, instant.READS, instant.GN)
     report.per_instant_us = {name: 1.0 + i for i, name in enumerate(methods)}
     report.worst_b_m = report.worst_joint_rad = 1e-16
     report.build_ms, report.paths = {"four_bar": 1.0}, {"four_bar": 2}

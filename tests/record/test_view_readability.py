@@ -125,3 +125,40 @@ def test_a_revolving_joint_is_plotted_as_one_continuous_line_and_a_slide_as_it_i
     np.testing.assert_allclose(np.mod(plotted - raw + math.pi, 2 * math.pi) - math.pi, 0.0, atol=1e-12)
     assert data.plotted_joint("finger")[1] is data.joints["finger"][1]
     assert engine.plotted_joint("piston_x")[0] is engine.joints["piston_x"][0]
+
+
+def test_the_engines_pin_and_slide_labels_at_b_stand_apart_and_off_the_pin(engine) -> None:  # type: ignore[no-untyped-def]
+    """R_B and R_B_slide (two loads at one pin) are drawn beyond their arrows' tips: apart from
+    each other and from the pin's own name at every tick (the viewer's own arrow labels sit at
+    the arrows' middles, on each other, issue 30)."""
+    from linkage_ros.record._drawing import LINK_RADIUS, position_of
+    from linkage_ros.record.forces import LABEL_GAP, LABEL_REACH, label_positions
+
+    radius = LINK_RADIUS * engine.extent()
+    rule = load_rule(engine)
+    pin = position_of(engine, "B")
+    turns = (("B", 0.25 * math.pi), ("B_slide", 0.75 * math.pi))
+    anchors = [label_positions(pin, arrow_vectors(rule, engine.loads[key], engine.dim), radius, turn,
+                               chars=len(key) + 2) for key, turn in turns]
+    apart = np.hypot(*(anchors[0] - anchors[1])[:, :2].T)
+    assert apart.min() >= LABEL_GAP * radius  # a label's height (~10 px) is 5-10 link radii at the default window
+    for a in anchors:
+        assert np.hypot(*(a - pin)[:, :2].T).min() >= LABEL_REACH * radius * (1 - 1e-12)
+
+
+def test_a_vanished_load_labels_away_from_its_pin_in_the_given_direction() -> None:
+    from linkage_ros.record.forces import LABEL_REACH, label_positions
+
+    at = label_positions(np.array([[1.0, 2.0]]), np.zeros((1, 2)), 0.01, 0.5 * math.pi)
+    np.testing.assert_allclose(at, [[1.0, 2.0 + LABEL_REACH * 0.01]], rtol=0, atol=1e-15)
+
+
+def test_a_dynamic_runs_legend_is_sized_for_the_mechanism_column_beside_its_energy_column() -> None:
+    from linkage_ros.record.rerun import plot_column_count
+
+    data = run_standalone(RunOptions(scene="four_bar_pendulum", duration=0.1, rate=100.0)).data
+    assert plot_column_count(data) == len(plot_columns(data))
+    data.energy = {"kinetic": np.zeros(data.n), "balance": np.zeros(data.n)}  # as a dynamic run's
+    assert plot_column_count(data) == len(plot_columns(data)) + 1
+    text = "word " * 200  # a long legend: the narrower column of a dynamic run needs a taller panel
+    assert legend_share(text, plot_column_count(data))[1] > legend_share(text, len(plot_columns(data)))[1]

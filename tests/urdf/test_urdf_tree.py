@@ -86,8 +86,8 @@ def test_harvester_finger_has_drum_finger_and_eyelet_slider_and_cuts_the_eyelet_
     model = build_model(solver.load_scene("harvester_finger"))
     assert [(j.name, j.type, j.parent, j.child) for j in model.joints] == [
         ("drum_joint", "continuous", "base_link", "drum"),
-        ("finger_link_joint", "continuous", "base_link", "finger_link"),
-        ("finger_link_eyelet_joint", "prismatic", "finger_link", "finger_link_eyelet"),
+        ("finger_joint", "continuous", "base_link", "finger"),  # the scene's body 'finger' (group finger_link)
+        ("finger_link_eyelet_joint", "prismatic", "finger", "finger_link_eyelet"),
     ]
     assert [(c.name, c.side_a, c.side_b) for c in model.cuts] == [("finger_link_B", "finger_link_eyelet", "drum")]
     assert model.bodies["drum"].role == "drum"
