@@ -16,16 +16,22 @@ Topic mode (``-p input_source:=topic``, switchable at run time): the timer stops
 ``sensor_msgs/JointState`` on the relative topic ``input_joint_states`` (best-effort subscription,
 so reliable and best-effort publishers both reach it) is answered with the same topics, under
 the message's ``header.stamp`` (:meth:`Runtime.answer`); dropped and unassemblable messages are
-logged as warnings, at most one a second. The subscription is raw: names, positions,
+logged as warnings, at most one of each kind a second (:class:`~linkage_ros._throttle.Throttle`),
+and a dropped one gets diagnostics WARN. The subscription is raw: names, positions,
 velocities and stamp are read straight off the CDR bytes
 (:func:`~linkage_ros.serialize.read_joint_state`; rclpy's deserialiser for anything unusual),
 without building the message object.
 
 Dynamic mode (``-p mode:=dynamic``, issue 22): the timer ticks as in clock mode, but φ(t) comes
 from the equation of motion (:mod:`linkage_ros.dynamic`); the node subscribes to the relative
-topic ``effort_commands`` (``std_msgs/Float64MultiArray``, one value per input) and hands each
+topic ``effort_commands`` (``std_msgs/Float64MultiArray``, one value per input; best effort, so
+reliable and sensor-data publishers both match; raw, recorded as received) and hands each
 command to :meth:`Runtime.command_efforts`; a refused one is logged as one warning (at most one
-a second).
+of its kind a second).
+
+``robot_description`` (std_msgs/String, transient local) carries the scene's URDF (``linkage-urdf``)
+from the start and after every change of scene or frame_id. ``mechanism_node --help`` prints the
+usage and the parameters without starting a node.
 
 The spin loop runs rclpy's ``EventsExecutor`` (C++, ``rclpy.experimental``, in Jazzy's rclpy
 7.1): at 1 kHz it takes about a third of the CPU of the ``SingleThreadedExecutor``, whose Python

@@ -7,7 +7,7 @@ message's fields. See ``docs/relay.md`` for the graph and every decision.
 
 API (kept stable for the node)::
 
-    relay = Relay(engine, input_joint=None, epsilon="zero", max_gap=0.25)
+    relay = Relay(engine, input_joint=None, input_joints=(), epsilon="zero", max_gap=0.25)
     answer = relay.answer(names, positions, velocities, stamp_ns)
     answer.kind            # "frame" | "dropped" | "unassemblable" | "ignored"   (ANSWER_*)
     answer.frame           # engine.Frame at φ, ω, ε read off the message (kind "frame" only)
@@ -22,7 +22,8 @@ API (kept stable for the node)::
     relay.solve(reading)                  # its Answer: answer() is read() then solve(); the node's
                                           # fast path solves a Reading itself (linkage_ros.instant)
     relay.published_joints                # joint_states names in topic mode (a tuple of str)
-    relay.joint_states(frame)             # (names, positions, velocities): tuples, in that order
+    relay.published_for(reading.joints)   # ... when the message named the inputs by those joints
+    relay.joint_states(frame, joints=None)  # (names, positions, velocities): tuples, in that order
     relay.input_joint                     # the joint read from the messages
     relay.input_joints                    # every joint read: (input_joint,), or scene.inputs (k > 1)
     relay.reset()                         # forget the previous message (e.g. on a mode switch)
@@ -51,8 +52,13 @@ Decisions (``docs/relay.md`` states what each costs):
   ε noise ≈ √2·σ/Δt.
 * **Dropped**: the input joint absent, no position for it, a non-finite position or velocity,
   arrays shorter than the names. A dropped message leaves the previous state as it was.
-* **Ignored**: a message without the input joint whose names are all joints this relay publishes:
-  its own joint_states coming back (the driver and the node share ``/joint_states`` so that
+* **URDF names** (issue 30): by default each input is read under the scene's input joint or, when
+  the message lacks it, the URDF tree's prismatic joint of its cylinder (``boom_cylinder_rod_joint``);
+  ``input_joints`` (one name per input, ``""`` for the default) fixes the one name read for each
+  (:func:`~linkage_ros._relay_joint.input_choices`). ``reading.joints`` says which were read, and
+  joint_states leaves out exactly those.
+* **Ignored**: a message whose names are exactly the names this relay publishes (under either
+  naming of the inputs): its own joint_states coming back (the driver and the node share ``/joint_states`` so that
   robot_state_publisher hears both, ``docs/relay.md``). Publish nothing, warn about nothing.
 * **Unassemblable**: no frame (nothing non-finite is ever returned); the reason names the group
   and the φ interval that contains the input. The next message is answered normally.
