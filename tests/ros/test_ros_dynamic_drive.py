@@ -33,13 +33,16 @@ def drive(start_node: Any, client: Client, tmp_path_factory: pytest.TempPathFact
     process = start_node("-r", f"__ns:={NS}", "-p", f"scene:={scene}", "-p", "mode:=dynamic", "-p", "phi0:=0.3",
                          "-p", "omega:=0.0", "-p", "rate_hz:=100.0", "-p", "effort_timeout:=0.5",
                          "-p", f"record_mcap:={recording}")
-    if not client.spin_until(lambda: len(listener.by_topic[f"{NS}/joint_states"]) >= 50, WAIT_S):
+    if not client.spin_until(lambda: len(listener.by_topic[f"{NS}/joint_states"]) >= 50
+                             and len(listener.by_topic[f"{NS}/diagnostics"]) >= 1, WAIT_S):
         process.kill()
         pytest.fail("no joint_states from mechanism_node in dynamic mode:\n" + process.output())
     from rclpy.qos import qos_profile_sensor_data
     from std_msgs.msg import Float64MultiArray
 
     publisher = client.node.create_publisher(Float64MultiArray, f"{NS}/effort_commands", qos_profile_sensor_data)
+    if not client.spin_until(lambda: publisher.get_subscription_count() > 0, WAIT_S):
+        pytest.fail("the effort publisher never matched the node's subscription:\n" + process.output())
     return process, listener, publisher, recording
 
 
@@ -59,6 +62,7 @@ def test_a_best_effort_controller_drives_it_and_diagnostics_say_so(drive: Any, c
     for _ in range(30):  # 20 Hz for 1.5 s
         publisher.publish(Float64MultiArray(data=[COMMAND]))
         client.spin_for(0.05)
+    client.spin_for(0.2)
     efforts = [decode(d, "trajectory_msgs/msg/JointTrajectory").points[0].effort[0]
                for d in listener.by_topic[f"{NS}/joint_kinematics"][kinematics:]]
     assert efforts[-1] == pytest.approx(COMMAND, rel=1e-9)  # the best-effort publisher reached it
