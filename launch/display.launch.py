@@ -56,6 +56,8 @@ def _nodes(context: LaunchContext) -> list[Node]:
                 "rate_hz": ParameterValue(LaunchConfiguration("rate_hz"), value_type=float),
             },
         ],
+        # robot_state_publisher publishes /robot_description: the node's own goes to its private name
+        remappings=[("robot_description", "~/robot_description")],
     )
     state_publisher = Node(
         package="robot_state_publisher",

@@ -91,7 +91,9 @@ def _nodes(context: LaunchContext) -> list[Node]:
         name="mechanism_node",
         output="screen",
         parameters=[os.path.join(share, "config", "params.yaml"), overrides],
-        remappings=[("input_joint_states", input_topic)],
+        # robot_state_publisher publishes /robot_description (the URDF it poses): the node's own
+        # (the generated tree) goes to its private name, so the two never share a topic
+        remappings=[("input_joint_states", input_topic), ("robot_description", "~/robot_description")],
     )
     state_publisher = Node(
         package="robot_state_publisher",

@@ -16,6 +16,7 @@ reports ``"unassemblable"``, the frames after it are ordinary.
 from __future__ import annotations
 
 import math
+import weakref
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from types import MappingProxyType
 from typing import Any
@@ -46,6 +47,7 @@ from .motion import SEGMENT_HOLD, Motion, Motions
 __all__ = [
     "ON_UNASSEMBLABLE",
     "Engine",
+    "every_output",
     "interval_containing",
 ]
 
@@ -57,6 +59,25 @@ TWO_PI = 2.0 * math.pi
 PATH_SAMPLES = 361
 #: Ticks solved together by :meth:`Engine.frames`.
 CHUNK = 4096
+
+
+#: Each loaded scene's every-output copy, kept while the scene lives: a restart of the node on the
+#: same scene (``phi0``, ``mode``, ...) reuses its compiled instant instead of tracing it again.
+_EVERYTHING: weakref.WeakKeyDictionary[Any, Any] = weakref.WeakKeyDictionary()
+
+
+def every_output(scene: Any) -> Any:
+    """``scene.everything()`` (every point and joint an output), one per loaded scene."""
+    try:
+        return _EVERYTHING[scene]
+    except (KeyError, TypeError):
+        pass
+    full = scene.everything()
+    try:
+        _EVERYTHING[scene] = full
+    except TypeError:  # pragma: no cover - a scene that cannot be weakly referenced
+        pass
+    return full
 
 
 class Engine:
@@ -103,7 +124,7 @@ class Engine:
         self.published_points: tuple[str, ...] = chosen
         self.point_names: tuple[str, ...] = tuple(scene.point_names)
         self.joint_names: tuple[str, ...] = tuple(scene.joint_names)
-        self._full = scene.with_outputs(points=self.point_names, joints=self.joint_names)
+        self._full = every_output(scene)
         #: The input joints; with several (docs/inputs.md) ``motion`` is a
         #: :class:`~linkage_ros.motion.Motions` and a frame's phi, omega, epsilon are k-tuples.
         self.inputs: tuple[str, ...] = tuple(getattr(scene, "inputs", (scene.input_joint,)))

@@ -21,6 +21,7 @@ from numpy.typing import NDArray
 __all__ = [
     "NO_VALUES",
     "STATUS_BEHIND",
+    "STATUS_INPUT_DROPPED",
     "STATUS_NEAR_SINGULAR",
     "STATUS_OK",
     "STATUS_UNASSEMBLABLE",
@@ -37,6 +38,9 @@ STATUS_NEAR_SINGULAR = "near_singular"
 STATUS_UNASSEMBLABLE = "unassemblable"
 #: A dynamic law that does not keep up with real time (diagnostics WARN with its real-time factor).
 STATUS_BEHIND = "behind"
+#: Topic mode only, in diagnostics (level WARN): an incoming JointState that could not be read
+#: (none of the input joints, a non-finite value, short arrays); its ``message`` says why.
+STATUS_INPUT_DROPPED = "input_dropped"
 #: The efforts and loads of a frame without forces (read only).
 NO_VALUES: Mapping[str, Any] = MappingProxyType({})
 

@@ -54,7 +54,7 @@ from typing import Any, NamedTuple
 from solver.errors import AssemblyError
 
 from ._derived import View, compiled_tree, compiled_view, tree_code, view_code
-from .engine import Engine
+from .engine import Engine, every_output
 from .frame import Frame
 from .messages import NS_PER_S, MessageBuilder
 from .serialize import STAMP_SLOTS, Packer, Serializer, Slot
@@ -92,7 +92,7 @@ def flat_solver(engine: Engine) -> tuple[tuple[Slot, ...], FlatSolve]:
 
 def _flat(engine: Engine) -> tuple[tuple[Slot, ...], FlatSolve, _Shape | None]:
     """:func:`flat_solver`, and the shape of the compiled tuple (None on the scalar path)."""
-    scene = engine.scene.everything()
+    scene = every_output(engine.scene)
     near = engine.near_singular_below
     if hasattr(scene, "compiled"):
         return _compiled(engine, scene, near)

@@ -13,18 +13,23 @@ messages of one frame carry the same header (stamp and frame_id). Planar scenes 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
 from .engine import Engine
-from .frame import STATUS_BEHIND, STATUS_NEAR_SINGULAR, STATUS_OK, Frame
+from .frame import STATUS_BEHIND, STATUS_INPUT_DROPPED, STATUS_NEAR_SINGULAR, STATUS_OK, Frame
 from .load_messages import LoadMessages, tree_effort_joints
 from .msgtypes import TYPE_NAMES, MessageTypes
 from .topics import (
     DIAGNOSTICS,
+    EFFORT_COMMANDS,
+    ENERGIES,
+    ENERGY_LABELS,
     FIXED_TOPIC_TYPES,
+    INPUT_JOINT_STATES,
+    INPUT_TYPES,
     JOINT_KINEMATICS,
     JOINT_STATES,
     LOAD_LABELS_NAMESPACE,
@@ -32,6 +37,7 @@ from .topics import (
     MARKER_NAMESPACES,
     MARKERS,
     NS_PER_S,
+    ROBOT_DESCRIPTION,
     WRENCH_STAMPED,
     load_topic_types,
     point_topics,
@@ -42,7 +48,12 @@ from .urdf import TreeJointStates, exportable_model, frame_tree_joint_states
 
 __all__ = [
     "DIAGNOSTICS",
+    "EFFORT_COMMANDS",
+    "ENERGIES",
+    "ENERGY_LABELS",
     "FIXED_TOPIC_TYPES",
+    "INPUT_JOINT_STATES",
+    "INPUT_TYPES",
     "JOINT_KINEMATICS",
     "JOINT_STATES",
     "LOADS_NAMESPACE",
@@ -51,6 +62,7 @@ __all__ = [
     "MARKER_NAMESPACES",
     "NS_PER_S",
     "PATH_PERIOD",
+    "ROBOT_DESCRIPTION",
     "TYPE_NAMES",
     "WRENCH_STAMPED",
     "MessageBuilder",
@@ -140,6 +152,9 @@ class MessageBuilder:
         self._inputs = tuple(getattr(engine, "inputs", ()) or (scene.input_joint,))
         # joints left out of joint_states (topic mode: the driver publishes the input joint)
         self.omit_joints = frozenset(omit_joints)
+        #: ``() -> [(key, text)]``: KeyValues added to every diagnostics status after the frame's
+        #: own (the runtime's dynamic mode: the drive state); None: none
+        self.diagnostic_values: Callable[[], Sequence[tuple[str, str]]] | None = None
         # the URDF tree's joints (linkage-urdf) ride along on joint_states, so that
         # robot_state_publisher moves the closed chain; None for scenes without a URDF export
         self._tree = exportable_model(scene)
@@ -342,12 +357,25 @@ class MessageBuilder:
                 markers.append(M(header=header, points=points, **style))
         return self._MarkerArray(markers=markers)
 
+    def energies(self, values: Sequence[float]) -> Any:
+        """The ``energies`` row of a dynamic-mode tick (:mod:`linkage_ros._runtime_dynamic`): a
+        ``std_msgs/Float64MultiArray`` whose one dimension's label names the entries."""
+        c = self.types.classes
+        dim = c["std_msgs/msg/MultiArrayDimension"](label="J: " + " ".join(ENERGY_LABELS), size=len(values),
+                                                      stride=len(values))
+        layout = c["std_msgs/msg/MultiArrayLayout"](dim=[dim], data_offset=0)
+        return c["std_msgs/msg/Float64MultiArray"](layout=layout, data=self.types.float64s(values))
+
     def _diagnostics(self, frame: Frame, header: Any) -> Any:
         S = self._DiagnosticStatus
         if frame.status == STATUS_OK:
             level, text = S.OK, "ok"
-        elif frame.status in (STATUS_NEAR_SINGULAR, STATUS_BEHIND):
-            level, text = S.WARN, frame.message or frame.status
+        elif frame.status == STATUS_NEAR_SINGULAR:
+            level, text = S.WARN, frame.message or "near singular"
+        elif frame.status == STATUS_BEHIND:
+            level, text = S.WARN, frame.message or "falls behind real time"
+        elif frame.status == STATUS_INPUT_DROPPED:
+            level, text = S.WARN, frame.message or "input message dropped"
         else:
             level, text = S.ERROR, frame.message or "cannot be assembled"
         KV = self._KeyValue
@@ -358,9 +386,12 @@ class MessageBuilder:
             else:
                 values.append(KV(key=key, value=repr(row)))
         values.append(KV(key="conditioning", value=f"{frame.conditioning:.6g}"))
-        factor = getattr(self.engine.motion, "realtime_factor", None)  # a dynamic law's
+        # a dynamic law's run time per second of computing its ticks (< 1: it cannot keep up)
+        factor = getattr(self.engine.motion, "realtime_factor", None)
         if factor is not None:
-            values.append(KV(key="realtime_factor", value=f"{factor:.3g}"))
+            values.append(KV(key="compute_factor", value=f"{factor:.3g}"))
+        if self.diagnostic_values is not None:  # e.g. the dynamic mode's drive state (runtime)
+            values += [KV(key=key, value=value) for key, value in self.diagnostic_values()]
         status = S(
             level=level,
             name=self.diagnostic_name,

@@ -41,6 +41,10 @@ TYPE_NAMES: tuple[str, ...] = (
     "diagnostic_msgs/msg/DiagnosticArray",
     "diagnostic_msgs/msg/DiagnosticStatus",
     "diagnostic_msgs/msg/KeyValue",
+    "std_msgs/msg/MultiArrayDimension",
+    "std_msgs/msg/MultiArrayLayout",
+    "std_msgs/msg/Float64MultiArray",
+    "std_msgs/msg/String",
 )
 
 

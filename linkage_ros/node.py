@@ -16,16 +16,22 @@ Topic mode (``-p input_source:=topic``, switchable at run time): the timer stops
 ``sensor_msgs/JointState`` on the relative topic ``input_joint_states`` (best-effort subscription,
 so reliable and best-effort publishers both reach it) is answered with the same topics, under
 the message's ``header.stamp`` (:meth:`Runtime.answer`); dropped and unassemblable messages are
-logged as warnings, at most one a second. The subscription is raw: names, positions,
+logged as warnings, at most one of each kind a second (:class:`~linkage_ros._throttle.Throttle`),
+and a dropped one gets diagnostics WARN. The subscription is raw: names, positions,
 velocities and stamp are read straight off the CDR bytes
 (:func:`~linkage_ros.serialize.read_joint_state`; rclpy's deserialiser for anything unusual),
 without building the message object.
 
 Dynamic mode (``-p mode:=dynamic``, issue 22): the timer ticks as in clock mode, but φ(t) comes
 from the equation of motion (:mod:`linkage_ros.dynamic`); the node subscribes to the relative
-topic ``effort_commands`` (``std_msgs/Float64MultiArray``, one value per input) and hands each
+topic ``effort_commands`` (``std_msgs/Float64MultiArray``, one value per input; best effort, so
+reliable and sensor-data publishers both match; raw, recorded as received) and hands each
 command to :meth:`Runtime.command_efforts`; a refused one is logged as one warning (at most one
-a second).
+of its kind a second).
+
+``robot_description`` (std_msgs/String, transient local) carries the scene's URDF (``linkage-urdf``)
+from the start and after every change of scene or frame_id. ``mechanism_node --help`` prints the
+usage and the parameters without starting a node.
 
 The spin loop runs rclpy's ``EventsExecutor`` (C++, ``rclpy.experimental``, in Jazzy's rclpy
 7.1): at 1 kHz it takes about a third of the CPU of the ``SingleThreadedExecutor``, whose Python
@@ -47,6 +53,8 @@ import gc
 import importlib
 import os
 import signal
+import sys
+import time
 from collections.abc import Callable, Sequence
 from types import FrameType
 from typing import Any
@@ -66,9 +74,11 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 from rclpy.signals import SignalHandlerOptions
+from std_msgs.msg import String
 
 from solver.errors import SolverError
 
+from ._throttle import Throttle
 from .dynamic import INTERRUPT
 from .messages import TYPE_NAMES
 from .parameters import PARAMETERS, SPECS, ParameterSpec, for_scene, start_scene, validate_parameter
@@ -79,6 +89,7 @@ __all__ = [
     "MechanismNode",
     "QOS_DEPTH",
     "coerce_parameter",
+    "description_qos_profile",
     "input_qos_profile",
     "main",
     "make_executor",
@@ -90,11 +101,14 @@ QOS_DEPTH = 10
 #: Topic mode: the incoming JointState topic (relative, so it can be remapped), its queue depth.
 INPUT_TOPIC = "input_joint_states"
 INPUT_QOS_DEPTH = 100
+#: The scene's URDF (std_msgs/String, latched): relative, as robot_state_publisher's.
+DESCRIPTION_TOPIC = "robot_description"
 #: Dynamic mode: the effort command topic (relative), std_msgs/Float64MultiArray, one value per
 #: input (as ros2_control's effort controllers command them); its queue depth.
 EFFORT_TOPIC = "effort_commands"
 EFFORT_QOS_DEPTH = 10
-#: Topic mode: at most one warning about dropped / unassemblable input per this many seconds.
+#: At most one warning of a kind (dropped input, unassemblable input, a refused effort command,
+#: ...) per this many seconds; each kind has its own window (:class:`~linkage_ros._throttle.Throttle`).
 WARNING_THROTTLE_S = 1.0
 #: Longest wait of the spin loop (s): how soon a signal is acted on when no timer is due.
 SPIN_TIMEOUT_S = 0.1
@@ -107,6 +121,10 @@ _PARAMETER_TYPES = {
 }
 
 
+#: Array parameters declared by type (rclpy would read an empty default as a byte array).
+_ARRAY_TYPES = {"double_array": Parameter.Type.DOUBLE_ARRAY, "string_array": Parameter.Type.STRING_ARRAY}
+
+
 def qos_profile() -> QoSProfile:
     """Depth 10, reliable, volatile: what the recorder's offered_qos_profiles also say."""
     return QoSProfile(
@@ -117,11 +135,23 @@ def qos_profile() -> QoSProfile:
     )
 
 
-def input_qos_profile() -> QoSProfile:
-    """Best effort, keep last 100: matches reliable and best-effort JointState publishers."""
+def description_qos_profile() -> QoSProfile:
+    """Depth 1, reliable, transient local: ``robot_description`` is latched, as
+    robot_state_publisher publishes it (a late subscriber gets the last one)."""
     return QoSProfile(
         history=HistoryPolicy.KEEP_LAST,
-        depth=INPUT_QOS_DEPTH,
+        depth=1,
+        reliability=ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.TRANSIENT_LOCAL,
+    )
+
+
+def input_qos_profile(depth: int = INPUT_QOS_DEPTH) -> QoSProfile:
+    """Best effort, keep last ``depth`` (100): matches reliable and best-effort publishers (a
+    JointState driver; an effort controller with ``qos_profile_sensor_data``)."""
+    return QoSProfile(
+        history=HistoryPolicy.KEEP_LAST,
+        depth=depth,
         reliability=ReliabilityPolicy.BEST_EFFORT,
         durability=DurabilityPolicy.VOLATILE,
     )
@@ -158,6 +188,14 @@ def coerce_parameter(name: str, value: Any) -> Any:
     spec = SPECS.get(name)
     if spec is not None and spec.kind == "double" and isinstance(value, int) and not isinstance(value, bool):
         return float(value)
+    if spec is not None and spec.kind == "string_array" and spec.name != "points" and not isinstance(value, str):
+        if value is None:  # `[]` in a params file arrives unset
+            return []
+        try:
+            items = list(value)
+        except TypeError:
+            return value
+        return [str(v) for v in items] if all(isinstance(v, str) for v in items) else value
     if spec is not None and spec.kind == "double_array" and not isinstance(value, str):
         if value is None:  # `[]` in a params file arrives unset
             return []
@@ -212,9 +250,10 @@ class MechanismNode(Node):
             reason = validate_parameter(spec.name, value)
             if reason:
                 raise ValueError(reason)
-            if spec.kind == "double_array":  # declared by type: rclpy reads an empty list as bytes
-                self.declare_parameter(spec.name, Parameter.Type.DOUBLE_ARRAY, descriptor(spec), ignore_override=True)
-                self.set_parameters([Parameter(spec.name, Parameter.Type.DOUBLE_ARRAY, list(value))])
+            kind = _ARRAY_TYPES.get(spec.kind) if spec.name != "points" else None
+            if kind is not None:  # declared by type: rclpy reads an empty list as bytes
+                self.declare_parameter(spec.name, kind, descriptor(spec), ignore_override=True)
+                self.set_parameters([Parameter(spec.name, kind, list(value))])
             else:
                 self.declare_parameter(spec.name, value, descriptor(spec), ignore_override=True)
             values[spec.name] = self.get_parameter(spec.name).value
@@ -230,15 +269,21 @@ class MechanismNode(Node):
         #: topic → its publisher's bound ``publish`` (one look-up per message and tick)
         self._publish: dict[str, Callable[[Any], None]] = {}
         self._sync_publishers()
+        self._description_publisher = self.create_publisher(String, DESCRIPTION_TOPIC, description_qos_profile())
+        self._description: str | None = None
+        self._described_recorder: Any = None
         #: the node clock's handle (ROS time: the system's, or /clock under use_sim_time), read
         #: per tick without a Time object (``_now_ns``: 1.2 µs against 2.5 for ``now().nanoseconds``)
         self._clock_handle = self.get_clock().handle
+        self._publish_description()
         self._tick_timer = self.create_timer(self.runtime.period_s, self._on_timer)
         self._input_subscription: Any = None
         self._input_type: Any = None
         self._effort_subscription: Any = None
+        self._effort_type: Any = None
         self._sync_input()
         self._pending_parameters: list[Parameter] = []
+        self._throttle = Throttle(WARNING_THROTTLE_S)
         self.add_pre_set_parameters_callback(self._coerce_parameters)
         self.add_on_set_parameters_callback(self._on_set_parameters)
         where = (f"answering {self.resolve_topic_name(INPUT_TOPIC)}" if self.runtime.topic_mode
@@ -279,31 +324,42 @@ class MechanismNode(Node):
             try:
                 message = deserialize_message(data, self._input_type)
             except (RuntimeError, ValueError) as error:  # rclpy's RCLError is a RuntimeError
-                self.get_logger().warning(f"JointState dropped: cannot deserialise it ({error})",
-                                          throttle_duration_sec=WARNING_THROTTLE_S)
+                self._warn(f"JointState dropped: cannot deserialise it ({error})")
                 return
             stamp = message.header.stamp
             fields = (message.name, message.position, message.velocity, stamp.sec * 1_000_000_000 + stamp.nanosec)
         runtime = self.runtime
+        if runtime.recorder is not None:
+            runtime.record_input(INPUT_TOPIC, fields[3], data)
         publish = self._publish
         for topic, payload in runtime.answer(*fields):
             publish[topic](payload)
         if runtime.input_warnings:
             for warning in runtime.take_input_warnings():
-                self.get_logger().warning(warning, throttle_duration_sec=WARNING_THROTTLE_S)
+                self._warn(warning)
 
-    def _on_effort_command(self, message: Any) -> None:
-        """Dynamic mode: an effort command; a refused one is logged (one line, at most one a
-        second) and the last good command stays in force."""
-        reason = self.runtime.command_efforts(message.data, self._now_ns())
+    def _on_effort_command(self, data: bytes) -> None:
+        """Dynamic mode: an effort command's CDR bytes (raw subscription: recorded as received);
+        a refused one is logged (one line, at most one of its kind a second) and the last good
+        command stays in force."""
+        now_ns = self._now_ns()
+        self.runtime.record_input(EFFORT_TOPIC, now_ns, data)
+        try:
+            values = deserialize_message(data, self._effort_type).data
+        except (RuntimeError, ValueError) as error:  # rclpy's RCLError is a RuntimeError
+            self._warn(f"effort command dropped: cannot deserialise it ({error})")
+            return
+        reason = self.runtime.command_efforts(values, now_ns)
         if reason is not None:
-            self.get_logger().warning(reason, throttle_duration_sec=WARNING_THROTTLE_S)
+            self._warn(reason)
 
     def _coerce_parameters(self, parameters: list[Parameter]) -> list[Parameter]:
         out = []
         for p in parameters:
             value = coerce_parameter(p.name, p.value)
-            kind = Parameter.Type.DOUBLE_ARRAY if isinstance(value, list) else Parameter.Type.DOUBLE
+            spec = SPECS.get(p.name)
+            kind = (_ARRAY_TYPES.get(spec.kind, Parameter.Type.DOUBLE) if spec is not None and isinstance(value, list)
+                    else Parameter.Type.DOUBLE)
             out.append(p if value is p.value else Parameter(p.name, kind, value))
         return out
 
@@ -316,6 +372,7 @@ class MechanismNode(Node):
             return SetParametersResult(successful=False, reason=reason)
         self._log_recording()
         self._sync_publishers()
+        self._publish_description()
         if "scene" in changes:
             self.get_logger().info(
                 f"scene {self.runtime.engine.scene.name}: publishing {len(self._topic_publishers)} topics"
@@ -345,6 +402,28 @@ class MechanismNode(Node):
         return result
 
     # ------------------------------------------------------------------ helpers
+    def _warn(self, text: str) -> None:
+        """One warning, at most one of its kind (:func:`~linkage_ros._throttle.warning_kind`) per
+        :data:`WARNING_THROTTLE_S` seconds: a flood of one kind does not hide another."""
+        if self._throttle.allow(text, time.monotonic()):
+            self.get_logger().warning(text)
+
+    def _publish_description(self) -> None:
+        """The scene's URDF on the latched ``robot_description`` (std_msgs/String, transient
+        local): at start and whenever the scene or frame_id changes (RViz's RobotModel display
+        reads it; with /tf from robot_state_publisher, or the node's own where tf2_msgs exists)."""
+        runtime = self.runtime
+        text = runtime.robot_description()
+        if text is None:
+            return
+        if text != self._description:
+            self._description = text
+            self._description_publisher.publish(String(data=text))
+        elif runtime.recorder is self._described_recorder:
+            return
+        self._described_recorder = runtime.recorder  # a new recording gets the description too
+        runtime.record_description(self._now_ns())
+
     def _log_recording(self) -> None:
         """Log where the recording starts and that the previous one is finished."""
         recorder = self.runtime.recorder
@@ -394,8 +473,10 @@ class MechanismNode(Node):
         if dynamic and self._effort_subscription is None:
             from std_msgs.msg import Float64MultiArray
 
+            self._effort_type = Float64MultiArray
             self._effort_subscription = self.create_subscription(
-                Float64MultiArray, EFFORT_TOPIC, self._on_effort_command, EFFORT_QOS_DEPTH)
+                Float64MultiArray, EFFORT_TOPIC, self._on_effort_command, input_qos_profile(EFFORT_QOS_DEPTH),
+                raw=True)
         elif not dynamic and self._effort_subscription is not None:
             self.destroy_subscription(self._effort_subscription)
             self._effort_subscription = None
@@ -444,9 +525,35 @@ class _StopRequest:
             raise KeyboardInterrupt
 
 
+def usage() -> str:
+    """What ``mechanism_node --help`` prints: how to start it, its topics and its parameters."""
+    lines = [
+        "usage: mechanism_node [-h] [--ros-args -p NAME:=VALUE ... [--params-file FILE] [-r FROM:=TO ...]]",
+        "",
+        "Publishes the exact kinematics (and forces, dynamics) of one linkage scene over ROS 2:",
+        "joint_states, joint_kinematics, points/<P>/..., pin_loads/..., markers, diagnostics, tf,",
+        "robot_description (docs/ros.md). Topic mode answers input_joint_states; dynamic mode",
+        "takes effort_commands. SIGINT / SIGTERM end it between two ticks (exit status 0).",
+        "",
+        "parameters (-p NAME:=VALUE; all can be set at run time):",
+    ]
+    for spec in PARAMETERS:
+        default = "the scene's outputs" if spec.default is None else repr(spec.default)
+        lines.append(f"  {spec.name:<20} {spec.kind:<12} default {default}")
+        lines.append(f"      {spec.description}")
+    lines += ["", "e.g.  mechanism_node --ros-args -p scene:=four_bar -p omega:=2.0 -p rate_hz:=100.0"]
+    return "\n".join(lines) + "\n"
+
+
 def main(args: Sequence[str] | None = None) -> int:
     """Entry point of ``mechanism_node``: 0 after SIGINT / SIGTERM (the recording finished), 1
-    with one ``cannot start: ...`` line when the start values are unusable."""
+    with one ``cannot start: ...`` line when the start values are unusable; ``-h`` / ``--help``
+    (before ``--ros-args``) prints :func:`usage` and returns 0 without starting a node."""
+    argv = list(sys.argv[1:] if args is None else args)
+    ours = argv[:argv.index("--ros-args")] if "--ros-args" in argv else argv
+    if "-h" in ours or "--help" in ours:
+        sys.stdout.write(usage())
+        return 0
     stop = _StopRequest()
     previous = {sig: signal.signal(sig, stop) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:

@@ -82,6 +82,7 @@ MAX_GAP_RANGE_S = (1.0e-3, 60.0)
 
 _FRAME_ID = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_./-]*\Z")
 _POINT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+_JOINT = re.compile(r"[^\s]+\Z")
 
 
 @dataclass(frozen=True)
@@ -176,7 +177,15 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
         "input_joint", "string", "",
         "Topic mode: the joint of the incoming JointState that drives the mechanism; empty: the "
         "scene's input joint.",
-        constraints="empty, the scene's input joint, or a URDF-style revolute joint of the scene",
+        constraints="empty, the scene's input joint, a URDF-style revolute joint of the scene, or the URDF's "
+                    "prismatic joint of the input actuator (<actuator>_rod_joint)",
+    ),
+    ParameterSpec(
+        "input_joints", "string_array", (),
+        "Topic mode: the joint of the incoming JointState that drives each input, in the order of the "
+        "scene's inputs (\"\" for one: its own name or its URDF joint); empty: every input read under "
+        "the scene's input joint or, for an actuator, the URDF's <actuator>_rod_joint.",
+        constraints="empty, or one name per input: \"\", the input joint, or a joint of the URDF that drives it",
     ),
     ParameterSpec(
         "topic_epsilon", "string", EPSILON_ZERO,
@@ -297,6 +306,9 @@ def validate_parameter(name: str, value: Any) -> str | None:
     if spec.kind == "string_array":
         if isinstance(value, str) or not all(isinstance(v, str) for v in value):
             return f"{name} must be a list of strings, got {value!r}"
+        if name == "input_joints":
+            bad = [v for v in value if v and not _JOINT.match(v)]
+            return f"input_joints: {', '.join(map(repr, bad))} cannot be a joint name (no spaces)" if bad else None
         bad = [v for v in value if v and not _POINT.match(v)]
         if bad:
             return f"{name}: {', '.join(map(repr, bad))} cannot be part of a topic name"
@@ -379,6 +391,7 @@ def initial_settings(values: Mapping[str, Any]) -> dict[str, Any]:
             raise ValueError(reason)
     for name in PER_INPUT:
         settings[name] = tuple(float(v) for v in settings[name] or ())
+    settings["input_joints"] = tuple(str(v) for v in settings["input_joints"] or ())
     return settings
 
 
@@ -391,7 +404,8 @@ def checked_changes(changes: Mapping[str, Any]) -> tuple[dict[str, Any], str | N
         reason = validate_parameter(name, value)
         if reason:
             return {}, reason
-    return {k: tuple(float(x) for x in v) if k in PER_INPUT else v for k, v in ours.items()}, None
+    return {k: tuple(float(x) for x in v) if k in PER_INPUT else tuple(v) if k == "input_joints" else v
+            for k, v in ours.items()}, None
 
 
 def start_scene(name: Any) -> tuple[tuple[str, ...], dict[str, Any]]:

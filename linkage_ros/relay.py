@@ -7,7 +7,7 @@ message's fields. See ``docs/relay.md`` for the graph and every decision.
 
 API (kept stable for the node)::
 
-    relay = Relay(engine, input_joint=None, epsilon="zero", max_gap=0.25)
+    relay = Relay(engine, input_joint=None, input_joints=(), epsilon="zero", max_gap=0.25)
     answer = relay.answer(names, positions, velocities, stamp_ns)
     answer.kind            # "frame" | "dropped" | "unassemblable" | "ignored"   (ANSWER_*)
     answer.frame           # engine.Frame at φ, ω, ε read off the message (kind "frame" only)
@@ -22,7 +22,8 @@ API (kept stable for the node)::
     relay.solve(reading)                  # its Answer: answer() is read() then solve(); the node's
                                           # fast path solves a Reading itself (linkage_ros.instant)
     relay.published_joints                # joint_states names in topic mode (a tuple of str)
-    relay.joint_states(frame)             # (names, positions, velocities): tuples, in that order
+    relay.published_for(reading.joints)   # ... when the message named the inputs by those joints
+    relay.joint_states(frame, joints=None)  # (names, positions, velocities): tuples, in that order
     relay.input_joint                     # the joint read from the messages
     relay.input_joints                    # every joint read: (input_joint,), or scene.inputs (k > 1)
     relay.reset()                         # forget the previous message (e.g. on a mode switch)
@@ -51,8 +52,13 @@ Decisions (``docs/relay.md`` states what each costs):
   ε noise ≈ √2·σ/Δt.
 * **Dropped**: the input joint absent, no position for it, a non-finite position or velocity,
   arrays shorter than the names. A dropped message leaves the previous state as it was.
-* **Ignored**: a message without the input joint whose names are all joints this relay publishes:
-  its own joint_states coming back (the driver and the node share ``/joint_states`` so that
+* **URDF names** (issue 30): by default each input is read under the scene's input joint or, when
+  the message lacks it, the URDF tree's prismatic joint of its cylinder (``boom_cylinder_rod_joint``);
+  ``input_joints`` (one name per input, ``""`` for the default) fixes the one name read for each
+  (:func:`~linkage_ros._relay_joint.input_choices`). ``reading.joints`` says which were read, and
+  joint_states leaves out exactly those.
+* **Ignored**: a message whose names are exactly the names this relay publishes (under either
+  naming of the inputs): its own joint_states coming back (the driver and the node share ``/joint_states`` so that
   robot_state_publisher hears both, ``docs/relay.md``). Publish nothing, warn about nothing.
 * **Unassemblable**: no frame (nothing non-finite is ever returned); the reason names the group
   and the φ interval that contains the input. The next message is answered normally.
@@ -76,6 +82,7 @@ names are imported from here).
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -83,7 +90,7 @@ from typing import Any, NamedTuple
 
 from solver.errors import AssemblyError, format_intervals
 
-from ._relay_joint import InputMap, input_map
+from ._relay_joint import input_choices
 from ._relay_rates import (
     DEFAULT_MAX_GAP,
     EPSILON_DIFFERENCE,
@@ -155,6 +162,8 @@ class Reading(NamedTuple):
     omega_from: str
     epsilon_from: str
     q: Any
+    #: the joints read (one per input): they select the joint_states published (:meth:`Relay.published_for`)
+    joints: tuple[str, ...]
 
 
 class Relay:
@@ -165,6 +174,7 @@ class Relay:
         engine: Engine,
         *,
         input_joint: str | None = None,
+        input_joints: Sequence[str] = (),
         epsilon: str = EPSILON_ZERO,
         max_gap: float = DEFAULT_MAX_GAP,
     ) -> None:
@@ -177,33 +187,57 @@ class Relay:
         self.epsilon_rule = epsilon
         self.max_gap_ns = int(round(float(max_gap) * NS_PER_S))
         inputs = tuple(getattr(engine, "inputs", ()) or (self.scene.input_joint,))
-        if len(inputs) > 1:
-            if input_joint:
+        configured = [str(n) for n in input_joints or ()]
+        if input_joint:
+            if len(inputs) > 1:
                 raise ValueError(
                     f"input_joint '{input_joint}': scene '{self.scene.name}' has {len(inputs)} inputs "
                     f"({', '.join(inputs)}), each read by its own name from the same message; "
-                    "leave input_joint empty"
+                    "leave input_joint empty (input_joints maps each input to a joint)"
                 )
-            self._map = InputMap(inputs[0], 1.0, 0.0)
-            self.input_joints: tuple[str, ...] = inputs
-        else:
-            self._map = input_map(self.scene, input_joint)
-            self.input_joints = (self._map.name,)
-        self.input_joint: str = self._map.name
-        skip = frozenset(self.input_joints)
+            if configured and configured[0] not in ("", input_joint):
+                raise ValueError(f"input_joint '{input_joint}' and input_joints {configured!r} name different "
+                                 "joints for the same input; set one of them")
+            configured = [input_joint]
         self._tree = exportable_model(self.scene)
+        #: per input, the joints it is read from, in the order they are tried (_relay_joint)
+        self._choices = input_choices(self.scene, configured, model=self._tree,
+                                      parameter="input_joints" if len(inputs) > 1 or not input_joint else "input_joint")
+        self._map = self._choices[0][0]
+        #: the joints read when the driver uses the first choice of every input
+        self.input_joints: tuple[str, ...] = tuple(c[0].name for c in self._choices)
+        self.input_joint: str = self._map.name
+        self._single = len(inputs) == 1
+        self._first = (tuple((m, self.input_joints if i == 0 else (m.name,)) for i, m in enumerate(self._choices[0]))
+                       if self._single else ())
         tree_names = () if self._tree is None else tuple(self._tree.joint_names)
-        self._scene_joints = tuple(n for n in engine.joint_names if n not in skip)
-        self._tree_mask = tuple(n not in skip for n in tree_names)
-        self.published_joints: tuple[str, ...] = (
-            *self._scene_joints,
-            *(n for n, keep in zip(tree_names, self._tree_mask) if keep),
-        )
-        self._own = frozenset(self.published_joints)
+        self._all_names = (*engine.joint_names, *tree_names)
+        self._n_scene = len(engine.joint_names)
+        self._views: dict[tuple[str, ...], tuple[str, ...]] = {}
+        self.published_joints: tuple[str, ...] = self.published_for(self.input_joints)
+        own = {self.published_for(tuple(m.name for m in view)) for view in itertools.product(*self._choices)}
+        #: joint_states of this relay under any of its views: its own messages coming back
+        self._own = frozenset(own)
+        self._own_lengths = frozenset(len(names) for names in own)
+        self._accepted = tuple(" or ".join(f"'{m.name}'" for m in c) for c in self._choices)
         units = dict(getattr(self.scene, "joint_units", {}))
         strokes = tuple(units.get(n, "rad") == "m" for n in (inputs if len(inputs) > 1 else (self.scene.input_joint,)))
         self._units = tuple("m" if m else "rad" for m in strokes)
         self._rates = Rates(rule=epsilon, max_gap_ns=self.max_gap_ns, strokes=strokes)
+
+    def published_for(self, joints: tuple[str, ...]) -> tuple[str, ...]:
+        """joint_states' names in topic mode when the driver publishes ``joints``: every scene
+        joint and every tree joint of the URDF but those."""
+        names = self._views.get(joints)
+        if names is None:
+            skip = frozenset(joints)
+            names = self._views[joints] = tuple(n for n in self._all_names if n not in skip)
+        return names
+
+    def is_own(self, names: Sequence[str]) -> bool:
+        """Whether ``names`` are exactly the joint_states names of this relay (under any of its
+        views): its own message coming back on a shared topic."""
+        return len(names) in self._own_lengths and tuple(names) in self._own
 
     # ------------------------------------------------------------------ one message
     def answer(
@@ -230,13 +264,19 @@ class Relay:
         stamp_ns = int(stamp_ns)
         if len(self.input_joints) > 1:
             return self._read_inputs(names, positions, velocities, stamp_ns)
-        name = self.input_joint
-        try:
-            i = names.index(name) if isinstance(names, (list, tuple)) else list(names).index(name)
-        except ValueError:
-            if len(names) and self._own.issuperset(names):
-                return Answer(ANSWER_IGNORED, stamp_ns, reason="carries only joints this relay publishes")
-            return Answer(ANSWER_DROPPED, stamp_ns, reason=f"no joint '{name}' in the message")
+        if len(names) in self._own_lengths and tuple(names) in self._own:
+            return Answer(ANSWER_IGNORED, stamp_ns, reason="carries only joints this relay publishes")
+        seq = names if isinstance(names, (list, tuple)) else list(names)
+        for m, read in self._first:  # noqa: B007 - read after the break
+            try:
+                i = seq.index(m.name)
+                break
+            except ValueError:
+                continue
+        else:
+            return Answer(ANSWER_DROPPED, stamp_ns, reason=f"no joint {self._accepted[0]} in the message"
+                          f"{_carried(seq)}")
+        name = m.name
         if i >= len(positions):
             return Answer(
                 ANSWER_DROPPED, stamp_ns,
@@ -256,8 +296,8 @@ class Relay:
             if not math.isfinite(dq):
                 return Answer(ANSWER_DROPPED, stamp_ns, reason=f"joint '{name}' velocity is {dq}")
         omega_q, omega_from, eps_q, eps_from = self._rates.one(stamp_ns, q, dq)
-        m = self._map
-        return Reading(stamp_ns, m.shift + m.sign * q, m.sign * omega_q, m.sign * eps_q, omega_from, eps_from, q)
+        return Reading(stamp_ns, m.shift + m.sign * q, m.sign * omega_q, m.sign * eps_q, omega_from, eps_from, q,
+                       read)
 
     def solve(self, reading: Reading) -> Answer:
         """The answer to an input state :meth:`read` gave: its frame, or why it has none."""
@@ -292,49 +332,65 @@ class Relay:
         self, names: Sequence[str], positions: Sequence[float], velocities: Sequence[float], stamp_ns: int
     ) -> Reading | Answer:
         """:meth:`read` for a scene with several inputs (see the module docstring)."""
+        if len(names) in self._own_lengths and tuple(names) in self._own:
+            return Answer(ANSWER_IGNORED, stamp_ns, reason="carries only joints this relay publishes")
         index = {n: i for i, n in enumerate(names)}
-        missing = [n for n in self.input_joints if n not in index]
+        read: list[str] = []
+        missing: list[str] = []
+        for choices, accepted in zip(self._choices, self._accepted):
+            found = next((m.name for m in choices if m.name in index), None)
+            if found is None:
+                missing.append(accepted)
+            else:
+                read.append(found)
         if missing:
-            if len(missing) == len(self.input_joints) and len(names) and self._own.issuperset(names):
-                return Answer(ANSWER_IGNORED, stamp_ns, reason="carries only joints this relay publishes")
-            listed = ", ".join(f"'{n}'" for n in missing)
             return Answer(
                 ANSWER_DROPPED, stamp_ns,
-                reason=f"no joint {listed} in the message (every input is needed: {', '.join(self.input_joints)})",
+                reason=f"no joint {', '.join(missing)} in the message (every input is needed: "
+                       f"{', '.join(self.input_joints)}){_carried(names) if len(read) == 0 else ''}",
             )
-        where = [index[n] for n in self.input_joints]
+        joints = tuple(read)
+        where = [index[n] for n in joints]
         if max(where) >= len(positions):
-            short = ", ".join(f"'{n}'" for n, i in zip(self.input_joints, where) if i >= len(positions))
+            short = ", ".join(f"'{n}'" for n, i in zip(joints, where) if i >= len(positions))
             return Answer(
                 ANSWER_DROPPED, stamp_ns,
                 reason=f"joint {short} has no position ({len(names)} names, {len(positions)} positions)",
             )
         q = tuple(float(positions[i]) for i in where)
-        bad = [f"'{n}' position is {v}" for n, v in zip(self.input_joints, q) if not math.isfinite(v)]
+        bad = [f"'{n}' position is {v}" for n, v in zip(joints, q) if not math.isfinite(v)]
         dq: tuple[float, ...] | None = None
         if len(velocities):
             if max(where) >= len(velocities):
-                short = ", ".join(f"'{n}'" for n, i in zip(self.input_joints, where) if i >= len(velocities))
+                short = ", ".join(f"'{n}'" for n, i in zip(joints, where) if i >= len(velocities))
                 return Answer(
                     ANSWER_DROPPED, stamp_ns,
                     reason=f"joint {short} has no velocity ({len(names)} names, {len(velocities)} velocities)",
                 )
             dq = tuple(float(velocities[i]) for i in where)
-            bad += [f"'{n}' velocity is {v}" for n, v in zip(self.input_joints, dq) if not math.isfinite(v)]
+            bad += [f"'{n}' velocity is {v}" for n, v in zip(joints, dq) if not math.isfinite(v)]
         if bad:
             return Answer(ANSWER_DROPPED, stamp_ns, reason="joint " + ", ".join(bad))
         omega, omega_from, eps, eps_from = self._rates.several(stamp_ns, q, dq)
-        return Reading(stamp_ns, q, omega, eps, omega_from, eps_from, q)
+        return Reading(stamp_ns, q, omega, eps, omega_from, eps_from, q, joints)
 
     # ------------------------------------------------------------------ outgoing joints
-    def joint_states(self, frame: Frame) -> tuple[tuple[str, ...], tuple[float, ...], tuple[float, ...]]:
-        """``(names, positions, velocities)`` for joint_states in topic mode: the names of
-        :attr:`published_joints`, in that order."""
-        joints = frame.joints
-        q = [joints[n].position for n in self._scene_joints]
-        dq = [joints[n].velocity for n in self._scene_joints]
+    def joint_states(self, frame: Frame, joints: tuple[str, ...] | None = None
+                     ) -> tuple[tuple[str, ...], tuple[float, ...], tuple[float, ...]]:
+        """``(names, positions, velocities)`` for joint_states in topic mode when the driver
+        publishes ``joints`` (default: :attr:`input_joints`): the names of :meth:`published_for`,
+        in that order."""
+        names = self.published_for(self.input_joints if joints is None else joints)
+        values = {n: (j.position, j.velocity) for n, j in frame.joints.items()}
         if self._tree is not None:
             tree = frame_tree_joint_states(self._tree, frame)
-            q += [v for v, keep in zip(tree.position, self._tree_mask) if keep]
-            dq += [v for v, keep in zip(tree.velocity, self._tree_mask) if keep]
-        return self.published_joints, tuple(q), tuple(dq)
+            values.update(zip(self._tree.joint_names, zip(tree.position, tree.velocity)))
+        return names, tuple(values[n][0] for n in names), tuple(values[n][1] for n in names)
+
+
+def _carried(names: Sequence[str], most: int = 6) -> str:
+    """`` (it carries: a, b, …)``: what a message without the inputs named instead."""
+    if not len(names):
+        return " (it names no joint)"
+    shown = ", ".join(list(names)[:most])
+    return f" (it carries: {shown}{', …' if len(names) > most else ''})"

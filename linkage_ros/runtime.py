@@ -39,6 +39,8 @@ from typing import Any, Protocol
 import solver
 from solver.errors import SolverError
 
+from ._runtime_dynamic import DriveState, energy_values
+from ._runtime_topic import DIAGNOSTICS_PERIOD_S, TopicAnswers
 from .dynamic import RESTARTING, drive_reason, dynamic_law, mode_reason
 from .engine import Engine
 from .frame import STATUS_OK, STATUS_UNASSEMBLABLE, Frame
@@ -53,9 +55,9 @@ from .parameters import (
     per_input_reason,
     points_of,
 )
-from .relay import ANSWER_DROPPED, ANSWER_FRAME, Answer, Reading, Relay
-from .serialize import Serializer
-from .topics import DIAGNOSTICS, topic_types
+from .relay import Reading, Relay
+from .serialize import Serializer, cdr_bytes, pad4
+from .topics import ENERGIES, INPUT_TYPES, ROBOT_DESCRIPTION, topic_types
 
 __all__ = [
     "DIAGNOSTICS_PERIOD_S",
@@ -66,8 +68,6 @@ __all__ = [
 ]
 
 NS_PER_S = 1_000_000_000
-#: Clock seconds between two diagnostics messages while the status stays the same.
-DIAGNOSTICS_PERIOD_S = 1.0
 #: Parameters whose accepted set resumes an input held where the mechanism could not be
 #: assembled (``on_unassemblable: stop``), even when the value does not change.
 RESUMING = frozenset({"omega", "epsilon", "input_omegas", "input_epsilons", "on_unassemblable"})
@@ -95,7 +95,7 @@ def _jazzy_typestore() -> Any:
     return get_typestore(Stores.ROS2_JAZZY)
 
 
-class Runtime:
+class Runtime(TopicAnswers):
     """The node's state: settings, engine, message builder, run clock and optional recorder.
 
     ``values``: parameter values by name (defaults from
@@ -140,7 +140,14 @@ class Runtime:
         self.engine = self._engine(settings, t0=0.0)
         self.settings["points"] = list(self.engine.published_points)
         self.relay = self._relay(self.engine, settings)
-        self.builder, self.wire = self._builder(self.engine, settings["frame_id"], self.relay)
+        self._command_t: float | None = None
+        self._description: tuple[tuple[int, str], str | None] | None = None
+        self._recorded_inputs: set[str] = set()
+        self._views: dict[tuple[str, ...], tuple[MessageBuilder, Serializer, FastPath | None]] = {}
+        self._view: tuple[str, ...] = ()
+        self.builder: MessageBuilder
+        self.wire: Serializer
+        self._set_builder(self.engine, settings["frame_id"], self.relay)
         self.recorder: Recorder | None = None
         if settings["record_mcap"]:
             self.recorder = self._open_recorder(settings["record_mcap"], self.engine, settings["frame_id"])
@@ -182,8 +189,8 @@ class Runtime:
         elif self._last_ns is not None and now_ns < self._last_ns:
             self.events.append("clock jumped backwards: restarting the run at phi0")
             self.start_ns = now_ns
-            self.engine = self._engine(self.settings, t0=0.0)
-            self.builder, self.wire = self._builder(self.engine, self.settings["frame_id"], None)
+            self.engine = self._engine(self.settings, t0=0.0, scene=self.engine.scene)
+            self._set_builder(self.engine, self.settings["frame_id"], None)
         self._last_ns = now_ns
         t = self.run_time(now_ns)
         messages = self._fast(t, now_ns, None)
@@ -200,6 +207,8 @@ class Runtime:
             self.events += self.engine.motion.take_events()  # type: ignore[union-attr]
         if self.recorder is not None:
             self.recorder.write_serialized(now_ns, messages)
+            if notes is not None:  # dynamic mode
+                self._record_energies(now_ns, t)
         return messages
 
     def command_efforts(self, values: Sequence[float], now_ns: int) -> str | None:
@@ -209,54 +218,30 @@ class Runtime:
         command = getattr(self.engine.motion, "command", None)
         if command is None:
             return "effort command ignored: mode is kinematic (set mode to dynamic)"
-        return command(values, self.run_time(now_ns))  # type: ignore[no-any-return]
+        t = self.run_time(now_ns)
+        reason: str | None = command(values, t)
+        if reason is None:
+            self._command_t = t
+        return reason
 
-    def answer(self, names: Sequence[str], positions: Sequence[float], velocities: Sequence[float],
-               stamp_ns: int) -> list[tuple[str, bytes]]:
-        """Topic mode: the messages that answer one incoming JointState, under its stamp (the
-        recorder gets the same bytes); nothing in clock mode.
+    def record_input(self, topic: str, stamp_ns: int, data: bytes) -> None:
+        """Write a message the node received (``input_joint_states``, ``effort_commands``: its CDR
+        bytes as they came) to the recording, if any, beside what the node publishes."""
+        recorder = self.recorder
+        if recorder is None:
+            return
+        if topic not in self._recorded_inputs:
+            add = getattr(recorder, "add_topic", None)
+            if add is not None:
+                add(topic, INPUT_TYPES[topic])
+            self._recorded_inputs.add(topic)
+        recorder.write_serialized(int(stamp_ns), [(topic, data if not len(data) % 4 else pad4(data))])
 
-        A frame: every topic (joint_states without the input joint). Unassemblable: only
-        diagnostics, level ERROR with the group and the φ interval (nothing non-finite, no
-        joint_states). Dropped (no input joint, a non-finite value): nothing, and a line in
-        :attr:`input_warnings`. The relay's own joint_states coming back: nothing.
-        """
-        if self.relay is None:
-            return []
-        reading = self.relay.read(names, positions, velocities, stamp_ns)
-        if isinstance(reading, Answer):  # dropped, or the relay's own joint_states (ignored)
-            if reading.kind == ANSWER_DROPPED:
-                self.input_warnings.append(f"JointState dropped: {reading.reason}")
-            return []
-        stamp = reading.stamp_ns
-        messages = self._fast(stamp / NS_PER_S, stamp, reading)
-        if messages is None:  # the Frame path (linkage_ros.instant: when and why)
-            answer = self.relay.solve(reading)
-            if answer.kind == ANSWER_FRAME:
-                frame = answer.frame
-                assert frame is not None
-                self.last_frame = frame
-                messages = self.wire.render(frame, stamp, paths=self.builder.wants_paths(frame.t),
-                                            diagnostics=self._wants_diagnostics(frame, stamp))
-            else:  # ANSWER_UNASSEMBLABLE
-                self.input_warnings.append(answer.reason)
-                several = isinstance(answer.phi, tuple)  # several inputs: k-tuples as read
-                state = Frame(t=stamp / NS_PER_S,
-                              phi=answer.phi if several else float(answer.phi or 0.0),  # type: ignore[arg-type]
-                              omega=answer.omega if several else float(answer.omega or 0.0),  # type: ignore[arg-type]
-                              epsilon=answer.epsilon if several else float(answer.epsilon or 0.0),  # type: ignore[arg-type]
-                              points={}, joints={},
-                              status=STATUS_UNASSEMBLABLE, conditioning=0.0, message=answer.reason)
-                self._diagnostics_key = None  # the next frame reports again
-                messages = self.wire.generic(state, stamp, [DIAGNOSTICS])
-        if self.recorder is not None:
-            self.recorder.write_serialized(stamp, messages)
-        return messages
-
-    def take_input_warnings(self) -> list[str]:
-        """Topic mode: dropped and unassemblable messages since the last call."""
-        warnings, self.input_warnings = self.input_warnings, []
-        return warnings
+    def _record_energies(self, now_ns: int, t: float) -> None:
+        """Dynamic mode, while recording: the ``energies`` row of the state the tick reached."""
+        phi, omega, _ = self.engine.motion.state(t)
+        values = energy_values(self.engine.scene, phi, omega)
+        self.record_input(ENERGIES, now_ns, self.wire.energies(values))
 
     def _fast(self, t: float, stamp_ns: int, reading: Reading | None) -> list[tuple[str, bytes]] | None:
         """The bytes of an ordinary instant from the fast path (:mod:`linkage_ros.instant`) when
@@ -327,6 +312,7 @@ class Runtime:
         t = self.run_time(now_ns)
         changed = {k for k, v in ours.items() if v != self.settings[k]}
         engine = self.engine
+        restart = False
         reason = mode_reason(new)
         if reason is not None:
             return reason
@@ -336,8 +322,9 @@ class Runtime:
             ):
                 new["points"] = []  # follow the new scene's outputs
             try:
-                restart = changed & {"scene", "phi0", "input_phi0s", *RESTARTING}
-                engine = self._engine(new, t0=t, keep_motion=not restart)
+                restart = bool(changed & {"scene", "phi0", "input_phi0s", *RESTARTING})
+                same = None if "scene" in changed else self.engine.scene  # reused: compiled once
+                engine = self._engine(new, t0=0.0 if restart else t, keep_motion=not restart, scene=same)
             except (SolverError, ValueError) as error:
                 return str(error)
             new["points"] = list(engine.published_points)
@@ -345,7 +332,7 @@ class Runtime:
         if reason is not None:
             return reason
         if "input_source" in changed and new["input_source"] == "clock":
-            engine = self._engine(new, t0=0.0)  # the run restarts at phi0
+            engine = self._engine(new, t0=0.0, scene=engine.scene)  # the run restarts at phi0
         dynamic = getattr(engine.motion, "set_kind", None)  # dynamic mode: drive from the state reached
         if dynamic is not None and "drive" in changed and engine.motion is self.engine.motion:
             reason = drive_reason(engine.scene, new["drive"])
@@ -355,9 +342,15 @@ class Runtime:
         if new["input_source"] == "clock":
             relay = None
         elif (relay is None or engine is not self.engine
-              or changed & {"input_joint", "topic_epsilon", "topic_max_gap"}):
+              or changed & {"input_joint", "input_joints", "topic_epsilon", "topic_max_gap"}):
             try:
                 relay = self._relay(engine, new)
+            except ValueError as error:
+                return str(error)
+        if relay is None and (new["input_joint"] or new["input_joints"]) and (
+                engine is not self.engine or changed & {"input_joint", "input_joints"}):
+            try:  # clock mode: the names are checked now, not at the switch to topic mode
+                self._relay(engine, {**new, "input_source": "topic"})
             except ValueError as error:
                 return str(error)
         recorder = self.recorder
@@ -381,11 +374,13 @@ class Runtime:
                 dynamic(new["drive"])
             engine.motion.timeout = float(new["effort_timeout"])  # type: ignore[union-attr]
         if engine is not self.engine or "frame_id" in changed or relay is not self.relay:
-            self.builder, self.wire = self._builder(engine, new["frame_id"], relay)
+            self._set_builder(engine, new["frame_id"], relay)
             self._diagnostics_key = None
-        if "input_source" in changed and new["input_source"] == "clock":
-            self.start_ns = self._last_ns = None
+        if restart or ("input_source" in changed and new["input_source"] == "clock"):
+            self.start_ns = self._last_ns = None  # a new run: its first tick is at t = 0, at phi0
         self.relay = relay
+        if recorder is not self.recorder:
+            self._recorded_inputs = set()
         if recorder is not self.recorder or (not new["record_mcap"] and self.recorder):
             if self.recorder is not None:
                 self.recorder.close()
@@ -399,6 +394,27 @@ class Runtime:
         self.settings = new
         return None
 
+    def robot_description(self) -> str | None:
+        """The URDF of the scene's tree (``linkage-urdf``, root link ``frame_id``) for the node's
+        latched ``robot_description``; None for a scene the URDF export cannot open. Built once
+        per scene and frame_id."""
+        key = (id(self.engine.scene), self.settings["frame_id"])
+        if self._description is None or self._description[0] != key:
+            from .urdf import exportable_model, generate_urdf
+
+            text = (generate_urdf(self.engine.scene, frame_id=self.settings["frame_id"])
+                    if exportable_model(self.engine.scene) is not None else None)
+            self._description = (key, text)
+        return self._description[1]
+
+    def record_description(self, now_ns: int) -> None:
+        """Write :meth:`robot_description` to the recording, if any (the node calls it when it
+        publishes the description and when a new recording starts)."""
+        text = self.robot_description()
+        if self.recorder is not None and text is not None:
+            message = self.types.classes["std_msgs/msg/String"](data=text)
+            self.record_input(ROBOT_DESCRIPTION, now_ns, cdr_bytes(self._serialize, message, "std_msgs/msg/String"))
+
     def close(self) -> None:
         """Close the recorder, if any."""
         if self.recorder is not None:
@@ -406,13 +422,17 @@ class Runtime:
             self.recorder = None
 
     # ------------------------------------------------------------------ helpers
-    def _engine(self, settings: Mapping[str, Any], *, t0: float, keep_motion: bool = False) -> Engine:
+    def _engine(self, settings: Mapping[str, Any], *, t0: float, keep_motion: bool = False,
+                scene: Any = None) -> Engine:
+        """A new engine for ``settings``: the current motion (``keep_motion``), or a new one
+        from ``phi0`` at run time ``t0``; ``scene``: the loaded scene to reuse (its compiled
+        instant is built once), else ``settings["scene"]`` is loaded."""
         points = points_of(settings.get("points")) or None
         if keep_motion:
             motion = self.engine.motion
-            scene: Any = self.engine.scene
+            scene = self.engine.scene
         else:
-            scene = solver.load_scene(settings["scene"])
+            scene = solver.load_scene(settings["scene"]) if scene is None else scene
             inputs = inputs_of(scene)
             reason = per_input_reason(settings, inputs)
             if reason is not None:
@@ -426,18 +446,23 @@ class Runtime:
                 motion = Motions.of(len(inputs), phi0=phi0, omega=omega, epsilon=epsilon, t0=t0)
         return Engine(scene, motion, points=points, on_unassemblable=settings["on_unassemblable"])
 
-    def _builder(self, engine: Engine, frame_id: str, relay: Relay | None) -> tuple[MessageBuilder, Serializer]:
-        omit = () if relay is None else relay.input_joints
+    def _set_builder(self, engine: Engine, frame_id: str, relay: Relay | None) -> None:
+        """A new builder and serializer (a new engine, frame_id or relay); the views of topic mode
+        start again from the relay's first choice of input joints."""
+        self._view = () if relay is None else relay.input_joints
+        self._views = {}
+        self.builder, self.wire = self._builder(engine, frame_id, self._view)
+        if hasattr(engine.motion, "command"):  # dynamic mode: the drive state in diagnostics
+            if engine.motion is not getattr(getattr(self, "engine", None), "motion", None):
+                self._command_t = None
+            self.builder.diagnostic_values = DriveState(
+                engine.motion, lambda: self.run_time(self._last_ns or 0), lambda: self._command_t)
+
+    def _builder(self, engine: Engine, frame_id: str, omit: tuple[str, ...]) -> tuple[MessageBuilder, Serializer]:
+        """The builder and serializer of ``engine``'s messages, joint_states without ``omit``
+        (topic mode: the joints the driver publishes)."""
         builder = MessageBuilder(engine, self.types, frame_id=frame_id, omit_joints=omit)
         return builder, Serializer(builder, self._serialize)
-
-    @staticmethod
-    def _relay(engine: Engine, settings: Mapping[str, Any]) -> Relay | None:
-        """The topic mode's relay (None in clock mode); ValueError for an unknown input_joint."""
-        if settings["input_source"] != "topic":
-            return None
-        return Relay(engine, input_joint=settings["input_joint"] or None,
-                     epsilon=settings["topic_epsilon"], max_gap=float(settings["topic_max_gap"]))
 
     def _open_recorder(self, path: str, engine: Engine, frame_id: str) -> Recorder:
         if self._recorder_factory is None:

@@ -295,6 +295,10 @@ class Serializer:
             out = [(t, data if data else built[t]) for t, data in out]
         return out
 
+    def energies(self, values: Sequence[float]) -> bytes:
+        """The CDR bytes of an ``energies`` row (:meth:`MessageBuilder.energies`)."""
+        return cdr_bytes(self.serialize, self.builder.energies(values), "std_msgs/msg/Float64MultiArray")
+
     def generic(self, frame: Frame, stamp_ns: int, topics: Sequence[str], *,
                 paths: bool = False) -> list[tuple[str, bytes]]:
         """``topics`` of ``frame`` built and serialised the ordinary way (e.g. the diagnostics of

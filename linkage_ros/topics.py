@@ -25,6 +25,12 @@ from .engine import Engine
 
 __all__ = [
     "DIAGNOSTICS",
+    "EFFORT_COMMANDS",
+    "ENERGIES",
+    "ENERGY_LABELS",
+    "INPUT_JOINT_STATES",
+    "INPUT_TYPES",
+    "ROBOT_DESCRIPTION",
     "FIXED_TOPIC_TYPES",
     "JOINT_KINEMATICS",
     "JOINT_STATES",
@@ -47,6 +53,21 @@ JOINT_STATES = "joint_states"
 JOINT_KINEMATICS = "joint_kinematics"
 MARKERS = "markers"
 DIAGNOSTICS = "diagnostics"
+#: What the node receives (topic mode: the driver's JointStates; dynamic mode: effort commands)
+#: and, in dynamic mode, the energies of each tick: recorded beside what it publishes (issue 30).
+INPUT_JOINT_STATES = "input_joint_states"
+EFFORT_COMMANDS = "effort_commands"
+ENERGIES = "energies"
+#: The scene's URDF, latched (std_msgs/String): published once per scene and recorded with it.
+ROBOT_DESCRIPTION = "robot_description"
+#: The entries of one ``energies`` row, in order (J; :mod:`linkage_ros._runtime_dynamic`).
+ENERGY_LABELS = ("kinetic", "gravity", "springs", "total")
+INPUT_TYPES: dict[str, str] = {
+    INPUT_JOINT_STATES: "sensor_msgs/msg/JointState",
+    EFFORT_COMMANDS: "std_msgs/msg/Float64MultiArray",
+    ENERGIES: "std_msgs/msg/Float64MultiArray",
+    ROBOT_DESCRIPTION: "std_msgs/msg/String",
+}
 
 #: Topics that every engine publishes, with their types.
 FIXED_TOPIC_TYPES: dict[str, str] = {

@@ -65,7 +65,8 @@ def test_node_runs_in_topic_mode_on_the_drivers_topic_and_state_publisher_gets_t
     assert Path(params_file).is_file()
     assert overrides == {"scene": "four_bar", "frame_id": "world", "input_source": "topic",
                          "topic_epsilon": "zero", "topic_max_gap": 0.25}
-    assert node["remappings"] == [("input_joint_states", "/arm/joint_states")]
+    assert node["remappings"] == [("input_joint_states", "/arm/joint_states"),
+                                  ("robot_description", "~/robot_description")]  # not robot_state_publisher's
     urdf = nodes["robot_state_publisher"]["parameters"][0]["robot_description"].args[0]
     assert urdf == generate_urdf("four_bar", frame_id="world")
 

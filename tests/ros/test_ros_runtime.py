@@ -182,8 +182,12 @@ def test_topic_mode_answers_a_joint_state_under_its_stamp_without_the_input_join
     assert "crank" not in js.name and (js.header.stamp.sec, js.header.stamp.nanosec) == (1_700_000_000, 123)
     jk = STORE.deserialize_cdr(messages["joint_kinematics"], "trajectory_msgs/msg/JointTrajectory")
     assert jk.joint_names[0] == "crank" and jk.points[0].positions[0] == 0.7
-    assert runtime.answer(["elbow"], [0.7], [2.5], T0 + 456) == []
-    assert runtime.take_input_warnings() == ["JointState dropped: no joint 'crank' in the message"]
+    dropped = runtime.answer(["elbow"], [0.7], [2.5], T0 + 456)  # diagnostics WARN only
+    assert [t for t, _ in dropped] == [DIAGNOSTICS]
+    status = STORE.deserialize_cdr(dict(dropped)[DIAGNOSTICS], "diagnostic_msgs/msg/DiagnosticArray").status[0]
+    assert status.level == 1 and status.message == (
+        "JointState dropped: no joint 'crank' in the message (it carries: elbow)")
+    assert runtime.take_input_warnings() == ["JointState dropped: no joint 'crank' in the message (it carries: elbow)"]
 
 
 def test_topic_mode_reports_an_unassemblable_input_in_diagnostics_only() -> None:

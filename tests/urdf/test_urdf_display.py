@@ -48,6 +48,7 @@ def test_display_launch_starts_node_state_publisher_and_rviz_with_the_generated_
     description_param = by_exe["robot_state_publisher"]["parameters"][0]["robot_description"]
     assert description_param.args[0] == generate_urdf("four_bar", frame_id="world")
     assert by_exe["mechanism_node"]["parameters"][1]["scene"] == "four_bar"
+    assert by_exe["mechanism_node"]["remappings"] == [("robot_description", "~/robot_description")]
     params_file, = [p for p in by_exe["mechanism_node"]["parameters"] if isinstance(p, str)]
     assert Path(params_file).is_file()
     rviz_args = by_exe["rviz2"]["arguments"]
