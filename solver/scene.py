@@ -193,6 +193,11 @@ class Scene:
         )
 
     @property
+    def _friction(self) -> bool:
+        """Whether the scene names Coulomb friction (then one instant is solved uncompiled)."""
+        return self.forces is not None and self.forces.friction is not None
+
+    @property
     def has_forces(self) -> bool:
         """True when the scene names bodies, gravity or loads: its solves give efforts and reactions."""
         return self.forces is not None
@@ -261,7 +266,10 @@ class Scene:
         """
         if self._multi:  # several inputs: phi (N, k) or (k,) (solver.multi, docs/inputs.md)
             return solve_multi(self, phi, omega, epsilon, mask)
-        if type(phi) is float and type(omega) is float and type(epsilon) is float:  # the per-tick call
+        if self._friction:  # Coulomb friction is not compiled (solver.forces.friction): the scalar path
+            if _is_scalar(phi) and _is_scalar(omega) and _is_scalar(epsilon):
+                return self._solve_scalar(float(phi), float(omega), float(epsilon), mask, compiled=False)
+        elif type(phi) is float and type(omega) is float and type(epsilon) is float:  # the per-tick call
             try:
                 unit = self._instant_unit
             except AttributeError:
