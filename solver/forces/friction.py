@@ -11,7 +11,9 @@ magnitudes x: out = out₀ + Σⱼ xⱼ·dⱼ·Uⱼ, where out₀ is the frictio
 with only a unit load of friction element j (one more pass of the groups per element). The
 magnitudes solve x = c·|R₀ + B·x| (B: the reactions' responses); Newton from the frictionless
 x₀ = c·|R₀|, per sample (vectorised: an (m × m) system per sample, m elements), with Jacobian
-I − diag(c)·Re(conj(R)/|R| · B), to round-off (|Δx| ≤ CONVERGED·|x|) in a few steps.
+I − diag(c)·Re(conj(R)/|R| · B), to round-off (|Δx| ≤ CONVERGED·|x|, or steps at the rounding
+floor that no longer halve: near self-locking the rounding is amplified by 1/(1 − gain)) in a
+few steps; the equations are piecewise linear in x, so a step is exact once the signs settle.
 
 No solution. Where Newton does not converge in NEWTON_STEPS the equations have no solution with
 the friction against the motion: the mechanism **self-locks** there (no finite effort drives
@@ -51,6 +53,9 @@ __all__ = ["FrictionModel", "breakaway", "cycle_efficiency", "locked_intervals",
 NEWTON_STEPS = 60
 #: Converged when every |Δx| ≤ CONVERGED·max|x| (a few ulps).
 CONVERGED = 16 * np.finfo(float).eps
+#: A step this small relative to x that no longer halves is the rounding floor (converged); a
+#: fixed-point residual beyond it means no solution.
+STAGNANT = 1e-9
 #: The angular acceleration that only gives the friction its direction in :func:`breakaway`
 #: (its inertial loads, ~1e-200, vanish beside any load to round-off).
 TENDENCY = 1e-200
@@ -250,6 +255,7 @@ def _solve(base: list[np.ndarray], responses: list[list[np.ndarray]], dirs: list
     finite = np.isfinite(r0).all(axis=1) & np.isfinite(b).all(axis=(1, 2))
     done = ~finite
     eye = np.eye(m)
+    last = np.full(n, np.inf)
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         for _ in range(NEWTON_STEPS):
             live = ~done
@@ -268,7 +274,11 @@ def _solve(base: list[np.ndarray], responses: list[list[np.ndarray]], dirs: list
                 dx = np.full_like(xl, np.nan)
             xn = xl - dx
             ok = np.isfinite(xn).all(axis=1)
-            small = ok & (np.abs(dx).max(axis=1) <= CONVERGED * np.maximum(np.abs(xn).max(axis=1), 1e-300))
+            step, size = np.abs(dx).max(axis=1), np.maximum(np.abs(xn).max(axis=1), 1e-300)
+            # converged: a step of a few ulps, or steps at the rounding floor of an ill-conditioned
+            # sample (near self-locking 1/(1 − gain) amplifies the rounding) that no longer shrink
+            small = ok & ((step <= CONVERGED * size) | ((step <= STAGNANT * size) & (step >= 0.5 * last[live])))
+            last[live] = step
             x[live] = np.where(ok[:, None], xn, x[live])
             idx = np.flatnonzero(live)
             done[idx[small]] = True
@@ -278,7 +288,7 @@ def _solve(base: list[np.ndarray], responses: list[list[np.ndarray]], dirs: list
     # the converged magnitudes are c·|R| (≥ 0) to round-off; anything else has no solution
     r = r0 + np.einsum("nj,njk->nk", x, b)
     residual = np.abs(x - c * np.abs(r)).max(axis=1)
-    solved = done & finite & (residual <= 1e3 * CONVERGED * np.maximum(np.abs(x).max(axis=1), 1e-300))
+    solved = done & finite & (residual <= STAGNANT * np.maximum(np.abs(x).max(axis=1), 1e-300))
     locked = ~solved & np.isfinite(r0).all(axis=1)
     return x, locked
 

@@ -139,15 +139,17 @@ class ForceResult:
 
     @property
     def efficiency(self) -> Any:
-        """Instantaneous efficiency: Q₀·q̇ / (Q·q̇) where the inputs drive (P = Q·q̇ > 0; 0 where the
-        ideal mechanism would need no power, P₀ ≤ 0); P/P₀ where the mechanism drives the inputs
-        (P₀ < 0; negative where friction still needs the input to push: it locks against
-        back-driving); 1 at rest (P = P₀ = 0); NaN only where ``locked`` or singular."""
+        """Instantaneous efficiency from the input power P = Σ Q·q̇ and the ideal P₀ = Σ Q₀·q̇:
+        P₀/P where the ideal mechanism takes power from its inputs (P₀ > 0: the inputs drive, η =
+        Q₀/Q with one input); P/P₀ where it gives power to them (P₀ < 0: the loads drive, the
+        back-driving efficiency; negative where friction still needs the input to push — the
+        mechanism holds itself); where P₀ = 0, 1 if P = 0 (at rest) else 0. NaN only where
+        ``locked`` or singular."""
         p, p0 = self.input_power, self._friction_value(("power0", None))
         with np.errstate(divide="ignore", invalid="ignore"):
             p, p0 = np.asarray(p, float), np.asarray(p0, float)
-            eta = np.where(p > 0.0, np.maximum(p0, 0.0) / np.where(p > 0.0, p, 1.0),
-                           np.where(p0 < 0.0, p / np.where(p0 < 0.0, p0, 1.0), np.where(p0 == 0.0, 1.0, 0.0)))
+            eta = np.where(p0 > 0.0, p0 / np.where(p0 > 0.0, p, 1.0),
+                           np.where(p0 < 0.0, p / np.where(p0 < 0.0, p0, 1.0), np.where(p == 0.0, 1.0, 0.0)))
             eta = np.where(np.isnan(p) | np.isnan(p0), np.nan, eta)
         return float(eta) if self._n is None else eta
 
