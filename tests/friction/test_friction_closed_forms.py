@@ -150,3 +150,11 @@ def test_cycle_efficiency_of_a_steady_turn() -> None:
     w_loss = np.sum(0.5 * (k.friction_power[1:] + k.friction_power[:-1]) * dt)
     assert eta == pytest.approx(1.0 - w_loss / w_in, rel=ROUNDING)
     assert 0.0 < eta < 1.0
+
+
+def test_dynamics_with_friction_is_refused_in_one_line() -> None:
+    """Not yet built (issue 29 item 3): a clear DynamicsError, never a frictionless run."""
+    import solver
+
+    with pytest.raises(solver.DynamicsError, match=r"pendulum.*names friction: .*not yet in the dynamics"):
+        _pendulum(0.2, 0.02).simulate(1.0)
