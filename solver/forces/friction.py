@@ -183,7 +183,7 @@ class FrictionModel:
         final = list(base)
         for j in range(len(self.elements)):
             xd = x[:, j] * dirs[j]
-            final = [f + xd * r for f, r in zip(final, responses[j])]
+            final = [f if _zero(r) else f + xd * r for f, r in zip(final, responses[j])]
             if units[j] is not None:
                 k = index["slide", self.elements[j].index]
                 final[k] = final[k] + xd * units[j]
@@ -216,6 +216,11 @@ def _full(v: Any, n: int) -> np.ndarray:
     """``v`` as an (n,) array (a view where it is one already, broadcast where it is a number)."""
     a = np.asarray(v)
     return a if a.shape == (n,) else np.broadcast_to(a, (n,))
+
+
+def _zero(a: np.ndarray) -> bool:
+    """A response that is one broadcast zero (a load this output does not feel)."""
+    return a.strides == (0,) and a.size > 0 and a[0] == 0
 
 
 def _size(out: Sequence[Any], omega: Any, epsilon: Any) -> int:
@@ -260,29 +265,57 @@ def _solve(base: list[np.ndarray], responses: list[list[np.ndarray]], dirs: list
     if m == 0:
         return np.zeros((n, 0)), np.zeros(n, bool)
     # real and imaginary parts apart: a real x times a complex response would be a complex product
-    r0re, r0im = [base[k].real for k in carriers], [base[k].imag for k in carriers]
-    bre = [[(responses[j][k] * dirs[j]).real for k in carriers] for j in range(m)]  # [j][k]: (n,)
-    bim = [[(responses[j][k] * dirs[j]).imag for k in carriers] for j in range(m)]
+    r0re = [np.ascontiguousarray(base[k].real) for k in carriers]
+    r0im = [np.ascontiguousarray(base[k].imag) for k in carriers]
+    # per carrier k, the elements j whose friction moves it (a couple on an input crank against
+    # the ground moves no reaction: its column is zero), as contiguous real and imaginary parts
+    terms: list[list[tuple[int, np.ndarray, np.ndarray]]] = [[] for _ in range(m)]
+    for j in range(m):
+        for k, out in enumerate(carriers):
+            resp = responses[j][out]
+            if _zero(resp):
+                continue
+            bjk = resp * dirs[j]
+            terms[k].append((j, np.ascontiguousarray(bjk.real), np.ascontiguousarray(bjk.imag)))
     xs = [c[k] * np.hypot(r0re[k], r0im[k]) for k in range(m)]
-    change = size = np.full(n, np.inf)
+    # an element whose friction moves no reaction (an input crank's pivot) is iterated only once,
+    # after the others have settled
+    active = {j for k in range(m) for j, _, _ in terms[k]}
+    order = [k for k in range(m) if k in active]
+    passive = [k for k in range(m) if k not in active]
+    change, size = np.full(n, np.inf), np.zeros(n)
+    re, im, tmp = np.empty(n), np.empty(n), np.empty(n)
     with np.errstate(invalid="ignore", over="ignore"):
         for step in range(FIXED_STEPS):
-            new = []
-            for k in range(m):
-                re, im = r0re[k] + xs[0] * bre[0][k], r0im[k] + xs[0] * bim[0][k]
-                for j in range(1, m):
-                    re += xs[j] * bre[j][k]
-                    im += xs[j] * bim[j][k]
-                new.append(c[k] * np.hypot(re, im, out=re))
-            if step % 2 or step == FIXED_STEPS - 1:  # (the test every other step)
-                change = np.abs(new[0] - xs[0])
-                size = new[0].copy()
-                for a, b in zip(new[1:], xs[1:]):
-                    np.maximum(change, np.abs(a - b), out=change)
-                    np.maximum(size, a, out=size)
-                if not np.any(change > CONVERGED * size):
-                    return np.stack(new, axis=1), np.zeros(n, bool)
-            xs = new
+            test = step % 3 == 2 or step == FIXED_STEPS - 1  # (the test every third sweep)
+            if test:
+                change.fill(0.0)
+                size.fill(0.0)
+            for k in order if step < FIXED_STEPS - 1 else range(m):  # Gauss–Seidel: in place
+                np.copyto(re, r0re[k])
+                np.copyto(im, r0im[k])
+                for j, bre, bim in terms[k]:
+                    re += np.multiply(xs[j], bre, out=tmp)
+                    im += np.multiply(xs[j], bim, out=tmp)
+                re *= re
+                im *= im
+                re += im
+                np.sqrt(re, out=re)
+                re *= c[k]
+                if test:
+                    np.subtract(re, xs[k], out=tmp)
+                    np.maximum(change, np.abs(tmp, out=tmp), out=change)
+                    np.maximum(size, re, out=size)
+                xs[k], re = re, xs[k]  # (the old x_k's array is the next scratch)
+            if test and not np.any(change > CONVERGED * size):
+                for k in passive:  # from the settled others
+                    np.copyto(re, r0re[k])
+                    np.copyto(im, r0im[k])
+                    for j, bre, bim in terms[k]:
+                        re += np.multiply(xs[j], bre, out=tmp)
+                        im += np.multiply(xs[j], bim, out=tmp)
+                    xs[k] = c[k] * np.hypot(re, im)
+                return np.stack(xs, axis=1), np.zeros(n, bool)
     x = np.stack(xs, axis=1)
     left = np.flatnonzero(~(change <= CONVERGED * size))
     x_left, locked_left = _newton([np.asarray(base[k])[left] for k in carriers],
