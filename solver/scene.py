@@ -429,7 +429,11 @@ class Scene:
         layer's values (``self.forces.layout``) when the scene has bodies or loads. ``order``
         (0, 1, 2): positions only, with velocities, with accelerations. With several inputs,
         ``derivatives=True`` gives every output's Jacobian and Hessian as a function of q alone
-        (``.layout``: ``P.J0 …``, ``P.H00 …``), what ``.jacobian`` and ``.hessian`` read."""
+        (``.layout``: ``P.J0 …``, ``P.H00 …``), what ``.jacobian`` and ``.hessian`` read.
+        A scene with ``friction:`` is not compiled (its friction is solved iteratively): SolverError."""
+        if self._friction:
+            raise SolverError(f"{self.name}: a scene with friction is not compiled (its friction is solved "
+                              "iteratively, solver.forces.friction): use scene.solve, which takes the scalar path")
         key = (order, derivatives)
         try:
             return self._compiled_units[key]

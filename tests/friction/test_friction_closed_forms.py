@@ -158,3 +158,13 @@ def test_dynamics_with_friction_is_refused_in_one_line() -> None:
 
     with pytest.raises(solver.DynamicsError, match=r"pendulum.*names friction: .*not yet in the dynamics"):
         _pendulum(0.2, 0.02).simulate(1.0)
+
+
+def test_a_scene_with_friction_is_not_compiled() -> None:
+    import solver
+
+    scene = _pendulum(0.2, 0.02)
+    with pytest.raises(solver.SolverError, match=r"pendulum: a scene with friction is not compiled"):
+        scene.compiled()
+    assert scene.solve(0.3, omega=1.0, epsilon=0.0).effort("arm") == pytest.approx(
+        float(scene.solve(np.array([0.3]), omega=1.0, epsilon=0.0).effort("arm")[0]), rel=1e-15)
