@@ -90,7 +90,8 @@ class ForceResult:
     # -- friction (solver.forces.friction) ---------------------------------------------------------
     def _friction_value(self, key: tuple[str, Any]) -> Any:
         if self.model.friction is None:
-            raise SolverError("this scene names no friction: its efforts are ideal (docs/forces.md#friction)")
+            raise SolverError("this scene has no friction (none named, or every mu, radius and seal force zero): "
+                              "its efforts are ideal (docs/forces.md#friction)")
         x = self._data[self._index[key]]
         return float(x) if self._n is None else np.broadcast_to(np.asarray(x, float), (self._n,))
 
