@@ -27,6 +27,7 @@ import numpy as np
 
 from ._cmdline import EPSILON_MAX, OMEGA_MAX, PHI_MAX, Parser, bounded, check_output, count, one_line, quiet_pipe
 from .errors import SolverError
+from .forces.friction_report import friction_columns, friction_table
 from .forces.report import force_section
 from .kinematics import Kinematics
 from .multi import assemblable
@@ -210,7 +211,10 @@ def force_columns(scene: Scene) -> list[str]:
     pin ``pin.P.BODY.fx,pin.P.BODY.fy`` (the force in N on BODY at P from the other body of the
     pin, world frame: ``k.reaction(P, on=BODY, by=other)``), per prismatic pair
     ``slide.P.BLOCK.fx,…fy,…couple`` (the guide's normal force on the block, N, and its couple
-    about P, N·m: ``k.slide_reaction(BLOCK)``). NaN at a singular sample (unbounded loads)."""
+    about P, N·m: ``k.slide_reaction(BLOCK)``; with friction, plus its friction along the guide),
+    then with ``friction:`` ``loss.NAME`` (W) per pin point / block / actuator, ``friction.power``
+    (W), ``efficiency`` and ``locked`` (solver.forces.friction_report). NaN at a singular sample
+    (unbounded loads) and where the mechanism self-locks."""
     if not getattr(scene, "has_forces", False):
         return []
     cols = [f"{q}.effort" for q in scene.inputs]
@@ -218,7 +222,7 @@ def force_columns(scene: Scene) -> list[str]:
         cols += [f"pin.{pin.point}.{pin.body}.fx", f"pin.{pin.point}.{pin.body}.fy"]
     for s in scene.slides:
         cols += [f"slide.{s.point}.{s.body}.fx", f"slide.{s.point}.{s.body}.fy", f"slide.{s.point}.{s.body}.couple"]
-    return cols
+    return cols + friction_columns(scene)
 
 
 def force_table(scene: Scene, k: Kinematics) -> list[np.ndarray]:
@@ -233,7 +237,7 @@ def force_table(scene: Scene, k: Kinematics) -> list[np.ndarray]:
         pair = k.slide_reaction(s.body)
         cols += [np.broadcast_to(np.asarray(pair.force, float), (n, 2)),
                  np.broadcast_to(np.asarray(pair.couple, float), (n,))[:, None]]
-    return cols
+    return cols + friction_table(scene, k)
 
 
 def _table(scene: Scene, k: Kinematics, derivatives: bool) -> np.ndarray:

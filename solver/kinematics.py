@@ -237,6 +237,42 @@ class Kinematics:
     #: the same as :meth:`slide_reaction`
     slide = slide_reaction
 
+    # -- friction (solver.forces.friction, docs/forces.md#friction) -------------------------------
+    def ideal_effort(self, joint: str) -> Any:
+        """The effort of input ``joint`` without the scene's friction (Q₀)."""
+        return self._force_result().ideal_effort(joint)
+
+    def friction_loss(self, name: str) -> Any:
+        """The power (W) friction dissipates at pin point / slider block / actuator ``name``."""
+        return self._force_result().friction_loss(name)
+
+    @property
+    def friction_power(self) -> Any:
+        """The power (W) all friction dissipates."""
+        return self._force_result().friction_power
+
+    @property
+    def input_power(self) -> Any:
+        """Σ Q·q̇ (W) of the inputs, friction included."""
+        return self._force_result().input_power
+
+    @property
+    def efficiency(self) -> Any:
+        """Instantaneous efficiency (solver.forces.result.ForceResult.efficiency)."""
+        return self._force_result().efficiency
+
+    @property
+    def locked(self) -> Any:
+        """True where the mechanism self-locks (friction: no finite effort drives it)."""
+        return self._force_result().locked
+
+    @property
+    def locking_message(self) -> str:
+        """One line naming the φ intervals where the mechanism self-locks; "" where it never does."""
+        from .forces.friction import locking_message
+
+        return locking_message(self.phi, self.locked)
+
     @property
     def phi(self) -> np.ndarray:
         """The input angle(s) solved at: (N,) — (N, k) with k inputs; 0-d — (k,) — for one instant."""

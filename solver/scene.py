@@ -202,6 +202,11 @@ class Scene:
         )
 
     @property
+    def _friction(self) -> bool:
+        """Whether the scene names Coulomb friction (then one instant is solved uncompiled)."""
+        return self.forces is not None and self.forces.friction is not None
+
+    @property
     def has_forces(self) -> bool:
         """True when the scene names bodies, gravity or loads: its solves give efforts and reactions."""
         return self.forces is not None
@@ -275,7 +280,10 @@ class Scene:
             mask = Arguments("solve", scene=self.name).flag("mask", mask)
         if self._multi:  # several inputs: phi (N, k) or (k,) (solver.multi, docs/inputs.md)
             return solve_multi(self, phi, omega, epsilon, mask)
-        if type(phi) is float and type(omega) is float and type(epsilon) is float:  # the per-tick call
+        if self._friction:  # Coulomb friction is not compiled (solver.forces.friction): the scalar path
+            if _is_scalar(phi) and _is_scalar(omega) and _is_scalar(epsilon):
+                return self._solve_scalar(float(phi), float(omega), float(epsilon), mask, compiled=False)
+        elif type(phi) is float and type(omega) is float and type(epsilon) is float:  # the per-tick call
             try:
                 unit = self._instant_unit
             except AttributeError:
@@ -440,7 +448,11 @@ class Scene:
         layer's values (``self.forces.layout``) when the scene has bodies or loads. ``order``
         (0, 1, 2): positions only, with velocities, with accelerations. With several inputs,
         ``derivatives=True`` gives every output's Jacobian and Hessian as a function of q alone
-        (``.layout``: ``P.J0 …``, ``P.H00 …``), what ``.jacobian`` and ``.hessian`` read."""
+        (``.layout``: ``P.J0 …``, ``P.H00 …``), what ``.jacobian`` and ``.hessian`` read.
+        A scene with ``friction:`` is not compiled (its friction is solved iteratively): SolverError."""
+        if self._friction:
+            raise SolverError(f"{self.name}: a scene with friction is not compiled (its friction is solved "
+                              "iteratively, solver.forces.friction): use scene.solve, which takes the scalar path")
         key = (order, derivatives)
         try:
             return self._compiled_units[key]

@@ -84,6 +84,10 @@ class ReducedModel:
             raise DynamicsError("names no bodies, gravity or loads: nothing gives it inertia (docs/dynamics.md)",
                                 scene=scene.name)
         spec = model.spec
+        if model.friction is not None:  # issue 29: friction is solved in the kinetostatics only, so far
+            raise DynamicsError("names friction: Coulomb friction is in the kinetostatics (k.effort, k.reaction) "
+                                "but not yet in the dynamics; simulate the scene without its friction: key "
+                                "(docs/forces.md#friction)", scene=scene.name)
         if all(b.inert for b in spec.bodies):
             raise DynamicsError("every link is massless (no mass, inertia or flywheel): the reduced inertia is "
                                 "zero, so the motion under given efforts is not defined", scene=scene.name)

@@ -12,7 +12,7 @@ effort and reaction is NaN and ``Kinematics.singular`` is True there.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
@@ -20,12 +20,14 @@ from typing import Any
 import numpy as np
 
 from .._backend import Backend
+from .._trace import TraceError
 from ..groups import RRP, RRR, Actuator, CoupledCrank, Crank, Slotted
 from ..jet import Jet
 from ..tolerances import SINGULAR
 from .actuator import ActuatorForces
 from .crank import CrankForces
 from .frames import accel, inertial_wrench, spring_force, table_force
+from .friction import FrictionModel
 from .rrp import RRPForces
 from .rrr import RRRForces
 from .slotted import SlottedForces
@@ -44,6 +46,12 @@ class ForceModel:
 
     spec: ForceSpec
     inputs: tuple[str, ...]
+
+    @cached_property
+    def friction(self) -> FrictionModel | None:
+        """The scene's Coulomb friction (solver.forces.friction), None without any."""
+        f = self.spec.friction
+        return None if f is None or f.empty else FrictionModel(f, self.spec.structure, self.inputs)
 
     @cached_property
     def steps(self) -> tuple[Step, ...]:
@@ -100,6 +108,8 @@ class ForceModel:
                 names.append(ld.point)
             if isinstance(ld, (TableForce, Damper)):
                 names.append(ld.joint)
+        if self.friction is not None:
+            names += [*self.friction.targets, *(s.joint for s in self.friction.spec.seals), *self.inputs]
         return tuple(dict.fromkeys(names))
 
     @cached_property
@@ -130,18 +140,28 @@ class ForceModel:
         """Efforts (in ``inputs`` order), pin forces, slide forces and couples, as one flat tuple
         (see :meth:`layout`), from the jets ``values`` of a plan run at the rates ω, ε (with
         several inputs the jets are real motion: ω = 1, ε = 0)."""
+        out = self.respond(values, xp, lambda s: self._apply_loads(s, omega, epsilon))
+        if self.friction is not None:  # Coulomb friction: Newton on the affine responses
+            if xp.name == "trace":
+                raise TraceError("friction is not compiled: one instant is solved on the scalar path")
+            out = self.friction.apply(self, values, xp, omega, epsilon, out)
+        return _flag(tuple(out), conditioning, self.groups, xp)
+
+    def respond(self, values: Any, xp: Backend, load: Callable[[ForcePass], None]) -> list[Any]:
+        """The groups solved in reverse plan order under the loads that ``load`` puts on a fresh
+        pass: efforts, pins, slides and couples (the base :attr:`layout`), unflagged."""
         n_pins, n_slides = self._counts
         s = ForcePass(values, xp, self.refs, n_pins, n_slides)
-        self._apply_loads(s, omega, epsilon)
+        load(s)
         for step in self._reversed_steps:
             step.solve(s)
         efforts = s.efforts
-        out = [efforts[j] for j in self.inputs]
+        out = [efforts.get(j, 0.0) for j in self.inputs]
         out += s.pins
         if n_slides:
             out += [f for f, _ in s.slides]
             out += [c for _, c in s.slides]
-        return _flag(tuple(out), conditioning, self.groups, xp)
+        return out
 
     @cached_property
     def _counts(self) -> tuple[int, int]:
@@ -193,6 +213,12 @@ class ForceModel:
     def layout(self) -> tuple[tuple[str, Any, bool], ...]:
         """What :meth:`evaluate` returns, in order: (kind, key, complex?) — ("effort", joint,
         False), ("pin", index, True), ("slide", index, True), ("couple", index, False)."""
+        extra = () if self.friction is None else self.friction.layout
+        return (*self.base_layout, *extra)
+
+    @cached_property
+    def base_layout(self) -> tuple[tuple[str, Any, bool], ...]:
+        """The layout without friction's values (what :meth:`respond` returns)."""
         st = self.spec.structure
         return (
             *(("effort", j, False) for j in self.inputs),
@@ -200,6 +226,10 @@ class ForceModel:
             *(("slide", i, True) for i in range(len(st.slides))),
             *(("couple", i, False) for i in range(len(st.slides))),
         )
+
+    @cached_property
+    def base_index(self) -> dict[tuple[str, Any], int]:
+        return {(kind, key): i for i, (kind, key, _) in enumerate(self.base_layout)}
 
 
     @cached_property

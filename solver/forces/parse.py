@@ -12,8 +12,9 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from .._fields import Entry, Units, show, suggest
-from ..groups import Group
+from ..groups import Actuator, Group
 from ..plan import order_groups
+from .friction_spec import parse_friction
 from .parse_drive import DRIVE_KEYS, parse_drive
 from .spec import Body, ForceSpec, Load, PointForce, Spring, TableForce, Torque
 from .structure import GROUND, Link, StructureFault, derive_structure
@@ -21,7 +22,7 @@ from .structure import GROUND, Link, StructureFault, derive_structure
 __all__ = ["FORCE_KEYS", "parse_forces", "MASS_MAX", "FORCE_MAX"]
 
 #: The top-level keys of the force layer (with the drive's: motor, flywheel, damping).
-FORCE_KEYS = ("bodies", "gravity", "loads", *DRIVE_KEYS)
+FORCE_KEYS = ("bodies", "gravity", "loads", *DRIVE_KEYS, "friction")
 
 #: Largest mass (kg), inertia (kg·m²), |force| (N), |torque| (N·m), stiffness (N/m), |gravity|
 #: (m/s²): far beyond any machine, small enough that products with lengths ≤ 1e9 m and their
@@ -49,7 +50,9 @@ def parse_forces(top: Entry, units: Units, fixed: Mapping[str, Any], groups: Seq
     motors, flywheels, bodies, dampers = parse_drive(top, groups, bodies)
     spec = ForceSpec(structure, bodies, gravity, (), names)
     loads = _loads(top, spec, units, joints)
-    return ForceSpec(structure, bodies, gravity, (*loads, *dampers), names, motors, flywheels)
+    actuators = {g.name: g.joint for g in groups if isinstance(g, Actuator)}
+    friction = parse_friction(top, units, structure, names, actuators)
+    return ForceSpec(structure, bodies, gravity, (*loads, *dampers), names, motors, flywheels, friction)
 
 
 def _nonnegative(e: Entry, key: str, limit: float) -> float:

@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from ..tolerances import ZERO_TO_ROUNDING
+from .friction_report import friction_lines, friction_names
 
 __all__ = ["force_lines", "force_section", "motion_of_forces"]
 
@@ -159,7 +160,8 @@ def force_lines(scene: Any, k: Any, *, sampling: str | None = None, times: Any =
                      "machine's, --omega 0 for statics)")
     if not ok.all():
         valid = np.broadcast_to(np.asarray(k.valid, bool), ok.shape)
-        singular, gone = int((~ok & valid).sum()), int((~valid).sum())
+        locked = np.broadcast_to(np.asarray(k.locked, bool), ok.shape) if friction_names(scene) else False
+        singular, gone = int((~ok & valid & ~locked).sum()), int((~valid).sum())
         if singular:
             lines.append(f"  {singular} singular sample(s) left out (unbounded loads: k.singular)")
         if gone:
@@ -207,6 +209,7 @@ def force_lines(scene: Any, k: Any, *, sampling: str | None = None, times: Any =
             c = int(idx[np.argmax(couple)])
             text += f"; peak couple {_g(float(couple.max()))} N·m at {_at(k, c, inputs, times, kinds)}"
         lines.append(text)
+    lines += friction_lines(scene, k, ok, lambda j: _at(k, j, inputs, times, kinds), turn=cyclic)
     return lines
 
 

@@ -87,6 +87,74 @@ class ForceResult:
         raise SolverError(f"'{body}' is not a slider block; blocks: {blocks}")
 
 
+    # -- friction (solver.forces.friction) ---------------------------------------------------------
+    def _friction_value(self, key: tuple[str, Any]) -> Any:
+        if self.model.friction is None:
+            raise SolverError("this scene has no friction (none named, or every mu, radius and seal force zero): "
+                              "its efforts are ideal (docs/forces.md#friction)")
+        x = self._data[self._index[key]]
+        return float(x) if self._n is None else np.broadcast_to(np.asarray(x, float), (self._n,))
+
+    def ideal_effort(self, joint: str) -> Any:
+        """The effort of input ``joint`` without friction (Q₀)."""
+        self.effort(joint)  # the check of the name
+        return self._friction_value(("effort0", joint))
+
+    def friction_loss(self, name: str) -> Any:
+        """The power (W, ≥ 0) friction dissipates at the pin(s) at point ``name``, in the slider
+        block ``name``'s guide, or in the actuator ``name``'s seal."""
+        f = self.model.friction
+        if f is None:
+            return self._friction_value(("loss", None))
+        spec = self.model.spec
+        keys: list[tuple[str, Any]] = [("loss", (e.kind, e.index)) for e in f.elements
+                                        if (e.kind == "pin" and e.point == name)
+                                        or (e.kind == "slide" and name in (e.body, spec.slides[e.index].body))]
+        keys += [("loss", ("seal", s.joint)) for s in f.spec.seals if s.actuator == name]
+        if not keys:
+            known = [*dict.fromkeys(e.point if e.kind == "pin" else spec.slides[e.index].body for e in f.elements),
+                     *(s.actuator for s in f.spec.seals)]
+            raise SolverError(f"no friction at '{name}'; friction at: {', '.join(known)}")
+        total = sum(self._friction_value(k) for k in keys)
+        return total
+
+    @property
+    def friction_power(self) -> Any:
+        """The power (W) all friction dissipates: Σ losses = (Q − Q₀)·q̇ summed over the inputs."""
+        f = self.model.friction
+        if f is None:
+            return self._friction_value(("loss", None))
+        return sum((self._friction_value(k) for kind, k, _ in f.layout if kind == "loss" for k in [("loss", k)]),
+                   0.0 if self._n is None else np.zeros(self._n))
+
+    @property
+    def input_power(self) -> Any:
+        """Σ Q·q̇ (W): the power the inputs put in (negative where the mechanism drives them)."""
+        return self._friction_value(("power", None))
+
+    @property
+    def locked(self) -> Any:
+        """True where the mechanism self-locks (no effort drives it; every value NaN there)."""
+        x = self._friction_value(("locked", None))
+        return bool(x == 1.0) if self._n is None else np.asarray(x) == 1.0
+
+    @property
+    def efficiency(self) -> Any:
+        """Instantaneous efficiency from the input power P = Σ Q·q̇ and the ideal P₀ = Σ Q₀·q̇:
+        P₀/P where the ideal mechanism takes power from its inputs (P₀ > 0: the inputs drive, η =
+        Q₀/Q with one input); P/P₀ where it gives power to them (P₀ < 0: the loads drive, the
+        back-driving efficiency; negative where friction still needs the input to push — the
+        mechanism holds itself); where P₀ = 0, 1 if P = 0 (at rest) else 0. NaN only where
+        ``locked`` or singular."""
+        p, p0 = self.input_power, self._friction_value(("power0", None))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            p, p0 = np.asarray(p, float), np.asarray(p0, float)
+            eta = np.where(p0 > 0.0, p0 / np.where(p0 > 0.0, p, 1.0),
+                           np.where(p0 < 0.0, p / np.where(p0 < 0.0, p0, 1.0), np.where(p == 0.0, 1.0, 0.0)))
+            eta = np.where(np.isnan(p) | np.isnan(p0), np.nan, eta)
+        return float(eta) if self._n is None else eta
+
+
 class ForceBuffers:
     """The (N,) arrays a sweep's blocks write their force values into: contiguous views of one
     allocation (one call to the allocator instead of one per value; a large one is backed by

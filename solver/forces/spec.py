@@ -11,6 +11,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
 
+from .friction_spec import FrictionSpec
 from .structure import GROUND, Link, Pin, Slide, Structure
 
 __all__ = ["Body", "PointForce", "Torque", "Spring", "TableForce", "Damper", "Load", "Motor", "ForceSpec"]
@@ -131,6 +132,8 @@ class ForceSpec:
     motors: Mapping[str, Motor] = field(default_factory=dict)
     #: flywheels (``flywheel:``), input joint → inertia kg·m²; already added to its link's body
     flywheels: Mapping[str, float] = field(default_factory=dict)
+    #: Coulomb friction in pins, slides and cylinder seals (``friction:``; solver.forces.friction)
+    friction: FrictionSpec | None = None
 
     @cached_property  # read on every k.reaction (the node: every pin, every tick)
     def pins(self) -> tuple[Pin, ...]:

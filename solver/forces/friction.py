@@ -1,0 +1,442 @@
+"""Coulomb friction in pins, slides and cylinder seals, solved exactly on route 2 (docs/forces.md#friction).
+
+Equations. A pin P joining bodies i and j (link names), reaction R (of j on i), friction circle
+c = μ·r: a couple x·d on i and −x·d on j, x = c·|R|, d = −sign(ωᵢ − ωⱼ). A slide (block on its
+guide), normal force N, coefficient μ: a force x·d·e on the block at its pin (−x·d·e on a
+slotted guide), x = μ·|N|, e the guide's unit direction, d = −sign(v_rel). A seal of force F:
+the effort of its stroke grows by F·sign(ṡ) (the cylinder's push on the linkage is unchanged).
+
+Linear system. Route 2 is linear in the loads, so every output is affine in the friction
+magnitudes x: out = out₀ + Σⱼ xⱼ·dⱼ·Uⱼ, where out₀ is the frictionless solve and Uⱼ the solve
+with only a unit load of friction element j (one more pass of the groups per element). The
+magnitudes solve x = c·|R₀ + B·x|, started from the frictionless x₀ = c·|R₀|, per sample and
+vectorised: Gauss–Seidel fixed-point sweeps on whole (n,) columns (real and imaginary parts
+apart, in place; a contraction of gain μ·r/arm ≈ 0.1 reaches round-off in about a dozen
+sweeps), to |Δx| ≤ CONVERGED·|x|; the samples not settled after FIXED_STEPS sweeps go to
+Newton (Jacobian I − diag(c)·Re(conj(R)/|R| · B), an m × m system per sample), which also stops
+at the rounding floor (steps that no longer halve: near self-locking 1/(1 − gain) amplifies
+the rounding). An element whose friction moves no reaction (an input crank's pivot against the
+ground) is solved once, after the others.
+
+No solution. Where Newton does not converge in NEWTON_STEPS the equations have no solution with
+the friction against the motion: the mechanism **self-locks** there (no finite effort drives
+it); every value of such a sample is NaN and ``locked`` True there (``k.locked``, and
+``locking_message`` names the φ intervals in one line).
+
+Direction rule where a relative velocity is zero: the sign of the relative acceleration; where
+that is zero too (at rest), the load's tendency — the motion the loads would start if the
+input let go, i.e. the input moving by −sign(Q₀) (Q₀ the frictionless effort of the first
+input): the friction then opposes it and the effort is the smallest that holds. The breakaway
+interval (the efforts that hold the mechanism at rest) is :func:`breakaway`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from functools import cached_property
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .._backend import Backend
+from ..errors import SolverError
+from .friction_spec import FrictionSpec
+from .state import ForcePass
+from .structure import GROUND, Structure
+
+if TYPE_CHECKING:
+    from .model import ForceModel
+
+__all__ = ["FrictionModel", "breakaway", "cycle_efficiency", "locked_intervals", "locking_message",
+           "NEWTON_STEPS", "CONVERGED", "TENDENCY"]
+
+#: Newton steps before a sample is declared self-locking (it converges quadratically: 3–6 steps).
+NEWTON_STEPS = 60
+#: Fixed-point steps on whole columns before Newton takes the samples left (a contraction of
+#: gain g reaches round-off in about 16/log10(1/g) steps: 16 at g = 0.1).
+FIXED_STEPS = 24
+#: Converged when every |Δx| ≤ CONVERGED·max|x| (a few ulps).
+CONVERGED = 16 * np.finfo(float).eps
+#: A step this small relative to x that no longer halves is the rounding floor (converged); a
+#: fixed-point residual beyond it means no solution.
+STAGNANT = 1e-9
+#: The angular acceleration that only gives the friction its direction in :func:`breakaway`
+#: (its inertial loads, ~1e-200, vanish beside any load to round-off).
+TENDENCY = 1e-200
+
+
+@dataclass(frozen=True)
+class _Element:
+    kind: str  # "pin" | "slide"
+    index: int  # the pin's or the slide's index in the structure
+    coefficient: float  # μ·r (pin), μ (slide)
+    body: str  # pin: body i; slide: the block
+    other: str  # pin: body j; slide: the guide (ground or a slotted link)
+    point: str  # the pin's point / the block's pin
+
+
+class FrictionModel:
+    """The friction elements of a scene and how they act on its route-2 pass."""
+
+    def __init__(self, spec: FrictionSpec, structure: Structure, inputs: tuple[str, ...]) -> None:
+        self.spec = spec
+        self.inputs = inputs
+        self.structure = structure
+        pins, slides = structure.pins, structure.slides
+        els = [_Element("pin", f.index, f.circle, pins[f.index].body, pins[f.index].other, pins[f.index].point)
+               for f in spec.pins]
+        els += [_Element("slide", f.index, f.mu, slides[f.index].body, slides[f.index].guide, slides[f.index].point)
+                for f in spec.slides]
+        self.elements: tuple[_Element, ...] = tuple(els)
+        self.links = {ln.name: ln for ln in structure.links}
+
+    @cached_property
+    def layout(self) -> tuple[tuple[str, Any, bool], ...]:
+        """The values friction adds to the force layer's flat tuple."""
+        return (
+            *(("effort0", j, False) for j in self.inputs),
+            *(("loss", (e.kind, e.index), False) for e in self.elements),
+            *(("loss", ("seal", s.joint), False) for s in self.spec.seals),
+            ("power", None, False),
+            ("power0", None, False),
+            ("locked", None, False),
+        )
+
+    @cached_property
+    def targets(self) -> tuple[str, ...]:
+        """The points whose jets give the links' rates and the slides' directions."""
+        names: list[str] = []
+        for e in self.elements:
+            for link in (e.body, e.other):
+                names += self._frame(link)
+            names.append(e.point)
+        return tuple(dict.fromkeys(names))
+
+    def _frame(self, link: str) -> tuple[str, ...]:
+        if link == GROUND:
+            return ()
+        ln = self.links[link]
+        if ln.block:
+            return ln.along or ()
+        return ln.points[:2]
+
+    # -- kinematics of the elements -------------------------------------------------------------
+    def _rate(self, link: str, values: Any) -> tuple[Any, Any]:
+        """(dθ/dφ, d²θ/dφ²) of ``link`` (0 for the ground and a block on a fixed guide)."""
+        frame = self._frame(link)
+        if not frame:
+            return 0.0, 0.0
+        p, q = values[frame[0]], values[frame[1]]
+        r, r1, r2 = _arr(q.value - p.value), _arr(q.d1 - p.d1), _arr(q.d2 - p.d2)
+        rr = (r.real * r.real + r.imag * r.imag)
+        c1 = np.conj(r) * r1
+        return c1.imag / rr, (np.conj(r) * r2).imag / rr - 2.0 * c1.real * c1.imag / (rr * rr)
+
+    def _slide(self, e: _Element, values: Any) -> tuple[Any, Any, Any]:
+        """The block's unit direction along its guide, and (dv/dφ, d²v/dφ²) of its sliding."""
+        ln = self.links[e.body]
+        b = values[e.point]
+        if ln.along is None:  # a fixed guide
+            u = complex(ln.guide if ln.guide is not None else 1.0)
+            return u, _arr((np.conj(u) * _arr(b.d1)).real), _arr((np.conj(u) * _arr(b.d2)).real)
+        a = values[ln.along[0]]
+        r, r1, r2 = _arr(b.value - a.value), _arr(b.d1 - a.d1), _arr(b.d2 - a.d2)
+        rho = np.abs(r)
+        c1 = (np.conj(r) * r1).real
+        v1 = c1 / rho
+        v2 = (np.conj(r) * r2).real / rho + (r1.real ** 2 + r1.imag ** 2) / rho - c1 * c1 / rho ** 3
+        return r / rho, v1, v2
+
+    # -- the solve --------------------------------------------------------------------------------
+    def apply(self, model: ForceModel, values: Any, xp: Backend, omega: Any, epsilon: Any,
+              out: list[Any]) -> list[Any]:
+        """``out`` (the frictionless flat tuple, in ``model``'s base layout) with friction, then the
+        values of :attr:`layout`."""
+        index = model.base_index
+        n = _size(out, omega, epsilon)
+        w, eps = _arr(omega) * np.ones(n), _arr(epsilon) * np.ones(n)
+        base = [_full(v, n) for v in out]
+        q0 = base[index["effort", self.inputs[0]]]
+        tendency = -np.sign(q0)
+        rates: dict[str, tuple[Any, Any]] = {}
+        for e in self.elements:
+            if e.kind == "pin":
+                for link in (e.body, e.other):
+                    if link not in rates:
+                        rates[link] = self._rate(link, values)
+        dirs, speeds, responses, carriers, units = [], [], [], [], []
+        for e in self.elements:
+            if e.kind == "pin":
+                (a1, a2), (b1, b2) = rates[e.body], rates[e.other]
+                v1, v2 = _arr(a1) - _arr(b1), _arr(a2) - _arr(b2)
+                unit: Any = None
+                load = _couples(e.body, e.other)
+                carriers.append(index["pin", e.index])
+            else:
+                unit, v1, v2 = self._slide(e, values)
+                load = _pushes(e.body, e.other, e.point, unit if xp.vectorised else complex(np.ravel(unit)[0]))
+                carriers.append(index["slide", e.index])
+            dirs.append(_direction(v1 * w, v2 * w * w + v1 * eps, v1 * tendency))
+            speeds.append(np.abs(v1 * w))
+            units.append(unit)
+            responses.append([_full(v, n) for v in model.respond(values, xp, load)])
+        x, locked = _solve(base, responses, dirs, carriers, np.array([e.coefficient for e in self.elements]), n)
+        final = list(base)
+        for j in range(len(self.elements)):
+            xd = x[:, j] * dirs[j]
+            final = [f if _zero(r) else f + xd * r for f, r in zip(final, responses[j])]
+            if units[j] is not None:
+                k = index["slide", self.elements[j].index]
+                final[k] = final[k] + xd * units[j]
+        losses = [x[:, j] * speeds[j] for j in range(len(self.elements))]
+        for seal in self.spec.seals:
+            jet = values[seal.joint]
+            d1, d2 = _arr(jet.d1), _arr(jet.d2)
+            k = index["effort", seal.joint]
+            q = base[k]
+            d = _direction(d1 * w, d2 * w * w + d1 * eps, d1 * -np.sign(q))
+            final[k] = final[k] - seal.force * d
+            losses.append(seal.force * np.abs(d1 * w))
+        rate = [_arr(values[j].d1) * w for j in self.inputs]
+        power = sum(final[index["effort", j]] * r for j, r in zip(self.inputs, rate))
+        power0 = sum(base[index["effort", j]] * r for j, r in zip(self.inputs, rate))
+        extra = [base[index["effort", j]] for j in self.inputs] + losses + [power, power0, locked.astype(float)]
+        result = final + extra
+        if locked.any():
+            result = [np.where(locked, _nan_like(v), v) for v in result[:-1]] + [result[-1]]
+        if xp.vectorised:
+            return result
+        return [complex(v[0]) if np.iscomplexobj(v) else float(v[0]) for v in result]
+
+
+def _arr(x: Any) -> np.ndarray:
+    return np.atleast_1d(np.asarray(x))
+
+
+def _full(v: Any, n: int) -> np.ndarray:
+    """``v`` as an (n,) array (a view where it is one already, broadcast where it is a number)."""
+    a = np.asarray(v)
+    return a if a.shape == (n,) else np.broadcast_to(a, (n,))
+
+
+def _zero(a: np.ndarray) -> bool:
+    """A response that is one broadcast zero (a load this output does not feel)."""
+    return a.strides == (0,) and a.size > 0 and a[0] == 0
+
+
+def _size(out: Sequence[Any], omega: Any, epsilon: Any) -> int:
+    return max([np.size(v) for v in out] + [np.size(omega), np.size(epsilon), 1])
+
+
+def _nan_like(v: np.ndarray) -> Any:
+    return complex(math.nan, math.nan) if np.iscomplexobj(v) else math.nan
+
+
+def _direction(velocity: np.ndarray, acceleration: np.ndarray, tendency: np.ndarray) -> np.ndarray:
+    """d = −sign of the relative velocity; where it is 0 of the relative acceleration; where
+    that is 0 too of the load's tendency (0 where nothing tends to move)."""
+    s = np.sign(velocity)
+    s = np.where(s == 0.0, np.sign(acceleration), s)
+    s = np.where(s == 0.0, np.sign(tendency), s)
+    return np.asarray(-s, float)
+
+
+def _couples(body: str, other: str) -> Callable[[ForcePass], None]:
+    def load(s: ForcePass) -> None:
+        s.couple(body, 1.0)
+        if other != GROUND:
+            s.couple(other, -1.0)
+    return load
+
+
+def _pushes(block: str, guide: str, point: str, unit: Any) -> Callable[[ForcePass], None]:
+    def load(s: ForcePass) -> None:
+        s.add(block, unit, point)
+        if guide != GROUND:
+            s.add(guide, unit, point, subtract=True)
+    return load
+
+
+def _solve(base: list[np.ndarray], responses: list[list[np.ndarray]], dirs: list[np.ndarray],
+           carriers: list[int], c: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """x = c·|R₀ + B·x| per sample: Gauss–Seidel sweeps on whole (n,) columns while they contract
+    (the usual case: the gain μ·r/arm is small), then Newton on the samples left; (x (n, m),
+    self-locking mask (n,))."""
+    m = len(carriers)
+    if m == 0:
+        return np.zeros((n, 0)), np.zeros(n, bool)
+    # real and imaginary parts apart: a real x times a complex response would be a complex product
+    r0re = [np.ascontiguousarray(base[k].real) for k in carriers]
+    r0im = [np.ascontiguousarray(base[k].imag) for k in carriers]
+    # per carrier k, the elements j whose friction moves it (a couple on an input crank against
+    # the ground moves no reaction: its column is zero), as contiguous real and imaginary parts
+    terms: list[list[tuple[int, np.ndarray, np.ndarray]]] = [[] for _ in range(m)]
+    for j in range(m):
+        for k, out in enumerate(carriers):
+            resp = responses[j][out]
+            if _zero(resp):
+                continue
+            bjk = resp * dirs[j]
+            terms[k].append((j, np.ascontiguousarray(bjk.real), np.ascontiguousarray(bjk.imag)))
+    xs = [c[k] * np.hypot(r0re[k], r0im[k]) for k in range(m)]
+    # an element whose friction moves no reaction (an input crank's pivot) is iterated only once,
+    # after the others have settled
+    active = {j for k in range(m) for j, _, _ in terms[k]}
+    order = [k for k in range(m) if k in active]
+    passive = [k for k in range(m) if k not in active]
+    change, size = np.full(n, np.inf), np.zeros(n)
+    re, im, tmp = np.empty(n), np.empty(n), np.empty(n)
+    with np.errstate(invalid="ignore", over="ignore"):
+        for step in range(FIXED_STEPS):
+            test = step % 3 == 2 or step == FIXED_STEPS - 1  # (the test every third sweep)
+            if test:
+                change.fill(0.0)
+                size.fill(0.0)
+            for k in order if step < FIXED_STEPS - 1 else range(m):  # Gauss–Seidel: in place
+                np.copyto(re, r0re[k])
+                np.copyto(im, r0im[k])
+                for j, bre, bim in terms[k]:
+                    re += np.multiply(xs[j], bre, out=tmp)
+                    im += np.multiply(xs[j], bim, out=tmp)
+                re *= re
+                im *= im
+                re += im
+                np.sqrt(re, out=re)
+                re *= c[k]
+                if test:
+                    np.subtract(re, xs[k], out=tmp)
+                    np.maximum(change, np.abs(tmp, out=tmp), out=change)
+                    np.maximum(size, re, out=size)
+                xs[k], re = re, xs[k]  # (the old x_k's array is the next scratch)
+            if test and not np.any(change > CONVERGED * size):
+                for k in passive:  # from the settled others
+                    np.copyto(re, r0re[k])
+                    np.copyto(im, r0im[k])
+                    for j, bre, bim in terms[k]:
+                        re += np.multiply(xs[j], bre, out=tmp)
+                        im += np.multiply(xs[j], bim, out=tmp)
+                    xs[k] = c[k] * np.hypot(re, im)
+                return np.stack(xs, axis=1), np.zeros(n, bool)
+    x = np.stack(xs, axis=1)
+    left = np.flatnonzero(~(change <= CONVERGED * size))
+    x_left, locked_left = _newton([np.asarray(base[k])[left] for k in carriers],
+                                  [[np.asarray(responses[j][k])[left] for k in carriers] for j in range(m)],
+                                  [d[left] for d in dirs], c, left.size, x[left])
+    x[left] = x_left
+    locked = np.zeros(n, bool)
+    locked[left] = locked_left
+    return x, locked
+
+
+def _newton(r0c: list[np.ndarray], responses: list[list[np.ndarray]], dirs: list[np.ndarray],
+            c: np.ndarray, n: int, start: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Newton on x = c·|R₀ + B·x| (an m × m system per sample) from ``start``."""
+    m = len(r0c)
+    r0 = np.stack(r0c, axis=1)  # (n, m)
+    b = np.stack([np.stack(responses[j], axis=1) * dirs[j][:, None] for j in range(m)],
+                 axis=1)  # (n, j, k): the response of carrier k to element j's friction
+    x = start.copy()
+    finite = np.isfinite(r0).all(axis=1) & np.isfinite(b).all(axis=(1, 2))
+    done = ~finite
+    eye = np.eye(m)
+    last = np.full(n, np.inf)
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        for _ in range(NEWTON_STEPS):
+            live = ~done
+            if not live.any():
+                break
+            xl, bl = x[live], b[live]
+            r = r0[live] + np.einsum("nj,njk->nk", xl, bl)
+            a = np.abs(r)
+            f = xl - c * a
+            safe = np.where(a > 0.0, a, 1.0)[:, None, :]
+            g = np.where(a[:, None, :] > 0.0, (np.conj(r)[:, None, :] * bl).real / safe, 0.0)  # ∂|R_k|/∂x_j
+            jac = eye - np.swapaxes(g, 1, 2) * c[None, :, None]  # (n, k, j)
+            try:
+                dx = np.linalg.solve(jac, f[..., None])[..., 0]
+            except np.linalg.LinAlgError:
+                dx = np.full_like(xl, np.nan)
+            xn = xl - dx
+            ok = np.isfinite(xn).all(axis=1)
+            step, size = np.abs(dx).max(axis=1), np.maximum(np.abs(xn).max(axis=1), 1e-300)
+            # converged: a step of a few ulps, or steps at the rounding floor of an ill-conditioned
+            # sample (near self-locking 1/(1 − gain) amplifies the rounding) that no longer shrink
+            small = ok & ((step <= CONVERGED * size) | ((step <= STAGNANT * size) & (step >= 0.5 * last[live])))
+            last[live] = step
+            x[live] = np.where(ok[:, None], xn, x[live])
+            idx = np.flatnonzero(live)
+            done[idx[small]] = True
+            bad = idx[~ok]
+            done[bad] = True
+            finite[bad] = False
+    # the converged magnitudes are c·|R| (≥ 0) to round-off; anything else has no solution
+    r = r0 + np.einsum("nj,njk->nk", x, b)
+    residual = np.abs(x - c * np.abs(r)).max(axis=1)
+    solved = done & finite & (residual <= STAGNANT * np.maximum(np.abs(x).max(axis=1), 1e-300))
+    locked = ~solved & np.isfinite(r0).all(axis=1)
+    return x, locked
+
+
+# -- read-outs -----------------------------------------------------------------------------------
+def locked_intervals(phi: np.ndarray, locked: np.ndarray) -> list[tuple[float, float]]:
+    """The runs of consecutive self-locking samples, as (first φ, last φ)."""
+    phi, locked = np.ravel(phi), np.ravel(locked).astype(bool)
+    out: list[tuple[float, float]] = []
+    i = 0
+    while i < locked.size:
+        if locked[i]:
+            j = i
+            while j + 1 < locked.size and locked[j + 1]:
+                j += 1
+            out.append((float(phi[i]), float(phi[j])))
+            i = j + 1
+        else:
+            i += 1
+    return out
+
+
+def locking_message(phi: Any, locked: Any, *, unit: str = "rad") -> str:
+    """One line naming where the input cannot drive the mechanism; "" where it can everywhere."""
+    spans = locked_intervals(np.asarray(phi, float), np.asarray(locked))
+    if not spans:
+        return ""
+    text = ", ".join(f"{a:.6g}" if a == b else f"[{a:.6g}, {b:.6g}]" for a, b in spans)
+    count = int(np.count_nonzero(locked))
+    return (f"self-locking at φ = {text} {unit} ({count} sample{'s' if count > 1 else ''}): the friction "
+            "equations have no solution there — no finite effort drives the mechanism")
+
+
+def breakaway(scene: Any, phi: Any, joint: str | None = None) -> tuple[Any, Any]:
+    """The interval (low, high) of efforts of ``joint`` that hold the mechanism at rest at ``phi``:
+    ``high`` starts it moving toward +φ, ``low`` toward −φ (each solved with the friction
+    against that motion, at ω = 0 and an ε of ±TENDENCY that only gives the direction). An
+    edge where that motion self-locks is ±inf (every effort beyond holds it)."""
+    joint = joint or scene.inputs[0]
+    if len(scene.inputs) != 1:
+        raise SolverError(f"breakaway efforts are given for one input; '{scene.name}' has {list(scene.inputs)}")
+    edges = []
+    for sign in (-1.0, 1.0):
+        k = scene.solve(phi, omega=0.0, epsilon=sign * TENDENCY, mask=False)
+        q = np.asarray(k.effort(joint), float)
+        q = np.where(np.asarray(k.locked), sign * math.inf, q)
+        edges.append(float(q) if q.ndim == 0 else q)
+    return edges[0], edges[1]
+
+
+def cycle_efficiency(k: Any) -> float:
+    """Σ over a sweep of the useful work over the work put in: 1 − W_loss / W_in, W_in the work
+    the inputs deliver (their positive power) — each integrated over time by the trapezoid
+    rule, dt = |dφ/ω| (the samples in order along the sweep)."""
+    phi = np.asarray(k.phi, float)
+    w = np.broadcast_to(np.asarray(k.omega, float), phi.shape)
+    power = np.asarray(k.input_power, float)
+    loss = np.asarray(k.friction_power, float)
+    if phi.ndim != 1 or phi.size < 2 or not np.all(w != 0.0):
+        raise SolverError("a cycle's efficiency needs a sweep (≥ 2 samples, one input) with ω ≠ 0")
+    dt = np.abs(np.diff(phi) / (0.5 * (w[1:] + w[:-1])))
+    def work(p: np.ndarray) -> float:
+        return float(np.sum(0.5 * (p[1:] + p[:-1]) * dt))
+    w_in = work(np.maximum(power, 0.0))
+    return 1.0 - work(loss) / w_in if w_in > 0.0 else 0.0
