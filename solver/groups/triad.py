@@ -44,8 +44,9 @@ Branch rule (the mode)
     carried forward by its velocity analog (θ + θ'·Δφ), so the branch is followed
     continuously, not by an index that changes when roots appear or vanish. Per tick (the
     scalar path) the previous tick plays the previous sample. A step whose nearest root is
-    farther than half the previous sample's distance to its neighbouring root is a mode jump
-    (a branch point, two roots merging, between the samples): refused, naming the φ.
+    farther than half the previous sample's distance to its neighbouring root, where the count of
+    real roots drops, is a mode jump (a branch point, two roots merging, between the samples):
+    refused, naming the φ.
 Assembly fails where no real root exists (AssemblyError with the φ intervals, found on a grid
 of one turn from the count of real roots).
 """
@@ -255,7 +256,7 @@ class Triad(Group):
         d1, t1, d2, t2, det = triad_analogs(d, w, u, v, ja, jb, jc)
         if theta.ndim == 1 and idx >= 0:
             gap = self._gap(theta, idx)
-            self._last.update(phi=phi, theta=th, rate=t1, gap=gap)
+            self._last.update(phi=phi, theta=th, rate=t1, gap=gap, count=int(real.sum()))
         uw, vw = u * w, v * w
         e_, f_ = d + uw, d + vw
         for name, off in zip(self.points, (0.0, uw, vw)):
@@ -285,7 +286,7 @@ class Triad(Group):
         pred = last["theta"] + last["rate"] * dphi
         dist = np.abs(_wrap(theta[real] - pred))
         k = int(np.argmin(dist))
-        return int(real[k]), bool(dist[k] > 0.5 * last["gap"])
+        return int(real[k]), bool(dist[k] > 0.5 * last["gap"] and real.size < last["count"])
 
     def _pick_sweep(self, phi: Any, theta: np.ndarray, dd: np.ndarray, ja: Jet, jb: Jet,
                     jc: Jet) -> tuple[np.ndarray, np.ndarray]:
@@ -305,35 +306,48 @@ class Triad(Group):
         real = np.isfinite(theta[i0])
         idx[i0] = int(np.flatnonzero(real)[np.argmin(np.abs(_wrap(theta[i0][real] - self.angle)))])
         u, v = self.shape
-        rows = np.arange(n)
-        # the rate θ' at every slot, to carry each sample's root to the next
         ws = np.cos(theta) + 1j * np.sin(theta)
 
         def col(x: Any) -> Any:
             return x[:, None] if np.ndim(x) == 1 else x
         jets = [Jet(col(j.value), col(j.d1), col(j.d2)) for j in (ja, jb, jc)]
         with np.errstate(all="ignore"):
-            rate = triad_analogs(dd, ws, u, v, *jets)[1]
+            rate = np.real(triad_analogs(dd, ws, u, v, *jets)[1])  # θ' at every slot: the predictor
+            # each slot's distance to its nearest other real root (the matching's safe radius)
+            diff = np.abs(_wrap(theta[:, :, None] - theta[:, None, :]))
+            diff[:, np.arange(6), np.arange(6)] = np.inf
+            gap = np.nan_to_num(np.nanmin(np.where(np.isnan(diff), np.inf, diff), axis=-1), nan=np.inf)
+        two_pi, pi = 2.0 * math.pi, math.pi
+        rows = [[t for t in r if t == t] for r in theta.tolist()]  # real roots, slots 0… in order
+        rate_l, gap_l, step_phi = rate.tolist(), gap.tolist(), ph.sum(axis=1).tolist()
+        angle = self.angle
+
+        def nearest(r: list[float], target: float) -> tuple[int, float]:
+            best, dist = 0, math.inf
+            for m, t in enumerate(r):
+                e = abs((t - target + pi) % two_pi - pi)
+                if e < dist:
+                    best, dist = m, e
+            return best, dist
+        out = idx.tolist()
+        jump = [False] * n
         for step in (1, -1):
             i = i0
             while 0 <= i + step < n:
                 j = i + step
-                row = theta[j]
-                real = np.isfinite(row)
-                if idx[i] < 0 or not real.any():
+                r = rows[j]
+                if not r:
                     i = j
-                    if idx[i] < 0 and real.any():  # restart after a gap: nearest θ₀ again
-                        idx[j] = int(np.flatnonzero(real)[np.argmin(np.abs(_wrap(row[real] - self.angle)))])
                     continue
-                k = idx[i]
-                pred = theta[i, k] + np.real(rate[i, k]) * float(np.sum(ph[j] - ph[i]))
-                dist = np.abs(_wrap(row[real] - pred))
-                m = int(np.argmin(dist))
-                idx[j] = int(np.flatnonzero(real)[m])
-                jumps[j] = dist[m] > 0.5 * self._gap(theta[i], k)
+                k = out[i]
+                if k < 0:  # restart after a gap: nearest θ₀ again
+                    out[j] = nearest(r, angle)[0]
+                else:
+                    m, dist = nearest(r, rows[i][k] + rate_l[i][k] * (step_phi[j] - step_phi[i]))
+                    out[j] = m
+                    jump[j] = dist > 0.5 * gap_l[i][k] and len(r) < len(rows[i])
                 i = j
-        del rows
-        return idx, jumps
+        return np.array(out), np.array(jump)
 
     @staticmethod
     def _jump_reason() -> str:
