@@ -270,3 +270,41 @@ def test_scene_errors() -> None:
         build(scene({"sides": [0.1, 0.5, 0.1], "M": 1}))
     with pytest.raises(SceneError, match=r"three points are on one line"):
         build(scene({"shape": {"D": [0, 0], "E": [1, 0], "F": [2, 0]}}))
+
+
+def test_a_sweep_through_a_branch_point_says_it_would_jump_mode() -> None:
+    """A triad (seeded random search) whose real-root count goes 2 → 4 → 2 over a turn: following
+    a root of the pair that appears and vanishes is refused where it merges; the modes that live
+    the whole turn are followed through without a word."""
+    b_, c_ = complex(-0.45, 0.0), complex(0.12, -0.57)
+    d, e, f = complex(-0.42, 0.51), complex(-0.52, -0.44), complex(0.54, 0.15)
+    r = 0.1
+    lengths = [abs(d - r), abs(e - b_), abs(f - c_)]
+    phi = np.linspace(0.0, 2 * np.pi, 721)
+    theta, _ = triad_roots(r * np.exp(1j * phi), b_, c_, tuple(lengths), complex(abs(e - d), 0.0),
+                           (f - d) * np.exp(-1j * np.angle(e - d)))
+    count = np.isfinite(theta).sum(axis=1)
+    assert sorted(set(count.tolist())) == [2, 4]
+    mid = int(np.flatnonzero(count == 4)[len(np.flatnonzero(count == 4)) // 2])
+
+    def scene(angle: float) -> object:
+        return build({
+            "scene": "jump", "units": {"length": "m", "angle": "rad"},
+            "fixed": {"O": [0, 0], "B": [b_.real, b_.imag], "C": [c_.real, c_.imag]},
+            "groups": [{"type": "crank", "name": "crank", "center": "O", "point": "A", "length": r},
+                       {"type": "triad", "name": "tri", "ends": ["A", "B", "C"], "points": ["D", "E", "F"],
+                        "lengths": lengths, "shape": {"D": [d.real, d.imag], "E": [e.real, e.imag],
+                                                      "F": [f.real, f.imag]},
+                        "angle": angle, "at": float(phi[mid])}],
+            "outputs": {"points": ["D"]},
+        })
+    refused = 0
+    for angle in theta[mid][np.isfinite(theta[mid])]:
+        try:
+            k = scene(float(angle)).solve(phi)  # type: ignore[attr-defined]
+        except AssemblyError as exc:
+            assert "would jump assembly mode" in str(exc) and "group 'tri'" in str(exc)
+            refused += 1
+        else:
+            assert np.isfinite(k.point("D").position).all()
+    assert refused == 2, refused
