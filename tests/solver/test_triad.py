@@ -308,3 +308,25 @@ def test_a_sweep_through_a_branch_point_says_it_would_jump_mode() -> None:
         else:
             assert np.isfinite(k.point("D").position).all()
     assert refused == 2, refused
+
+
+def test_paths_without_the_triad_refuse_it_in_one_line() -> None:
+    """Forces (and so dynamics), synthesis and URDF export do not handle a triad yet: each says so."""
+    import yaml
+
+    import solver
+    from linkage_ros.urdf.model import build_model
+
+    data = yaml.safe_load(Path(solver.find_scene("triad_press")).read_text(encoding="utf-8"))
+    with pytest.raises(SceneError, match=r"triad 'triad': forces are modelled for the planar groups"):
+        build({**data, "bodies": {"triad": {"mass": 1.0}}})
+    free = copy_of(data)
+    free["fixed"]["B"] = [{"free": [0.45, 0.55]}, 0.64]
+    with pytest.raises(SceneError, match=r"groups\[1\]: triad 'triad': synthesis does not vary a triad yet"):
+        solver.synthesize(free, point="E", through=[[-0.06, 0.38], [-0.08, 0.42], [-0.1, 0.45]])
+    with pytest.raises(SceneError, match=r"triad 'triad': URDF export: group kind 'triad' has no URDF export"):
+        build_model(solver.load_scene("triad_press"))
+
+
+def copy_of(data: dict) -> dict:
+    return json.loads(json.dumps(data))
