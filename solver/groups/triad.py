@@ -62,6 +62,7 @@ import numpy as np
 
 from .._backend import abs2, cross, dot
 from .._fields import Entry, Units
+from ..errors import SolverError
 from ..jet import Jet
 from ..tolerances import EPS
 from .base import Context, Group
@@ -79,6 +80,11 @@ SAME_ROOT: float = 1e-9
 POLISH_STEPS: int = 6
 #: A polished root is accepted when its loop residuals are within this many EPS of size².
 RESIDUAL_ROUNDING: float = 256.0
+
+#: The scene's block of vectorised samples (solver.scene.CHUNK, not imported: groups come first).
+#: A triad's mode is followed within one block, so a sweep of more samples is refused, not
+#: restarted at each block.
+BLOCK: int = 1 << 13
 
 _ROOTS7 = np.exp(2j * np.pi * np.arange(7) / 7)
 
@@ -245,6 +251,10 @@ class Triad(Group):
             d = complex(dd[idx]) if idx >= 0 else complex(math.nan, math.nan)
             w: Any = complex(math.cos(th), math.sin(th))
         else:
+            base = getattr(phi, "base", None)
+            if len(theta) >= BLOCK and base is not None and np.size(base) > len(theta):
+                raise SolverError(f"{ctx.scene}: triad '{self.name}' follows its mode within one block of {BLOCK} "
+                                  f"samples; solve at most {BLOCK} samples a call (got {np.size(base)})")
             slots, jumps = self._pick_sweep(phi, theta, dd, ja, jb, jc)
             if jumps.any():
                 ctx.require(self, ~jumps, reason=self._jump_reason())

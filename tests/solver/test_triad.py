@@ -330,3 +330,13 @@ def test_paths_without_the_triad_refuse_it_in_one_line() -> None:
 
 def copy_of(data: dict) -> dict:
     return json.loads(json.dumps(data))
+
+
+def test_a_sweep_longer_than_one_block_is_refused_not_restarted() -> None:
+    import solver
+    from solver.errors import SolverError
+
+    scene = solver.load_scene("triad_press")
+    with pytest.raises(SolverError, match=r"triad 'triad' follows its mode within one block of 8192 samples"):
+        scene.solve(np.linspace(0.0, 2 * np.pi, 9000))
+    assert scene.solve(np.linspace(0.0, 2 * np.pi, 8192)).point("D").position.shape == (8192, 2)
