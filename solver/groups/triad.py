@@ -43,7 +43,8 @@ Branch rule (the mode)
     θ₀; from there every other sample takes the root nearest the previous sample's angle
     carried forward by its velocity analog (θ + θ'·Δφ), so the branch is followed
     continuously, not by an index that changes when roots appear or vanish. Per tick (the
-    scalar path) the previous tick plays the previous sample. A step whose nearest root is
+    scalar path) the previous tick plays the previous sample; the scene's next block of one sweep
+    starts from the previous block's last root. A step whose nearest root is
     farther than half the previous sample's distance to its neighbouring root, where the count of
     real roots drops, is a mode jump (a branch point, two roots merging, between the samples):
     refused, naming the φ.
@@ -62,7 +63,6 @@ import numpy as np
 
 from .._backend import abs2, cross, dot
 from .._fields import Entry, Units
-from ..errors import SolverError
 from ..jet import Jet
 from ..tolerances import EPS
 from .base import Context, Group
@@ -80,11 +80,6 @@ SAME_ROOT: float = 1e-9
 POLISH_STEPS: int = 6
 #: A polished root is accepted when its loop residuals are within this many EPS of size².
 RESIDUAL_ROUNDING: float = 256.0
-
-#: The scene's block of vectorised samples (solver.scene.CHUNK, not imported: groups come first).
-#: A triad's mode is followed within one block, so a sweep of more samples is refused, not
-#: restarted at each block.
-BLOCK: int = 1 << 13
 
 _ROOTS7 = np.exp(2j * np.pi * np.arange(7) / 7)
 
@@ -203,6 +198,8 @@ class Triad(Group):
     joint: str | None = None  # θ published as a joint coordinate, if named
     #: the per-tick path's previous tick (φ, θ, θ', gap to the neighbouring root): continuity
     _last: dict[str, Any] = field(default_factory=dict, compare=False, hash=False, repr=False)
+    #: the last sample of the latest vectorised block (θ, θ', φ): the next block of one sweep starts there
+    _end_state: dict[str, Any] = field(default_factory=dict, compare=False, hash=False, repr=False)
 
     def requires(self) -> tuple[str, ...]:
         return self.ends
@@ -251,11 +248,18 @@ class Triad(Group):
             d = complex(dd[idx]) if idx >= 0 else complex(math.nan, math.nan)
             w: Any = complex(math.cos(th), math.sin(th))
         else:
+            # a block of a longer sweep (solver.scene solves in blocks of views into one array):
+            # continue from where the previous block of the same array ended
             base = getattr(phi, "base", None)
-            if len(theta) >= BLOCK and base is not None and np.size(base) > len(theta):
-                raise SolverError(f"{ctx.scene}: triad '{self.name}' follows its mode within one block of {BLOCK} "
-                                  f"samples; solve at most {BLOCK} samples a call (got {np.size(base)})")
-            slots, jumps = self._pick_sweep(phi, theta, dd, ja, jb, jc)
+            key = None
+            if isinstance(phi, np.ndarray) and isinstance(base, np.ndarray) and base.size > phi.size:
+                offset = (phi.__array_interface__["data"][0] - base.__array_interface__["data"][0]) // phi.itemsize
+                key = (id(base), offset)
+            carry = self._last.get("block")
+            carry = carry if key is not None and carry is not None and carry["key"] == key else None
+            slots, jumps = self._pick_sweep(phi, theta, dd, ja, jb, jc, carry=carry)
+            if key is not None and len(slots) and slots[-1] >= 0:
+                self._last["block"] = dict(self._end_state, key=(key[0], key[1] + len(slots)))
             if jumps.any():
                 ctx.require(self, ~jumps, reason=self._jump_reason())
             rows = np.arange(len(theta))
@@ -298,14 +302,14 @@ class Triad(Group):
         k = int(np.argmin(dist))
         return int(real[k]), bool(dist[k] > 0.5 * last["gap"] and real.size < last["count"])
 
-    def _pick_sweep(self, phi: Any, theta: np.ndarray, dd: np.ndarray, ja: Jet, jb: Jet,
-                    jc: Jet) -> tuple[np.ndarray, np.ndarray]:
+    def _pick_sweep(self, phi: Any, theta: np.ndarray, dd: np.ndarray, ja: Jet, jb: Jet, jc: Jet, *,
+                    carry: dict[str, Any] | None = None) -> tuple[np.ndarray, np.ndarray]:
         """The followed root's slot at each sample, and where following it would jump mode."""
         n = len(theta)
         ph = np.asarray(phi, float).reshape(n, -1)
         idx = np.full(n, -1)
         jumps = np.zeros(n, bool)
-        if self.at is None or ph.shape[1] != 1:
+        if self.at is None or ph.shape[1] != 1 or carry is not None:
             start = 0
         else:
             start = int(np.argmin(np.abs(_wrap(ph[:, 0] - self.at))))
@@ -314,7 +318,10 @@ class Triad(Group):
             return idx, jumps
         i0 = starts[0]
         real = np.isfinite(theta[i0])
-        idx[i0] = int(np.flatnonzero(real)[np.argmin(np.abs(_wrap(theta[i0][real] - self.angle)))])
+        target = self.angle
+        if carry is not None:  # the previous block's last root, carried forward
+            target = carry["theta"] + carry["rate"] * (float(np.sum(ph[i0])) - carry["phi"])
+        idx[i0] = int(np.flatnonzero(real)[np.argmin(np.abs(_wrap(theta[i0][real] - target)))])
         u, v = self.shape
         ws = np.cos(theta) + 1j * np.sin(theta)
 
@@ -357,6 +364,9 @@ class Triad(Group):
                     out[j] = m
                     jump[j] = dist > 0.5 * gap_l[i][k] and len(r) < len(rows[i])
                 i = j
+        last = out[-1]
+        if last >= 0:
+            self._end_state.update(theta=rows[-1][last], rate=rate_l[-1][last], phi=step_phi[-1])
         return np.array(out), np.array(jump)
 
     @staticmethod
