@@ -13,6 +13,7 @@ from .rrp import RRP
 from .rrr import RRR
 from .slotted import Slotted
 from .spherical import SphericalCrankSlider
+from .triad import Triad
 
 __all__ = [
     "Actuator",
@@ -28,10 +29,11 @@ __all__ = [
     "RRR",
     "Slotted",
     "SphericalCrankSlider",
+    "Triad",
 ]
 
 #: The group types a scene's ``groups:`` list may name, by their ``type:`` key.
 GROUP_TYPES: dict[str, Any] = {
-    cls.kind: cls for cls in (Crank, Actuator, Attached, Slotted, RRR, RRP, SphericalCrankSlider)
+    cls.kind: cls for cls in (Crank, Actuator, Attached, Slotted, RRR, RRP, SphericalCrankSlider, Triad)
 }
 GROUP_TYPES[CoupledCrankEntry.kind] = CoupledCrankEntry  # the drawn form's coupled input (solver.structure)

@@ -37,8 +37,9 @@ removes a freedom and is emitted as a ``coupled_crank`` group ``{center, point, 
 follows, ratio, offset}`` (angle = ratio·φ_follows + offset; offset in the angle unit): that group
 kind is the importers' to add; until it exists such a scene is refused by the loader by type.
 Every fault is one SceneError line naming what to change. Deterministic: the same drawing gives
-the same groups, names and order every time. A group of class 3 or more is refused naming its
-links; a triad is one more candidate kind in ``decompose``.
+the same groups, names and order every time. A triad (class 3: a ternary link on three binary
+links) is found after the dyads (``triad_step``), its mode read off the pose; a group of class 4 or
+more is refused naming its links.
 """
 
 from __future__ import annotations

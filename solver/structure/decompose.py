@@ -26,7 +26,7 @@ What stops the decomposition is named (:class:`Stall`): a link, slide or actuato
 are all placed by other groups over-constrains the mechanism; unplaced links left over form
 sub-chains whose own count (3 per link, −2 per pin to a placed body or to each other) says
 whether they are free (> 0: too few inputs), over-constrained (< 0), or need a group of class 3
-or more (= 0: a triad, which is one more entry in ``_CANDIDATES``).
+or more (= 0, a group of class 4 or more: the triad is a candidate, solver.structure.triad_step).
 
 Modes from the pose (the group scenes' ``M`` conventions, docs/scenes.md): an RRR dyad's mode
 is the sign of the signed area of A, B, C; an RRP's the sign of (B − A)·e; an actuator's the
@@ -287,6 +287,9 @@ def _candidates_of(st: _State, what: str, name: str) -> Iterator[Candidate]:
         yield from _slide_candidates(st, st.d.slides[name])
     else:
         yield from _rrr_candidates(st, name)
+        from .triad_step import triad_candidates  # (it imports Step from here: no import at the top)
+
+        yield from triad_candidates(st, name)
 
 
 def _one_known(st: _State, link: str) -> str | None:

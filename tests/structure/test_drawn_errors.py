@@ -66,17 +66,6 @@ def test_an_extra_link_over_constrains() -> None:
               r"over-constrained \(-1\)")
 
 
-def test_a_class_3_group_is_refused_naming_its_links() -> None:
-    triad = {"points": {"O": [0, 0], "A": [20, 30], "B": [80, 90], "D": [140, 60], "E": [100, 20],
-                        "F": [200, 80], "G": [150, -40]},
-             "ground": ["O", "F", "G"],
-             "links": {"crank": ["O", "A"], "l1": ["A", "B"], "ternary": ["B", "D", "E"], "l2": ["F", "D"],
-                       "l3": ["G", "E"]},
-             "inputs": ["crank"]}
-    refuse(triad, r"= 1 with 1 input\(s\) \(crank\) matches: l1, l2, l3, ternary form a group of class 3 or more "
-                  r"\(a triad: a ternary link and three binary links\), which no group of this solver solves yet")
-
-
 def test_a_dyad_kind_without_a_group_is_named() -> None:
     rrp_moving = {"points": {"O": [0, 0], "A": [40, 0], "G": [120, 30], "C": [60, 90], "B": [80, 15]},
                   "ground": ["O", "C"], "links": {"crank": ["O", "A", "G"], "rod": ["C", "B"]}, "inputs": ["crank"],

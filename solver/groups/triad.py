@@ -1,0 +1,437 @@
+"""The RRR–RRR–RRR triad (class-3 Assur group): a ternary link D, E, F joined by three binary
+links to three known points A, B, C.
+
+Loop equations
+    |D − A| = a,  |E − B| = b,  |F − C| = c,  with E = D + u·w, F = D + v·w, w = e^{jθ}:
+    θ is the ternary link's angle, u = E − D and v = F − D its shape in its own frame
+    (``sides`` [DE, EF, FD] with ``M``: u = DE, v = FD·e^{jM·∠EDF}, ∠EDF from the law of
+    cosines; or ``shape`` with the three local points).
+Univariate polynomial (exact elimination; no search)
+    With A moved to the origin, P = B − A − u·w and Q = C − A − v·w, subtracting |D|² = a² from
+    the other two circles gives the linear pair D·P = s₁, D·Q = s₂ (planar dot products),
+    s₁ = (|P|² + a² − b²)/2, s₂ = (|Q|² + a² − c²)/2, so D = j·(s₂P − s₁Q)/(P × Q) (Cramer) and
+    the loop closes where  G(w) = |s₂P − s₁Q|² − a²·(P × Q)² = 0.
+    On |w| = 1 (w̄ = 1/w) P and Q are polynomials in w of degree 1, s₁, s₂ and P × Q Laurent
+    polynomials in w of degrees −1…1, so s₂P − s₁Q spans w^{−1}…w², its conjugate w^{−2}…w¹ and
+    G spans w^{−3}…w³: w³·G(w) is a polynomial of degree 6 (the classical six assembly modes of
+    the triad; the same degree as the half-angle-tangent form, t = tan(θ/2), w = (1+jt)/(1−jt),
+    without the root at infinity θ = π). Its seven coefficients are the discrete Fourier
+    transform of G at the seventh roots of unity — exact, since G has exactly seven terms —
+    and its roots are the eigenvalues of the companion matrix (batched over samples). G is real
+    on the circle, so the polynomial is self-inversive: real assembly modes are its roots on
+    |w| = 1 (the others come in pairs w, 1/w̄).
+Polish
+    Each root on the circle (within ``ON_CIRCLE``) gives (D, θ) by Cramer, then Newton on the
+    three loop equations (the 3×3 system below) to round-off; a root whose Newton step does
+    not converge (a complex pair near the circle) is no assembly mode. Roots within
+    ``SAME_ROOT`` of each other are one (a double root: a branch point).
+Derivatives (exact): differentiate the three loop equations. With p = D − A, q = E − B,
+    s = F − C, g = −(q × u·w), h = −(s × v·w) (real), unknowns D' and θ':
+        D'·p = A'·p,    D'·q + g·θ' = B'·q,    D'·s + h·θ' = C'·s,
+    second order: the same matrix with right-hand sides
+        A''·p − |D' − A'|²,  (B'' + u·w·θ'²)·q − |E' − B'|²,  (C'' + v·w·θ'²)·s − |F' − C'|²,
+    then E' = D' + j·u·w·θ', E'' = D'' + j·u·w·θ'' − u·w·θ'² (F alike).
+Linear system: eliminating θ' from the last two rows, D'·m = h·r₂ − g·r₃ with m = h·q − g·s,
+    D' = j·(r'·p − r₁·m)/(p × m) as for the dyads, θ' = (g·(r₂ − D'·q) + h·(r₃ − D'·s))/(g² + h²).
+    Its determinant is p × m = h·(p × q) − g·(p × s).
+Conditioning
+    |p × m| / (a·b·c·(|u| + |v|)) ∈ [0, 1]: 0 where the three binary links' lines meet in one
+    point with the ternary link's instant centre (a dead point: two assembly modes merge).
+Branch rule (the mode)
+    ``angle`` θ₀ names the mode: at the first sample of a sweep (or the sample nearest the
+    input ``at`` when it is given) the mode is the real root whose ternary-link angle is nearest
+    θ₀; from there every other sample takes the root nearest the previous sample's angle
+    carried forward by its velocity analog (θ + θ'·Δφ), so the branch is followed
+    continuously, not by an index that changes when roots appear or vanish. Per tick (the
+    scalar path) the previous tick plays the previous sample; the scene's next block of one sweep
+    starts from the previous block's last root. A step whose nearest root is
+    farther than half the previous sample's distance to its neighbouring root, where the count of
+    real roots drops, is a mode jump (a branch point, two roots merging, between the samples):
+    refused, naming the φ.
+Assembly fails where no real root exists (AssemblyError with the φ intervals, found on a grid
+of one turn from the count of real roots).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .._backend import abs2, cross, dot
+from .._fields import Entry, Units
+from ..jet import Jet
+from ..tolerances import EPS
+from .base import Context, Group
+from .rrr import solve_linear
+
+__all__ = ["Triad", "triad_roots", "triad_coefficients", "triad_analogs", "ON_CIRCLE", "SAME_ROOT"]
+
+#: A companion-matrix root counts as on the unit circle (a candidate real mode) within this of
+#: |w| = 1: a double root splits by ~√EPS, so the band is wider; Newton decides.
+ON_CIRCLE: float = 1e-5
+#: Two polished roots closer than this in θ (rad) are one root (a double root).
+SAME_ROOT: float = 1e-9
+#: Newton steps on the loop equations per root; it converges quadratically from the
+#: eigenvalue's ~1e-13 (a simple root) or ~1e-8 (near a double root).
+POLISH_STEPS: int = 6
+#: A polished root is accepted when its loop residuals are within this many EPS of size².
+RESIDUAL_ROUNDING: float = 256.0
+
+_ROOTS7 = np.exp(2j * np.pi * np.arange(7) / 7)
+
+
+def _shape_terms(a0: Any, b0: Any, c0: Any, lengths: tuple[float, float, float], u: complex, v: complex,
+                 w: Any) -> tuple[Any, Any]:
+    """s₂P − s₁Q and P × Q at w (A at the origin: ``b0 = B − A``, ``c0 = C − A``)."""
+    a, b, c = lengths
+    p = b0 - u * w
+    q = c0 - v * w
+    s1 = 0.5 * (abs2(p) + a * a - b * b)
+    s2 = 0.5 * (abs2(q) + a * a - c * c)
+    return s2 * p - s1 * q, cross(p, q)
+
+
+def triad_coefficients(b0: Any, c0: Any, lengths: tuple[float, float, float], u: complex, v: complex) -> np.ndarray:
+    """The seven coefficients of w³·G(w), lowest power first, shape (..., 7): the DFT of G at the
+    seventh roots of unity (``b0 = B − A``, ``c0 = C − A``, arrays broadcast)."""
+    b0 = np.asarray(b0, complex)[..., None]
+    c0 = np.asarray(c0, complex)[..., None]
+    n, det = _shape_terms(0.0, b0, c0, lengths, u, v, _ROOTS7)
+    g = abs2(n) - lengths[0] ** 2 * det * det  # G(w_k), real
+    f = np.fft.fft(g, axis=-1) / 7.0  # f[m] = coefficient of w^m, m taken mod 7 (−3…3)
+    return np.concatenate([f[..., 4:], f[..., :4]], axis=-1)  # w^−3 … w^3 → powers 0 … 6 of w³G
+
+
+def _residuals(d: Any, w: Any, a_: Any, b_: Any, c_: Any, lengths: tuple[float, float, float], u: complex,
+               v: complex) -> tuple[Any, Any, Any, Any, Any, Any]:
+    p, q, s = d - a_, d + u * w - b_, d + v * w - c_
+    a, b, c = lengths
+    return p, q, s, abs2(p) - a * a, abs2(q) - b * b, abs2(s) - c * c
+
+
+def _solve3(p: Any, q: Any, s: Any, g: Any, h: Any, r1: Any, r2: Any, r3: Any) -> tuple[Any, Any, Any]:
+    """X·p = r₁, X·q + g·t = r₂, X·s + h·t = r₃ (module docstring): ``(X, t, p × m)``."""
+    m = h * q - g * s
+    det = cross(p, m)
+    x = solve_linear(p, m, 1j / det, r1, h * r2 - g * r3)
+    t = (g * (r2 - dot(x, q)) + h * (r3 - dot(x, s))) / (g * g + h * h)
+    return x, t, det
+
+
+def triad_roots(a_: Any, b_: Any, c_: Any, lengths: tuple[float, float, float], u: complex,
+                v: complex) -> tuple[np.ndarray, np.ndarray]:
+    """Every real assembly mode at each sample: ``(θ, D)``, shape (..., 6), NaN where a slot holds
+    no real root; θ in (−π, π], sorted ascending per sample; polished by Newton to round-off."""
+    a_, b_, c_ = (np.asarray(x, complex) for x in (a_, b_, c_))
+    shape = np.broadcast_shapes(a_.shape, b_.shape, c_.shape)
+    a_, b_, c_ = (np.broadcast_to(x, shape)[..., None] for x in (a_, b_, c_))
+    coef = triad_coefficients(b_[..., 0] - a_[..., 0], c_[..., 0] - a_[..., 0], lengths, u, v)
+    lead = coef[..., 6:7]
+    comp = np.zeros((*shape, 6, 6), complex)
+    comp[..., 1:, :-1] = np.eye(5)
+    with np.errstate(all="ignore"):
+        comp[..., :, -1] = -coef[..., :6] / lead
+        ok = np.isfinite(comp).all(axis=(-2, -1))
+        comp[~ok] = 0.0
+        w = np.linalg.eigvals(comp)
+        w[~ok] = np.nan
+        near = np.abs(np.abs(w) - 1.0) <= ON_CIRCLE
+        w = np.where(near, w / np.abs(w), np.nan)
+        theta = np.angle(w)
+        n, det = _shape_terms(0.0, b_ - a_, c_ - a_, lengths, u, v, w)
+        d = a_ + 1j * n / det
+        size = np.abs(a_) + np.abs(b_) + np.abs(c_) + sum(lengths) + abs(u) + abs(v)
+        for _ in range(POLISH_STEPS):
+            w = np.cos(theta) + 1j * np.sin(theta)
+            p, q, s, f1, f2, f3 = _residuals(d, w, a_, b_, c_, lengths, u, v)
+            g, h = -cross(q, u * w), -cross(s, v * w)
+            dx, dt, _ = _solve3(p, q, s, g, h, -0.5 * f1, -0.5 * f2, -0.5 * f3)
+            d = d + dx
+            theta = theta + dt
+        w = np.cos(theta) + 1j * np.sin(theta)
+        *_, f1, f2, f3 = _residuals(d, w, a_, b_, c_, lengths, u, v)
+        bound = RESIDUAL_ROUNDING * EPS * size * size
+        good = (np.abs(f1) <= bound) & (np.abs(f2) <= bound) & (np.abs(f3) <= bound)
+    theta = np.where(good, np.angle(w), np.nan)
+    order = np.argsort(theta, axis=-1)  # NaN last
+    theta = np.take_along_axis(theta, order, axis=-1)
+    d = np.take_along_axis(np.where(good, d, np.nan), order, axis=-1)
+    same = np.zeros(theta.shape, bool)
+    same[..., 1:] = np.abs(np.diff(theta, axis=-1)) <= SAME_ROOT
+    theta[same] = np.nan
+    d[same] = np.nan
+    order = np.argsort(theta, axis=-1)
+    return np.take_along_axis(theta, order, axis=-1), np.take_along_axis(d, order, axis=-1)
+
+
+def _wrap(x: Any) -> Any:
+    return (x + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def triad_analogs(d: Any, w: Any, u: complex, v: complex, ja: Jet, jb: Jet, jc: Jet) -> tuple[Any, ...]:
+    """``(D', θ', D'', θ'', det)`` from the linear system of the module docstring."""
+    uw, vw = u * w, v * w
+    p, q, s = d - ja.value, d + uw - jb.value, d + vw - jc.value
+    g, h = -cross(q, uw), -cross(s, vw)
+    d1, t1, det = _solve3(p, q, s, g, h, dot(ja.d1, p), dot(jb.d1, q), dot(jc.d1, s))
+    e1, f1 = d1 + 1j * uw * t1, d1 + 1j * vw * t1
+    r1 = dot(ja.d2, p) - abs2(d1 - ja.d1)
+    r2 = dot(jb.d2 + uw * t1 * t1, q) - abs2(e1 - jb.d1)
+    r3 = dot(jc.d2 + vw * t1 * t1, s) - abs2(f1 - jc.d1)
+    d2, t2, _ = _solve3(p, q, s, g, h, r1, r2, r3)
+    return d1, t1, d2, t2, det
+
+
+@dataclass(frozen=True)
+class Triad(Group):
+    kind = "triad"
+    ends: tuple[str, str, str]  # A, B, C
+    points: tuple[str, str, str]  # D, E, F
+    lengths: tuple[float, float, float]  # |AD|, |BE|, |CF|
+    shape: tuple[complex, complex]  # u = E − D, v = F − D in the ternary link's frame
+    angle: float  # θ₀: the mode's ternary-link angle arg(E − D) at the reference sample
+    at: float | None = None  # the input value of the reference sample (None: a sweep's first)
+    joint: str | None = None  # θ published as a joint coordinate, if named
+    #: the per-tick path's previous tick (φ, θ, θ', gap to the neighbouring root): continuity
+    _last: dict[str, Any] = field(default_factory=dict, compare=False, hash=False, repr=False)
+    #: the last sample of the latest vectorised block (θ, θ', φ): the next block of one sweep starts there
+    _end_state: dict[str, Any] = field(default_factory=dict, compare=False, hash=False, repr=False)
+
+    def requires(self) -> tuple[str, ...]:
+        return self.ends
+
+    def provides(self) -> tuple[str, ...]:
+        return (*self.points, *(() if self.joint is None else (self.joint,)))
+
+    def joints(self) -> tuple[str, ...]:
+        return () if self.joint is None else (self.joint,)
+
+    def rigid_pairs(self) -> tuple[tuple[str, str, float], ...]:
+        (a, b, c), (d, e, f) = self.ends, self.points
+        u, v = self.shape
+        return ((a, d, self.lengths[0]), (b, e, self.lengths[1]), (c, f, self.lengths[2]),
+                (d, e, abs(u)), (e, f, abs(v - u)), (f, d, abs(v)))
+
+    def links(self) -> tuple[tuple[str, ...], ...]:
+        (a, b, c), (d, e, f) = self.ends, self.points
+        return ((a, d), (b, e), (c, f), (d, e, f, d))
+
+    def singular_names(self) -> tuple[str, ...]:
+        return ()
+
+    def roots(self, vals: Mapping[str, Jet]) -> tuple[np.ndarray, np.ndarray]:
+        """Every real mode at the current values: ``(θ, D)`` (:func:`triad_roots`)."""
+        a_, b_, c_ = (vals[n].value for n in self.ends)
+        return triad_roots(a_, b_, c_, self.lengths, *self.shape)
+
+    def solve(self, ctx: Context) -> None:
+        vals = ctx.values
+        ja, jb, jc = (vals[n] for n in self.ends)
+        u, v = self.shape
+        theta, dd = self.roots(vals)
+        real = np.isfinite(theta)
+        has = real.any(axis=-1)
+        ctx.require(self, has if theta.ndim > 1 else bool(has), reason="has no real assembly mode (triad)")
+        phi = ctx.phi
+        th: Any
+        d: Any
+        idx = -1
+        if theta.ndim == 1:  # one tick
+            idx, jump = self._pick_tick(phi, theta)
+            if jump:
+                ctx.require(self, False, reason=self._jump_reason())
+            th = float(theta[idx]) if idx >= 0 else math.nan
+            d = complex(dd[idx]) if idx >= 0 else complex(math.nan, math.nan)
+            w: Any = complex(math.cos(th), math.sin(th))
+        else:
+            # a block of a longer sweep (solver.scene solves in blocks of views into one array):
+            # continue from where the previous block of the same array ended
+            base = getattr(phi, "base", None)
+            key = None
+            if isinstance(phi, np.ndarray) and isinstance(base, np.ndarray) and base.size > phi.size:
+                offset = (phi.__array_interface__["data"][0] - base.__array_interface__["data"][0]) // phi.itemsize
+                key = (id(base), offset)
+            carry = self._last.get("block")
+            carry = carry if key is not None and carry is not None and carry["key"] == key else None
+            slots, jumps = self._pick_sweep(phi, theta, dd, ja, jb, jc, carry=carry)
+            if key is not None and len(slots) and slots[-1] >= 0:
+                self._last["block"] = dict(self._end_state, key=(key[0], key[1] + len(slots)))
+            if jumps.any():
+                ctx.require(self, ~jumps, reason=self._jump_reason())
+            rows = np.arange(len(theta))
+            pick = np.maximum(slots, 0)
+            th = np.where(slots >= 0, theta[rows, pick], np.nan)
+            d = np.where(slots >= 0, dd[rows, pick], np.nan)
+            w = np.cos(th) + 1j * np.sin(th)
+        d1, t1, d2, t2, det = triad_analogs(d, w, u, v, ja, jb, jc)
+        if theta.ndim == 1 and idx >= 0:
+            gap = self._gap(theta, idx)
+            self._last.update(phi=phi, theta=th, rate=t1, gap=gap, count=int(real.sum()))
+        uw, vw = u * w, v * w
+        e_, f_ = d + uw, d + vw
+        for name, off in zip(self.points, (0.0, uw, vw)):
+            pos = d if name == self.points[0] else (e_ if off is uw else f_)
+            vel = d1 + 1j * off * t1
+            acc = d2 + 1j * off * t2 - off * t1 * t1
+            vals[name] = Jet(pos, vel, acc)
+        if self.joint is not None:
+            vals[self.joint] = Jet(th, t1, t2)
+        a, b, c = self.lengths
+        ctx.conditioning[self.name] = abs(det) / (a * b * c * (abs(u) + abs(v)))
+
+    @staticmethod
+    def _gap(theta: np.ndarray, i: int) -> float:
+        others = np.abs(_wrap(theta[np.isfinite(theta)] - theta[i]))
+        others = others[others > 0.0]
+        return float(others.min()) if others.size else math.inf
+
+    def _pick_tick(self, phi: Any, theta: np.ndarray) -> tuple[int, bool]:
+        real = np.flatnonzero(np.isfinite(theta))
+        if not real.size:
+            return -1, False
+        last = self._last
+        if not last:
+            return int(real[np.argmin(np.abs(_wrap(theta[real] - self.angle)))]), False
+        dphi = float(np.sum(np.asarray(phi) - np.asarray(last["phi"])))
+        pred = last["theta"] + last["rate"] * dphi
+        dist = np.abs(_wrap(theta[real] - pred))
+        k = int(np.argmin(dist))
+        return int(real[k]), bool(dist[k] > 0.5 * last["gap"] and real.size < last["count"])
+
+    def _pick_sweep(self, phi: Any, theta: np.ndarray, dd: np.ndarray, ja: Jet, jb: Jet, jc: Jet, *,
+                    carry: dict[str, Any] | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """The followed root's slot at each sample, and where following it would jump mode."""
+        n = len(theta)
+        ph = np.asarray(phi, float).reshape(n, -1)
+        idx = np.full(n, -1)
+        jumps = np.zeros(n, bool)
+        if self.at is None or ph.shape[1] != 1 or carry is not None:
+            start = 0
+        else:
+            start = int(np.argmin(np.abs(_wrap(ph[:, 0] - self.at))))
+        starts = [i for i in range(start, n) if np.isfinite(theta[i]).any()]
+        if not starts:
+            return idx, jumps
+        i0 = starts[0]
+        real = np.isfinite(theta[i0])
+        target = self.angle
+        if carry is not None:  # the previous block's last root, carried forward
+            target = carry["theta"] + carry["rate"] * (float(np.sum(ph[i0])) - carry["phi"])
+        idx[i0] = int(np.flatnonzero(real)[np.argmin(np.abs(_wrap(theta[i0][real] - target)))])
+        u, v = self.shape
+        ws = np.cos(theta) + 1j * np.sin(theta)
+
+        def col(x: Any) -> Any:
+            return x[:, None] if np.ndim(x) == 1 else x
+        jets = [Jet(col(j.value), col(j.d1), col(j.d2)) for j in (ja, jb, jc)]
+        with np.errstate(all="ignore"):
+            rate = np.real(triad_analogs(dd, ws, u, v, *jets)[1])  # θ' at every slot: the predictor
+            # each slot's distance to its nearest other real root (the matching's safe radius)
+            diff = np.abs(_wrap(theta[:, :, None] - theta[:, None, :]))
+            diff[:, np.arange(6), np.arange(6)] = np.inf
+            gap = np.nan_to_num(np.nanmin(np.where(np.isnan(diff), np.inf, diff), axis=-1), nan=np.inf)
+        two_pi, pi = 2.0 * math.pi, math.pi
+        rows = [[t for t in r if t == t] for r in theta.tolist()]  # real roots, slots 0… in order
+        rate_l, gap_l, step_phi = rate.tolist(), gap.tolist(), ph.sum(axis=1).tolist()
+        angle = self.angle
+
+        def nearest(r: list[float], target: float) -> tuple[int, float]:
+            best, dist = 0, math.inf
+            for m, t in enumerate(r):
+                e = abs((t - target + pi) % two_pi - pi)
+                if e < dist:
+                    best, dist = m, e
+            return best, dist
+        out = idx.tolist()
+        jump = [False] * n
+        for step in (1, -1):
+            i = i0
+            while 0 <= i + step < n:
+                j = i + step
+                r = rows[j]
+                if not r:
+                    i = j
+                    continue
+                k = out[i]
+                if k < 0:  # restart after a gap: nearest θ₀ again
+                    out[j] = nearest(r, angle)[0]
+                else:
+                    m, dist = nearest(r, rows[i][k] + rate_l[i][k] * (step_phi[j] - step_phi[i]))
+                    out[j] = m
+                    jump[j] = dist > 0.5 * gap_l[i][k] and len(r) < len(rows[i])
+                i = j
+        last = out[-1]
+        if last >= 0:
+            self._end_state.update(theta=rows[-1][last], rate=rate_l[-1][last], phi=step_phi[-1])
+        return np.array(out), np.array(jump)
+
+    @staticmethod
+    def _jump_reason() -> str:
+        return ("would jump assembly mode (a branch point: two of the triad's modes merge between this sample and "
+                "the previous one; sample more finely or choose another mode)")
+
+    def assembly_residual(self, vals: Mapping[str, Jet]) -> tuple[Any, Any, Any]:
+        """``R = +1`` where a real assembly mode exists, ``−1`` where none (a step: its sign change
+        is bisected to the interval's end by solver.assembly), ``dR/dφ = 0``, scale 1."""
+        theta, _ = self.roots(vals)
+        r = np.where(np.isfinite(theta).any(axis=-1), 1.0, -1.0)
+        return r, np.zeros_like(r), 1.0
+
+    @classmethod
+    def from_entry(cls, e: Entry, units: Units, fixed: Mapping[str, Any]) -> Triad:
+        """``{type: triad, name, ends: [A, B, C], points: [D, E, F], lengths: [AD, BE, CF],
+        sides: [DE, EF, FD] with M (±1: D → E → F counter-clockwise) | shape: {D: [x, y], E, F},
+        angle: θ₀, at?: φ₀, joint?}``."""
+        ends = e.names("ends", 3)
+        points = e.names("points", 3)
+        raw = e.raw("lengths")
+        if not isinstance(raw, (list, tuple)) or len(raw) != 3:
+            raise e.error(f"must be [|AD|, |BE|, |CF|], got {raw!r}", "lengths")
+        sub = e.child("lengths", {"AD": raw[0], "BE": raw[1], "CF": raw[2]})
+        lengths = (sub.length("AD", units), sub.length("BE", units), sub.length("CF", units))
+        has_sides, has_shape = "sides" in e.data, "shape" in e.data
+        if has_sides == has_shape:
+            raise e.error("give the ternary link as either sides: [DE, EF, FD] (with M) or shape: {D: [x, y], E, F}",
+                          "sides")
+        if has_sides:
+            raw = e.raw("sides")
+            if not isinstance(raw, (list, tuple)) or len(raw) != 3:
+                raise e.error(f"must be [|DE|, |EF|, |FD|], got {raw!r}", "sides")
+            ss = e.child("sides", {"DE": raw[0], "EF": raw[1], "FD": raw[2]})
+            de, ef, fd = (ss.length(k, units) for k in ("DE", "EF", "FD"))
+            cos_d = (de * de + fd * fd - ef * ef) / (2.0 * de * fd)
+            if not -1.0 < cos_d < 1.0:
+                raise e.error(f"[{de:.6g}, {ef:.6g}, {fd:.6g}] is no triangle (each side shorter than the other two)",
+                              "sides")
+            ang = e.mode() * math.acos(cos_d)
+            u, v = complex(de, 0.0), fd * complex(math.cos(ang), math.sin(ang))
+        else:
+            sh = e.child("shape", e.raw("shape"))
+            pts = []
+            for k in points:
+                xy = sh.raw(k)
+                if not isinstance(xy, (list, tuple)) or len(xy) != 2:
+                    raise sh.error(f"must be [x, y], got {xy!r}", k)
+                pts.append(complex(sh.length_value(sh.as_number(xy[0], k), k, units, positive=False),
+                                   sh.length_value(sh.as_number(xy[1], k), k, units, positive=False)))
+            sh.done()
+            if abs(cross(pts[1] - pts[0], pts[2] - pts[0])) <= 1e-12 * abs(pts[1] - pts[0]) ** 2:
+                raise e.error("the ternary link's three points are on one line", "shape")
+            u, v = pts[1] - pts[0], pts[2] - pts[0]
+            u, v = complex(abs(u), 0.0), v * u.conjugate() / abs(u)  # θ = arg(E − D) in both forms
+        at = e.raw("at", None)
+        joint = e.raw("joint", None)
+        return cls(
+            name=e.name("name"),
+            ends=(ends[0], ends[1], ends[2]),
+            points=(points[0], points[1], points[2]),
+            lengths=lengths,
+            shape=(u, v),
+            angle=e.angle("angle", units),
+            at=None if at is None else e.angle("at", units),
+            joint=None if joint is None else e.name("joint"),
+        )
