@@ -54,6 +54,9 @@ class _Stacked:
     so that the compiled instant runs the kinematics once for the three (``evaluate`` is what
     the tracer records; the scalar path takes it too where a guard trips)."""
 
+    #: as a force layer's: a scene with friction has no reduced model (ReducedModel refuses it)
+    friction = None
+
     def __init__(self, full: Any, inertia: Any, other: Any) -> None:
         self.full, self.inertia, self.other = full, inertia, other
         self.targets = full.targets

@@ -144,7 +144,6 @@ ROS_LAYERS: dict[str, int] = {
     "linkage_ros.msgtypes": 0,
     "linkage_ros.arrows": 0,
     "linkage_ros._sentinels": 0,
-    "linkage_ros._relay_joint": 0,
     "linkage_ros._relay_rates": 0,
     "linkage_ros.record": 0,  # the package (lazy: imports nothing)
     "linkage_ros.record.rundata": 0,
@@ -176,6 +175,7 @@ ROS_LAYERS: dict[str, int] = {
     "linkage_ros.urdf": 4,
     "linkage_ros.load_messages": 5,
     "linkage_ros.relay": 5,
+    "linkage_ros._relay_joint": 5,  # the relay's input joints: the URDF tree's rod joints (linkage_ros.urdf)
     "linkage_ros._cli_common": 5,
     "linkage_ros.messages": 6,
     "linkage_ros.parameters": 6,
