@@ -69,7 +69,7 @@ setup(
     entry_points={
         "console_scripts": [
             "linkage-solve = solver.cli:main",
-            "linkage-synth = solver.synth_cli:main",
+            "linkage-synth = linkage_ros.synth_cli:main",
             "mechanism_node = linkage_ros.node:main",
             "linkage-run = linkage_ros.cli:run_main",
             "linkage-view = linkage_ros.cli:view_main",

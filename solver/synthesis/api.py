@@ -100,13 +100,15 @@ def synthesize(
             if again is not None:
                 found.append(again)
         found.sort(key=lambda d: (not d.feasible, d.error))
-    designs = distinct(([d for d in found if d.feasible] or found)[:MAX_DESIGNS], goal)  # the feasible ones
-    if not designs or (not designs[0].feasible and not expired):
+    # only designs that meet every constraint are returned, checked on their own scenes (result.py)
+    designs = distinct([d for d in found if d.feasible][:MAX_DESIGNS], goal)
+    if not designs:
         what = "assembles over the required input range with every transmission angle ≥ " \
                f"{math.degrees(goal.min_transmission):g}°" + (f" and links within {max_ratio:g}:1" if max_ratio else "")
         more = " before the time limit expired" if expired else f" in {len(results)} start(s)"
         raise SynthesisError(f"{tpl.file or 'template'}: no design found that {what}{more}; "
-                             "widen the free ranges or relax the constraints")
+                             + ("give it more time (time_limit), " if expired else "")
+                             + "widen the free ranges or relax the constraints")
     history = [h for r in results for h in r.history]
     return SynthesisResult(tpl, goal, designs, expired, history, time.monotonic() - t0, len(results))
 

@@ -61,3 +61,11 @@ def test_cli_faults_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str],
         import re
 
         assert re.search(message, err), err
+
+
+def test_rrd_needs_the_linkage_ros_entry_point(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """solver.synth_cli alone never imports rerun or linkage_ros: --rrd is one line there."""
+    csv, _ = _targets(tmp_path)
+    code = main([str(SLIDER), "--point", "P", "--through", str(csv), "--rrd", str(tmp_path / "s.rrd")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "--rrd needs the linkage_ros package's linkage-synth" in err and "\n" not in err
