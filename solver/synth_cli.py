@@ -73,7 +73,7 @@ def _parser() -> Parser:
     p.add_argument("-o", "--output", metavar="YAML", help="write the best design as a scene file")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--time-limit", type=positive, metavar="S", help="stop after S seconds with the best so far")
-    p.add_argument("--starts", type=count, default=8, help="most starts of the multi-start sweep (default 8)")
+    p.add_argument("--starts", type=count, default=32, help="most starts of the multi-start sweep (default 32)")
     p.add_argument("--min-transmission", type=finite, default=30.0, metavar="DEG",
                    help="smallest transmission angle of every dyad, degrees (default 30)")
     p.add_argument("--max-ratio", type=positive, help="longest link over the shortest at most this")

@@ -20,7 +20,7 @@ import numpy as np
 from ..errors import SynthesisError
 from ..tolerances import EXACT_MISS
 from .polish import polish
-from .population import Goal
+from .population import Goal, evaluate, objective
 from .result import Design, SynthesisResult, check_design, distinct
 from .search import Options, StartResult, sweep
 from .template import Template, load_template
@@ -29,6 +29,8 @@ __all__ = ["synthesize", "SAMPLES"]
 
 #: Input angles per candidate in the global search (the sweep of the required range).
 SAMPLES = 180
+#: Most starts of the multi-start sweep by default (each start is short: it ends when it stalls).
+STARTS = 32
 #: Designs compared for distinct curves (the best, feasible first): the comparison is pairwise.
 MAX_DESIGNS = 40
 #: Evaluations of the last polish of the best designs when none is exact.
@@ -53,7 +55,7 @@ def synthesize(
     effort_weight: float = 0.0,
     pin_weight: float = 0.0,
     speed: float = 1.0,
-    starts: int = 8,
+    starts: int = STARTS,
     samples: int = SAMPLES,
     popsize: int = 20,
     maxiter: int = 300,
@@ -88,10 +90,17 @@ def synthesize(
                 found.append(d)
         return any(d.feasible and d.error <= EXACT_MISS for d in found)
 
+    def rank(d: Design) -> tuple[bool, bool, float]:
+        """Feasible first, then exact; among exact designs with force terms, the lowest figure."""
+        exact = d.error <= EXACT_MISS
+        if exact and (goal.effort_weight or goal.pin_weight):
+            return (not d.feasible, False, float(objective(goal, evaluate(tpl, goal, d.x[None]))[0]))
+        return (not d.feasible, not exact, d.error)
+
     results = sweep(tpl, goal, seed=seed, options=options, time_limit=time_limit, workers=workers, done=done,
                     progress=progress)
     expired = any(r.expired for r in results)
-    found.sort(key=lambda d: (not d.feasible, d.error))
+    found.sort(key=rank)
     if found and found[0].feasible and found[0].error > EXACT_MISS:
         # a last, longer polish of the best few (the search's polishes are kept short)
         for d in list(found[:3]):
@@ -99,9 +108,9 @@ def synthesize(
             again = check_design(tpl, goal, p.x, p.phases)
             if again is not None:
                 found.append(again)
-        found.sort(key=lambda d: (not d.feasible, d.error))
+        found.sort(key=rank)
     # only designs that meet every constraint are returned, checked on their own scenes (result.py)
-    designs = distinct([d for d in found if d.feasible][:MAX_DESIGNS], goal)
+    designs = distinct([d for d in found if d.feasible][:MAX_DESIGNS], goal, key=rank)
     if not designs:
         what = "assembles over the required input range with every transmission angle ≥ " \
                f"{math.degrees(goal.min_transmission):g}°" + (f" and links within {max_ratio:g}:1" if max_ratio else "")

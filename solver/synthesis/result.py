@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 import os
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -277,9 +277,10 @@ class SynthesisResult:
         return "\n".join(lines)
 
 
-def distinct(designs: Sequence[Design], goal: Goal) -> list[Design]:
-    """Designs sorted (feasible first, then by error), duplicates dropped, cognates marked."""
-    ordered = sorted(designs, key=lambda d: (not d.feasible, d.error))
+def distinct(designs: Sequence[Design], goal: Goal, key: Callable[[Design], Any] | None = None) -> list[Design]:
+    """Designs sorted (by ``key``; by default feasible first, then by error), duplicates dropped,
+    cognates marked."""
+    ordered = sorted(designs, key=key or (lambda d: (not d.feasible, d.error)))
     out: list[Design] = []
     tol = CURVE_TOLERANCE * goal.scale
     for d in ordered:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -31,7 +32,7 @@ def test_cli_writes_a_scene_and_says_exact(tmp_path: Path, capsys: pytest.Captur
     assert text.splitlines()[-1].startswith("exact: largest miss")
     assert "groups[1].length" in text and "targets:" in text
     scene = load_scene(out)
-    phases = [float(line.split()[1]) for line in text.splitlines() if line.startswith("   ") and "e-" in line]
+    phases = [float(m.group(1)) for m in re.finditer(r"^ +\d+ +(-?\d+\.\d{9}) ", text, re.MULTILINE)]
     got = scene.solve(np.array(phases)).point("P").position
     assert np.abs(got - xy).max() < 1e-8  # the summary prints phases to 1e-9 rad
 
