@@ -29,7 +29,7 @@ import numpy as np
 
 from ..tolerances import EPS
 from .polish import ROUND_OFF, _rows
-from .population import Goal, run, wrap
+from .population import Goal, run
 from .template import Template
 
 __all__ = ["Batch", "polish_batch"]
@@ -39,8 +39,6 @@ _STEP = EPS ** (1.0 / 3.0)
 STALL = 8
 #: Above this RMS residual (relative to the targets' size) a stalled start is dropped.
 NEAR = 1e-6
-#: A homotopy track whose RMS residual (relative) exceeds this at the end of a step is dropped.
-TRACK = 1e-3
 
 
 @dataclass
@@ -80,66 +78,34 @@ def _evaluate(template: Template, goal: Goal, targets: np.ndarray, x: np.ndarray
     return r[:, 0], np.nan_to_num(jac, nan=0.0, posinf=1e6, neginf=-1e6)
 
 
-def on_curve(template: Template, goal: Goal, x: np.ndarray, phases: np.ndarray) -> np.ndarray:
-    """Each design's own targets (B, K, w): where it is at its phases (the start of a homotopy)."""
-    b = x.shape[0]
-    r, _ = _rows(goal, run(template, x, phases, goal.names), b, phases.shape[1])
-    k = phases.shape[1]
-    out = np.broadcast_to(goal.targets, (b, *goal.targets.shape)).copy()
-    if goal.kind in ("path", "motion"):
-        out[..., 0] += r[:, :k] * goal.scale
-        out[..., 1] += r[:, k : 2 * k] * goal.scale
-    if goal.kind in ("function", "motion"):
-        col = 1 if goal.kind == "function" else 2
-        out[..., col] += r[:, -k:]
-    return out
-
-
 def polish_batch(template: Template, goal: Goal, x0: np.ndarray, phases0: np.ndarray, *,
-                 iterations: int = 40, steps: int = 0, per_step: int = 5) -> Batch:
-    """Levenberg–Marquardt from each row of (x0, phases0) at once (module docstring); with
-    ``steps``, first along the homotopy from each design's own points to the targets."""
+                 iterations: int = 40) -> Batch:
+    """Levenberg–Marquardt from each row of (x0, phases0) at once (module docstring)."""
     x = np.clip(np.asarray(x0, float), template.lo, template.hi)
-    free_phases = goal.at is None
     phases = np.array(np.asarray(phases0, float) if goal.at is None else
                       np.broadcast_to(goal.at, (x.shape[0], goal.at.size)), float)
-    b, n = x.shape
     width = np.maximum(template.hi - template.lo, 1e-12)
     round_ = np.isfinite(template.periods)
     lo = np.where(round_, -np.inf, template.lo)
     hi = np.where(round_, np.inf, template.hi)
-    final = np.broadcast_to(goal.targets, (b, *goal.targets.shape))
-    alive = np.ones(b, bool)
-    if steps:
-        start = on_curve(template, goal, x, phases)
-        delta = final - start
-        if goal.kind in ("function", "motion") and goal.joint_wraps:
-            col = 1 if goal.kind == "function" else 2
-            delta[..., col] = wrap(delta[..., col])
-        for j in range(1, steps + 1):
-            targets = start + delta * (j / steps)
-            cost = _lm(template, goal, targets, x, phases, lo, hi, width, per_step, alive, stall=False)
-            alive &= np.sqrt(2.0 * cost) < TRACK  # a track that lost its zero is dropped
-    cost = _lm(template, goal, np.array(final), x, phases, lo, hi, width, iterations, alive, stall=True)
-    cost = np.where(alive, cost, np.inf)
+    targets = np.broadcast_to(goal.targets, (x.shape[0], *goal.targets.shape))
+    cost = _lm(template, goal, targets, x, phases, lo, hi, width, iterations)
     period = np.where(round_, template.periods, 1.0)
     x = np.where(round_, template.lo + np.mod(x - template.lo, period), x)
-    if free_phases and goal.full_turn:
+    if goal.at is None and goal.full_turn:
         phases = goal.sweep[0] + np.mod(phases - goal.sweep[0], 2.0 * math.pi)
     return Batch(x, phases, cost)
 
 
 def _lm(template: Template, goal: Goal, targets: np.ndarray, x: np.ndarray, phases: np.ndarray, lo: np.ndarray,
-        hi: np.ndarray, width: np.ndarray, iterations: int, alive: np.ndarray, *, stall: bool) -> np.ndarray:
-    """Levenberg–Marquardt iterations on the starts ``alive`` against ``targets`` (B, K, w); ``x``
-    and ``phases`` are updated in place; returns each start's ½‖r‖²."""
+        hi: np.ndarray, width: np.ndarray, iterations: int) -> np.ndarray:
+    """Levenberg–Marquardt iterations on every start against its ``targets`` (B, K, w); ``x`` and
+    ``phases`` are updated in place; returns each start's ½‖r‖²."""
     n = x.shape[1]
     free_phases = goal.at is None
-    active = np.flatnonzero(alive)
+    active = np.arange(x.shape[0])
     h = _STEP * np.maximum(np.abs(x), width / 100.0)
     cost = np.full(x.shape[0], np.inf)
-    if active.size == 0:
-        return cost
     r_a, j_a = _evaluate(template, goal, targets[active], x[active], phases[active], h[active])
     r = np.zeros((x.shape[0], r_a.shape[1]))
     jac = np.zeros((x.shape[0], *j_a.shape[1:]))
@@ -151,7 +117,7 @@ def _lm(template: Template, goal: Goal, targets: np.ndarray, x: np.ndarray, phas
     history = [cost.copy()]
     for it in range(iterations):
         stalled = np.zeros(active.size, bool)
-        if stall and it >= STALL:
+        if it >= STALL:
             stalled = (cost[active] > 0.99 * history[-STALL][active]) & (cost[active] > near)
         keep = (cost[active] > floor) & (lam[active] < 1e12) & ~stalled
         active = active[keep]
