@@ -1,6 +1,6 @@
 """Synthesis figures (issue 23) for docs/synthesis.md: not timed tests, a report.
 
-    python -m bench.synthesis [five] [seven] [six] [ten] [population] [--write]
+    python -m bench.synthesis [five] [seven] [six] [ten] [population] [--cases=A-B] [--write]
 
 * **five** — path generation without timing, 5 targets on a crank-rocker's coupler curve, every
   dimension of config/templates/four_bar_path.yaml free: ``solver.synthesize``'s time and largest
@@ -193,10 +193,13 @@ def _load() -> str:
     return " ".join(f"{v:.2f}" for v in os.getloadavg())
 
 
-def seven(count: int = 20) -> str:
-    """Issue 32's benchmark: 20 random 7-point instances, the default seed."""
+def seven(count: int = 20, cases: range | None = None) -> str:
+    """Issue 32's benchmark: 20 random 7-point instances, the default seed (``cases``: a part)."""
     rows, walls, cpus, exact = [], [], [], 0
+    chosen = cases or range(count)
     for case, (_, targets) in enumerate(instances(count, 7, 32)):
+        if case not in chosen:
+            continue
         wall, cpu, miss, starts = _solve_case(targets, 0)
         walls.append(wall)
         cpus.append(cpu)
@@ -209,7 +212,8 @@ def seven(count: int = 20) -> str:
             "|---|---|---|---|---|---|---|---|")
     return (f"### Seven targets, {count} random crank-rockers, seed 0\n\n{head}\n" + "\n".join(rows)
             + f"\n\nExact (≤ 1e-9 m, solving the returned scene): {exact} of {count}; median wall "
-            f"{float(np.median(walls)):.1f} s, median CPU {float(np.median(cpus)):.1f} s (max {max(cpus):.1f} s).\n")
+            f"{float(np.median(walls)):.1f} s, median CPU {float(np.median(cpus)):.1f} s (max {max(cpus):.1f} s).\n"
+            ).replace(f"{exact} of {count}", f"{exact} of {len(rows)}")
 
 
 def six(count: int = 4, seeds: int = 5) -> str:
@@ -245,7 +249,10 @@ def population() -> str:
 def main(argv: list[str]) -> int:
     write = "--write" in argv
     chosen = [a for a in argv if not a.startswith("--")] or ["five", "seven", "six", "ten", "population"]
-    parts = [{"five": five, "seven": seven, "six": six, "ten": ten, "population": population}[c]() for c in chosen]
+    part = next((a.split("=", 1)[1] for a in argv if a.startswith("--cases=")), None)  # e.g. --cases=10-19
+    cases = None if part is None else range(int(part.split("-")[0]), int(part.split("-")[1]) + 1)
+    parts = [seven(cases=cases) if c == "seven" else
+             {"five": five, "six": six, "ten": ten, "population": population}[c]() for c in chosen]
     m = machine()
     text = (f"## Figures\n\nMeasured with `python -m bench.synthesis --write` on {m['cpu']} ({m['cores']} cores, "
             f"shared with other work: load {m['load']}), Python {m['python']}, numpy {m['numpy']}, pylinkage "
