@@ -73,7 +73,7 @@ setup(
     entry_points={
         "console_scripts": [
             "linkage-solve = solver.cli:main",
-            "linkage-synth = solver.synth_cli:main",
+            "linkage-synth = linkage_ros.synth_cli:main",
             "linkage-import = solver.structure_cli:import_main",
             "mechanism_node = linkage_ros.node:main",
             "linkage-run = linkage_ros.cli:run_main",

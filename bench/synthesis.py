@@ -1,12 +1,17 @@
 """Synthesis figures (issue 23) for docs/synthesis.md: not timed tests, a report.
 
-    python -m bench.synthesis [five] [ten] [population] [--write]
+    python -m bench.synthesis [five] [seven] [six] [ten] [population] [--cases=A-B] [--write]
 
 * **five** — path generation without timing, 5 targets on a crank-rocker's coupler curve, every
   dimension of config/templates/four_bar_path.yaml free: ``solver.synthesize``'s time and largest
   miss (checked by solving the returned scene) against pylinkage 1.3's ``path_generation`` on the
   same targets, whose returned four-bars are solved here by this project's solver (the largest
   miss of the best of them: each target's distance to its coupler curve, 20,000 samples a turn).
+* **seven** — issue 32's benchmark: 20 path instances with an exact solution, 7 coupler points
+  (sorted input angles) of random crank-rockers (fixed RNG), the default seed: wall and CPU time
+  (the machine is shared: the load average after each case is printed beside it), starts, the
+  largest miss solving the returned scene.
+* **six** — 6 coupler points of 4 random crank-rockers, seeds 0–4: the time by seed.
 * **ten** — 10 targets on the coupler curves of 3 random crank-rockers, 150 s each: the largest
   miss over the curve's size and whether it reached 1e-9 m.
 * **population** — one population of 400 four-bars × 360 positions in one pass of the plan
@@ -18,6 +23,7 @@
 from __future__ import annotations
 
 import math
+import os
 import sys
 import time
 from pathlib import Path
@@ -157,6 +163,76 @@ def ten() -> str:
             + f"\n\nWithin 1e-4 of the curve's size: {hits} of 3; exact to 1e-9 m: {exact} of 3.\n")
 
 
+def instances(count: int, targets: int, seed: int) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``count`` path instances with an exact solution: ``targets`` coupler points (sorted input
+    angles) of random crank-rockers of the template (:func:`_random_crank_rocker`), fixed RNG."""
+    t = load_template(TEMPLATE)
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(count):
+        x = _random_crank_rocker(rng, t)
+        phi = np.sort(rng.uniform(0.0, 2 * math.pi, targets))
+        out.append((x, _targets(t, x, phi)))
+    return out
+
+
+def _solve_case(targets: np.ndarray, seed: int) -> tuple[float, float, float, int]:
+    """(wall s, CPU s, largest miss m — inf when it raised —, starts) of one synthesize call."""
+    t = load_template(TEMPLATE)
+    w0, c0 = time.perf_counter(), time.process_time()
+    try:
+        res = solver.synthesize(t, point="P", through=targets, seed=seed)
+        got = res.scene.with_outputs(points=["P"], joints=[]).solve(res.phases).point("P").position
+        miss, starts = float(np.hypot(*(got - targets).T).max()), res.starts
+    except solver.SynthesisError:
+        miss, starts = math.inf, 0
+    return time.perf_counter() - w0, time.process_time() - c0, miss, starts
+
+
+def _load() -> str:
+    return " ".join(f"{v:.2f}" for v in os.getloadavg())
+
+
+def seven(count: int = 20, cases: range | None = None) -> str:
+    """Issue 32's benchmark: 20 random 7-point instances, the default seed (``cases``: a part)."""
+    rows, walls, cpus, exact = [], [], [], 0
+    chosen = cases or range(count)
+    for case, (_, targets) in enumerate(instances(count, 7, 32)):
+        if case not in chosen:
+            continue
+        wall, cpu, miss, starts = _solve_case(targets, 0)
+        walls.append(wall)
+        cpus.append(cpu)
+        exact += miss <= 1e-9
+        size = float(np.max(np.abs(targets[:, None] - targets[None]).sum(axis=2)))
+        rows.append(f"| {case} | {size:.3f} m | {wall:.1f} s | {cpu:.1f} s | {starts} | {miss:.1e} m | "
+                    f"{'yes' if miss <= 1e-9 else 'no'} | {_load()} |")
+        print(rows[-1], file=sys.stderr, flush=True)
+    head = ("| case | targets' size | wall | CPU | starts | largest miss | ≤ 1e-9 m | load after |\n"
+            "|---|---|---|---|---|---|---|---|")
+    return (f"### Seven targets, {count} random crank-rockers, seed 0\n\n{head}\n" + "\n".join(rows)
+            + f"\n\nExact (≤ 1e-9 m, solving the returned scene): {exact} of {count}; median wall "
+            f"{float(np.median(walls)):.1f} s, median CPU {float(np.median(cpus)):.1f} s (max {max(cpus):.1f} s).\n"
+            ).replace(f"{exact} of {count}", f"{exact} of {len(rows)}")
+
+
+def six(count: int = 4, seeds: int = 5) -> str:
+    """Six targets, seeds 0–4: the time by seed."""
+    rows, worst = [], 0.0
+    for case, (_, targets) in enumerate(instances(count, 6, 6)):
+        cells = []
+        for seed in range(seeds):
+            wall, cpu, miss, _ = _solve_case(targets, seed)
+            worst = max(worst, cpu)
+            cells.append(f"{wall:.1f} / {cpu:.1f} s{'' if miss <= 1e-9 else f' ({miss:.0e} m)'}")
+        rows.append(f"| {case} | " + " | ".join(cells) + f" | {_load()} |")
+        print(rows[-1], file=sys.stderr, flush=True)
+    head = ("| case | " + " | ".join(f"seed {s} (wall / CPU)" for s in range(seeds)) + " | load after |\n|"
+            + "---|" * (seeds + 2))
+    return (f"### Six targets, {count} random crank-rockers, seeds 0–{seeds - 1}\n\n{head}\n" + "\n".join(rows)
+            + f"\n\nSlowest: {worst:.1f} s CPU (a miss in brackets where a run did not end exact).\n")
+
+
 def population() -> str:
     t = load_template(TEMPLATE)
     rng = np.random.default_rng(0)
@@ -172,8 +248,11 @@ def population() -> str:
 
 def main(argv: list[str]) -> int:
     write = "--write" in argv
-    chosen = [a for a in argv if not a.startswith("--")] or ["five", "ten", "population"]
-    parts = [{"five": five, "ten": ten, "population": population}[c]() for c in chosen]
+    chosen = [a for a in argv if not a.startswith("--")] or ["five", "seven", "six", "ten", "population"]
+    part = next((a.split("=", 1)[1] for a in argv if a.startswith("--cases=")), None)  # e.g. --cases=10-19
+    cases = None if part is None else range(int(part.split("-")[0]), int(part.split("-")[1]) + 1)
+    parts = [seven(cases=cases) if c == "seven" else
+             {"five": five, "six": six, "ten": ten, "population": population}[c]() for c in chosen]
     m = machine()
     text = (f"## Figures\n\nMeasured with `python -m bench.synthesis --write` on {m['cpu']} ({m['cores']} cores, "
             f"shared with other work: load {m['load']}), Python {m['python']}, numpy {m['numpy']}, pylinkage "

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, TextIO
 
@@ -23,7 +23,7 @@ import numpy as np
 from ._cmdline import Parser, check_output, count, one_line, positive, quiet_pipe, within
 from .errors import SolverError, SynthesisError
 
-__all__ = ["main", "read_rows"]
+__all__ = ["main", "read_rows", "RrdWriter"]
 
 PROG = "linkage-synth"
 
@@ -75,7 +75,7 @@ def _parser() -> Parser:
                    "run)")
     p.add_argument("--time-limit", type=positive, metavar="S",
                    help="stop after S seconds with the best so far (default: no limit)")
-    p.add_argument("--starts", type=count, default=8, help="most starts of the multi-start sweep (default 8)")
+    p.add_argument("--starts", type=count, default=32, help="most starts of the multi-start sweep (default 32)")
     p.add_argument("--min-transmission", type=within(0.0, 90.0, "degrees"), default=30.0, metavar="DEG",
                    help="smallest transmission angle of every dyad, degrees (default 30)")
     p.add_argument("--max-ratio", type=positive, help="longest link over the shortest at most this (default: no "
@@ -85,6 +85,7 @@ def _parser() -> Parser:
     p.add_argument("--dask", metavar="ADDRESS", help="run the starts on this dask.distributed scheduler (default: "
                    "in this process)")
     p.add_argument("--all", action="store_true", help="list every distinct design found, not only the best")
+    p.add_argument("--rrd", metavar="FILE", help="write the rerun view of the search and its design (.rrd)")
     return p
 
 
@@ -118,8 +119,15 @@ class _Bar:
             self.stream.flush()
 
 
+#: Writes a result's rerun view to a file: (result, path). The solver does not import rerun or
+#: linkage_ros; the ``linkage-synth`` console script (linkage_ros.synth_cli) passes
+#: linkage_ros.record.synthesis_view.write_synthesis_rrd.
+RrdWriter = Callable[[Any, str], None]
+
+
 @quiet_pipe
-def main(argv: Sequence[str] | None = None) -> int:
+def main(argv: Sequence[str] | None = None, *, rrd_writer: RrdWriter | None = None) -> int:
+    """The command (module docstring); ``rrd_writer`` serves ``--rrd`` (none: ``--rrd`` is refused)."""
     args = _parser().parse_args(sys.argv[1:] if argv is None else list(argv))
     bar = _Bar(sys.stderr if sys.stderr.isatty() else None)
     client: Any = None
@@ -128,6 +136,11 @@ def main(argv: Sequence[str] | None = None) -> int:
 
         if args.output:
             check_output(args.output, "-o")
+        if args.rrd:
+            if rrd_writer is None:
+                raise SynthesisError("--rrd needs the linkage_ros package's linkage-synth (python -m "
+                                     "linkage_ros.synth_cli); solver.synth_cli alone does not write rerun files")
+            check_output(args.rrd, "--rrd")
         task: dict[str, Any] = {"point": args.point, "joint": args.joint}
         if args.through:
             task["through"] = read_rows(args.through, "--through")
@@ -158,6 +171,9 @@ def main(argv: Sequence[str] | None = None) -> int:
                 print(f"design {i}: largest miss {d.error:.3g}, {'feasible' if d.feasible else 'NOT feasible'}{tag}")
         if args.output:
             print(f"wrote {args.output}")
+        if args.rrd and rrd_writer is not None:
+            rrd_writer(res, args.rrd)
+            print(f"wrote {args.rrd}")
         print(res.exactness())
         return 0
     except (SolverError, ValueError) as exc:

@@ -21,7 +21,7 @@ from .._arguments import Arguments
 from ..errors import SynthesisArgumentError, SynthesisError
 from ..tolerances import EXACT_MISS
 from .polish import polish
-from .population import Goal
+from .population import Goal, evaluate, objective
 from .result import Design, SynthesisResult, check_design, distinct
 from .search import Options, StartResult, sweep
 from .template import Template, load_template
@@ -30,6 +30,8 @@ __all__ = ["synthesize", "SAMPLES"]
 
 #: Input angles per candidate in the global search (the sweep of the required range).
 SAMPLES = 180
+#: Most starts of the multi-start sweep by default (each start is short: it ends when it stalls).
+STARTS = 32
 #: Designs compared for distinct curves (the best, feasible first): the comparison is pairwise.
 MAX_DESIGNS = 40
 #: Evaluations of the last polish of the best designs when none is exact.
@@ -54,7 +56,7 @@ def synthesize(
     effort_weight: float = 0.0,
     pin_weight: float = 0.0,
     speed: float = 1.0,
-    starts: int = 8,
+    starts: int = STARTS,
     samples: int = SAMPLES,
     popsize: int = 20,
     maxiter: int = 300,
@@ -109,10 +111,17 @@ def synthesize(
                 found.append(d)
         return any(d.feasible and d.error <= EXACT_MISS for d in found)
 
+    def rank(d: Design) -> tuple[bool, bool, float]:
+        """Feasible first, then exact; among exact designs with force terms, the lowest figure."""
+        exact = d.error <= EXACT_MISS
+        if exact and (goal.effort_weight or goal.pin_weight):
+            return (not d.feasible, False, float(objective(goal, evaluate(tpl, goal, d.x[None]))[0]))
+        return (not d.feasible, not exact, d.error)
+
     results = sweep(tpl, goal, seed=seed, options=options, time_limit=time_limit, workers=workers, done=done,
                     progress=progress)
     expired = any(r.expired for r in results)
-    found.sort(key=lambda d: (not d.feasible, d.error))
+    found.sort(key=rank)
     if found and found[0].feasible and found[0].error > EXACT_MISS:
         # a last, longer polish of the best few (the search's polishes are kept short)
         for d in list(found[:3]):
@@ -120,14 +129,16 @@ def synthesize(
             again = check_design(tpl, goal, p.x, p.phases)
             if again is not None:
                 found.append(again)
-        found.sort(key=lambda d: (not d.feasible, d.error))
-    designs = distinct(([d for d in found if d.feasible] or found)[:MAX_DESIGNS], goal)  # the feasible ones
-    if not designs or (not designs[0].feasible and not expired):
+        found.sort(key=rank)
+    # only designs that meet every constraint are returned, checked on their own scenes (result.py)
+    designs = distinct([d for d in found if d.feasible][:MAX_DESIGNS], goal, key=rank)
+    if not designs:
         what = "assembles over the required input range with every transmission angle ≥ " \
                f"{math.degrees(goal.min_transmission):g}°" + (f" and links within {max_ratio:g}:1" if max_ratio else "")
         more = " before the time limit expired" if expired else f" in {len(results)} start(s)"
         raise SynthesisError(f"{tpl.file or 'template'}: no design found that {what}{more}; "
-                             "widen the free ranges or relax the constraints")
+                             + ("give it more time (time_limit), " if expired else "")
+                             + "widen the free ranges or relax the constraints")
     history = [h for r in results for h in r.history]
     return SynthesisResult(tpl, goal, designs, expired, history, time.monotonic() - t0, len(results))
 

@@ -81,14 +81,14 @@ def _rows(goal: Goal, ctx: Context, c: int, k: int) -> tuple[np.ndarray, np.ndar
     parts, d1s = [], []
     if goal.kind in ("path", "motion"):
         jet = ctx.values[goal.point]  # type: ignore[index]
-        p = cols(jet.value) - (t[:, 0] + 1j * t[:, 1])
+        p = cols(jet.value) - (t[..., 0] + 1j * t[..., 1])  # targets (K, w), or (C, K, w): one set per design
         p1 = cols(jet.d1)
         parts += [p.real / goal.scale, p.imag / goal.scale]
         d1s += [p1.real / goal.scale, p1.imag / goal.scale]
     if goal.kind in ("function", "motion"):
         jet = ctx.values[goal.joint]  # type: ignore[index]
         col = 1 if goal.kind == "function" else 2
-        d = cols(jet.value) - t[:, col]
+        d = cols(jet.value) - t[..., col]
         parts.append(wrap(d) if goal.joint_wraps else d)
         d1s.append(cols(jet.d1))
     r = np.concatenate(parts, axis=1)

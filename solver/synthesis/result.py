@@ -15,23 +15,27 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Sequence
+import re
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 import yaml
 
-from .._fields import ANGLE_UNITS
+from .._fields import ANGLE_UNITS, LENGTH_UNITS
+from ..assembly import gaps
 from ..classify import grashof, transmission_range
 from ..errors import SolverError
 from ..scene import Scene
 from ..tolerances import EXACT_MISS
-from .population import Goal, evaluate, wrap
+from .population import Goal, evaluate, link_ratio, wrap
 from .template import Template
 
-__all__ = ["Design", "SynthesisResult", "check_design", "same_curve", "curve_of", "CHECK_SAMPLES"]
+__all__ = ["Design", "SynthesisResult", "check_design", "meets_constraints", "same_curve", "curve_of", "CHECK_SAMPLES"]
 
+#: An issue citation in a template's provenance (not for a user's design file).
+_ISSUE = re.compile(r"\s*\((?:see )?issues? \d+[^)]*\)|\bissues? \d+[,;:]?\s*", re.IGNORECASE)
 #: Input angles of the feasibility check of a returned design.
 CHECK_SAMPLES = 720
 #: Two curves closer than this (relative to the task's size) everywhere are one curve.
@@ -105,9 +109,38 @@ def check_design(template: Template, goal: Goal, x: np.ndarray, phases: np.ndarr
     if feasible and swept.conditioning:
         worst = min(float(np.min(c)) for c in swept.conditioning.values())
         feasible = worst >= math.sin(goal.min_transmission) * (1.0 - 1e-9)
+    feasible = feasible and meets_constraints(scene, goal) is None
     if not np.all(np.isfinite(misses)):
         return None
     return Design(np.asarray(x, float), template.values_of(x), phases, misses, angle_misses, feasible, curve, scene)
+
+
+def meets_constraints(scene: Scene, goal: Goal) -> str | None:
+    """Why the loaded design ``scene`` breaks a constraint of ``goal``, or None: checked on the
+    scene itself, not on samples — the exact intervals where a group cannot be assembled
+    (:func:`solver.assembly.gaps`) against the required input range, every RRR dyad's exact
+    transmission angle range over a full turn (:func:`solver.classify.transmission_range`), the
+    link ratio of its own lengths."""
+    lo = float(goal.sweep[0])
+    hi = lo + 2.0 * math.pi if goal.full_turn else float(goal.sweep[-1])
+    for group, intervals in gaps(scene).items():
+        for a, b in intervals:
+            for shift in (-2.0 * math.pi, 0.0, 2.0 * math.pi):  # intervals are given within one turn
+                if a + shift < hi and b + shift > lo:
+                    return (f"group '{group}' cannot be assembled for φ in ({math.degrees(a):.1f}°, "
+                            f"{math.degrees(b):.1f}°)")
+    if goal.full_turn:
+        for g in scene.plan.groups:
+            mu = transmission_range(scene, g) if g.kind == "rrr" else None
+            # |sin μ| is concave on [0, π]: its least value over a range of μ is at an end
+            if mu is not None and min(math.sin(mu[0]), math.sin(mu[1])) < math.sin(goal.min_transmission) * (1 - 1e-9):
+                return (f"the transmission angle of '{g.name}' spans {math.degrees(mu[0]):.2f}° … "
+                        f"{math.degrees(mu[1]):.2f}°, under {math.degrees(goal.min_transmission):g}°")
+    if goal.max_ratio is not None:
+        ratio = float(link_ratio(scene.plan, 1)[0])
+        if ratio > goal.max_ratio * (1.0 + 1e-12):
+            return f"the longest link over the shortest is {ratio:.4g}, over {goal.max_ratio:g}"
+    return None
 
 
 def same_curve(a: np.ndarray, b: np.ndarray, tolerance: float) -> bool:
@@ -187,16 +220,21 @@ class SynthesisResult:
         d = self.designs[design]
         data = self.template.filled(d.x)
         note = (f"Synthesized (solver.synthesize, {self.goal.kind} generation) from template "
-                f"{self.template.file or '(data)'}: largest miss {d.error:.3g}.")
-        prov = str(data.get("provenance", "")).strip()
+                f"{self.template.file or '(data)'}: largest miss {d.error:.3g} {self.unit}.")
+        prov = _ISSUE.sub("", str(data.get("provenance", ""))).strip()
         data["provenance"] = f"{prov} {note}".strip()
         with open(path, "w", encoding="utf-8") as fh:
             yaml.safe_dump(data, fh, sort_keys=False, default_flow_style=None, allow_unicode=True, width=100)
 
+    @property
+    def unit(self) -> str:
+        """The unit of a miss: m (path, motion; a slide's function generation) or rad."""
+        return "rad" if self.goal.kind == "function" and self.goal.joint_wraps else "m"
+
     def exactness(self) -> str:
         """One line: how exact the result is."""
         d = self.best
-        unit = "rad" if self.goal.kind == "function" and self.goal.joint_wraps else "m"
+        unit = self.unit
         mark = " (time limit expired: best so far)" if self.expired else ""
         if not d.feasible:
             return f"NOT FEASIBLE: largest miss {d.error:.3g} {unit}; the design breaks a constraint{mark}"
@@ -212,9 +250,11 @@ class SynthesisResult:
         lines = [f"{self.goal.kind} generation: {len(d.misses)} targets, {len(self.designs)} distinct design(s), "
                  f"{self.starts} start(s), {self.seconds:.2f} s"]
         lines.append("dimensions (scene units):")
+        length_unit = next((k for k, v in LENGTH_UNITS.items() if v == units.length), "m")
         for f, v in zip(self.template.free, d.x):
-            lines.append(f"  {f.place:28s} {v:.12g}{' ' + angle_unit if f.kind == 'angle' else ''}")
-        lines.append("targets:  phase (rad)   miss")
+            unit = angle_unit if f.kind == "angle" else length_unit
+            lines.append(f"  {f.place:24s} {self.template.label(f):24s} {v:.12g} {unit}")
+        lines.append(f"targets:  phase (rad)   miss ({self.unit})")
         for i, (ph, m) in enumerate(zip(d.phases, d.misses)):
             extra = "" if d.angle_misses is None else f"  angle miss {d.angle_misses[i]:.3g} rad"
             lines.append(f"  {i:2d}  {ph: .9f}   {m:.3g}{extra}")
@@ -237,9 +277,10 @@ class SynthesisResult:
         return "\n".join(lines)
 
 
-def distinct(designs: Sequence[Design], goal: Goal) -> list[Design]:
-    """Designs sorted (feasible first, then by error), duplicates dropped, cognates marked."""
-    ordered = sorted(designs, key=lambda d: (not d.feasible, d.error))
+def distinct(designs: Sequence[Design], goal: Goal, key: Callable[[Design], Any] | None = None) -> list[Design]:
+    """Designs sorted (by ``key``; by default feasible first, then by error), duplicates dropped,
+    cognates marked."""
+    ordered = sorted(designs, key=key or (lambda d: (not d.feasible, d.error)))
     out: list[Design] = []
     tol = CURVE_TOLERANCE * goal.scale
     for d in ordered:

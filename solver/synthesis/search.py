@@ -19,19 +19,23 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 from scipy.optimize import differential_evolution
 
 from ..tolerances import EXACT_MISS
+from .batch import Batch, polish_batch
 from .polish import Polished, polish, residuals
 from .population import INFEASIBLE, Goal, evaluate, objective, run
 from .template import Template
 
 __all__ = ["Options", "StartResult", "run_start", "sweep"]
 
+#: A batch polish's end whose RMS residual (relative to the targets' size) is under this is near
+#: a zero: on trial, only such ends are polished one by one (to round-off, within the bounds).
+NEAR_ZERO = 1e-4
 #: The weight of the feasibility residuals against the targets' in :func:`_slide`.
 SLIDE_WEIGHT = 1e-2
 
@@ -40,17 +44,28 @@ SLIDE_WEIGHT = 1e-2
 class Options:
     popsize: int = 20  # scipy's multiplier: popsize × n candidates per generation
     maxiter: int = 300
-    polish_count: int = 8  # distinct final members polished per start
-    starts: int = 8
+    polish_count: int = 4  # best ends of the final batch polished one by one per start
+    starts: int = 32
     #: below this best figure, every ``try_every`` generations, the best is polished on trial
-    try_below: float = 5e-2
+    try_below: float = 1e-1
     try_every: int = 5
-    trial_count: int = 3  # distinct best members polished on trial
-    #: a start that improved its best figure by less than 5 % in this many generations is stuck
-    #: (a local minimum): it ends, and the next start begins elsewhere
-    stall: int = 40
+    trial_count: int = 24  # distinct best members polished together on trial (polish_batch)
+    trial_iterations: int = 30
+    trial_keep: int = 3  # the best of them polished to round-off
+    batch_count: int = 64  # distinct final members polished together at a start's end
+    batch_iterations: int = 60
+    #: a start that improved its best figure by less than ``stall_gain`` in this many generations
+    #: is stuck (a local minimum): it ends, and the next start begins elsewhere — short starts
+    #: from new places find the basin of an exact design sooner than one start crawling on
+    stall: int = 20
+    stall_gain: float = 0.1
     #: a best figure (RMS miss over the task's size) at which the search hands over to the polish
     good_enough: float = 1e-3
+
+
+#: A search whose figure holds force terms trials later and crawls on longer (the targets are
+#: met by a whole family of designs; the force terms choose among them as the search goes on).
+WEIGHTED = Options(try_below=5e-2, stall=40, stall_gain=0.05, polish_count=8)
 
 
 @dataclass
@@ -66,6 +81,9 @@ def run_start(template: Template, goal: Goal, seed: int, index: int, options: Op
               remaining: float | None) -> StartResult:
     """One start (module docstring); ``remaining`` seconds or None for no limit."""
     deadline = None if remaining is None else time.monotonic() + remaining
+    if _weighted(goal):  # the force terms need the search to run on after the targets are near
+        options = replace(options, try_below=WEIGHTED.try_below, stall=WEIGHTED.stall, stall_gain=WEIGHTED.stall_gain,
+                          polish_count=WEIGHTED.polish_count)
     bounds = list(zip(template.lo, template.hi))
     history: list[float] = []
     expired = [False]
@@ -85,18 +103,18 @@ def run_start(template: Template, goal: Goal, seed: int, index: int, options: Op
             return True
         if best < options.try_below and len(history) % options.try_every == 0 and trial(intermediate_result):
             return True
-        stalled = len(history) > options.stall and best > (1.0 - 0.05) * history[-options.stall]
+        stalled = len(history) > options.stall and best > (1.0 - options.stall_gain) * history[-options.stall]
         return bool(best < options.good_enough or stalled)
 
     def trial(intermediate_result: Any) -> bool:
-        """The best few members handed over to the polish now (a member polished on an earlier
-        trial is not again): whether one ends exact and feasible."""
+        """The best members handed over to the polish now (a member polished on an earlier trial
+        is not again): whether one ends exact and feasible."""
         energies = np.asarray(intermediate_result.population_energies)
         ranked = np.asarray(intermediate_result.population)[np.argsort(energies)]
         members = _distinct(np.array([m for m in ranked if m.tobytes() not in tried]), width, options.trial_count)
         tried.update(m.tobytes() for m in members)
         if members.size:
-            batch = [polish(template, goal, x, ph) for x, ph in zip(members, evaluate(template, goal, members).phases)]
+            batch = _polished(template, goal, members, options.trial_iterations, keep=options.trial_keep)
             trials.extend(p for p in batch if _exact_and_feasible(template, goal, p))
             if not trials:
                 slid = _slide(template, goal, batch, deadline)
@@ -104,28 +122,89 @@ def run_start(template: Template, goal: Goal, seed: int, index: int, options: Op
         return bool(trials)
 
     rng = np.random.default_rng([seed, index])
+    size = options.popsize * len(bounds)
     with np.errstate(all="ignore"):
         de = differential_evolution(
             f, bounds, vectorized=True, updating="deferred", popsize=options.popsize, maxiter=options.maxiter,
-            seed=rng, polish=False, init="latinhypercube", callback=callback,
+            seed=rng, polish=False, init=start_box(template, goal, rng, size), callback=callback,
             tol=1e-12, mutation=(0.5, 1.0), recombination=0.9,
         )
     if trials:  # the search ended on an exact design: the polish of the final members is not needed
         return StartResult(index, trials, history, expired[0], int(de.nit))
-    xs = _distinct(de.population[np.argsort(de.population_energies)], width, options.polish_count)
-    ev = evaluate(template, goal, xs)
-    out = list(trials)
-    for x, ph in zip(xs, ev.phases):
+    ranked = de.population[np.argsort(de.population_energies)]
+    members = _distinct(ranked, width, options.batch_count)
+    phases0 = evaluate(template, goal, members).phases
+    if _weighted(goal):  # the best members to their own nearest zeros, as ranked with the force terms
+        ends = Batch(members, phases0, np.zeros(len(members)))
+    else:
+        ends = polish_batch(template, goal, members, phases0, iterations=options.batch_iterations)
+    near = 0.5 * NEAR_ZERO**2 * goal.targets.size
+    # the ends near a zero in the search's ranking (which holds the force terms), then the rest by cost
+    close = [i for i in range(len(members)) if ends.cost[i] <= near]
+    order = (close + [i for i in np.argsort(ends.cost) if i not in close])[: options.polish_count]
+    out: list[Polished] = []
+    for rank, i in enumerate(order):
         if deadline is not None and time.monotonic() > deadline and out:
             expired[0] = True
             break
-        p = polish(template, goal, x, ph)
-        if goal.at is None and math.sqrt(2.0 * p.cost) * goal.scale > EXACT_MISS:
+        if rank and not ends.cost[i] <= near:  # far from a zero: kept as the batch left it
+            out.append(Polished(ends.x[i], ends.phases[i], float(ends.cost[i])))
+            continue
+        p = polish(template, goal, ends.x[i], ends.phases[i])
+        if goal.at is None and math.sqrt(2.0 * p.cost) * goal.scale > EXACT_MISS and rank == 0:
             p = _reseed(template, goal, p, deadline)
         out.append(p)
     if not any(_exact_and_feasible(template, goal, p) for p in out):
         out += _slide(template, goal, out, deadline)
     return StartResult(index, out, history, expired[0], int(de.nit))
+
+
+def start_box(template: Template, goal: Goal, rng: np.random.Generator, count: int) -> np.ndarray | str:
+    """A Latin hypercube of ``count`` designs in the free values' bounds narrowed to the targets'
+    size L (path and motion tasks): a fixed point's coordinate within 1.5 L of the targets'
+    middle, a length under 3 L (each kept inside its bounds; a bound already narrower stays). The
+    search may leave the box (its bounds are the template's): the box only makes it start at the
+    targets' scale, so that a 0.3 m path does not give metre-scale linkages by default. Where
+    nothing is narrowed (function generation), scipy's own Latin hypercube ("latinhypercube")."""
+    lo, hi = template.lo.copy(), template.hi.copy()
+    if goal.kind in ("path", "motion"):
+        mid = 0.5 * (goal.targets[:, :2].min(axis=0) + goal.targets[:, :2].max(axis=0))
+        unit = template.units.length
+        span = goal.scale / unit
+        for i, f in enumerate(template.free):
+            if f.path[0] == "fixed":
+                c = mid[f.path[2]] / unit
+                a, b = max(f.lo, c - 1.5 * span), min(f.hi, c + 1.5 * span)
+            elif f.kind == "length":
+                a, b = f.lo, min(f.hi, max(3.0 * span, f.lo + 0.1 * (f.hi - f.lo)))
+            else:
+                continue
+            if b > a:
+                lo[i], hi[i] = a, b
+    if np.array_equal(lo, template.lo) and np.array_equal(hi, template.hi):
+        return "latinhypercube"  # nothing narrowed: scipy's own, over the bounds
+    n = lo.size
+    cells = (np.argsort(rng.random((count, n)), axis=0) + rng.random((count, n))) / count
+    return lo + cells * (hi - lo)  # type: ignore[no-any-return]
+
+
+def _weighted(goal: Goal) -> bool:
+    """Whether the search's figure holds force terms: a batch polish (Levenberg–Marquardt with
+    large steps along a family of zeros) would lose the preference they give, so each member
+    goes to its own nearest zero instead (:func:`~.polish.polish`)."""
+    return goal.effort_weight > 0.0 or goal.pin_weight > 0.0
+
+
+def _polished(template: Template, goal: Goal, members: np.ndarray, iterations: int, *, keep: int) -> list[Polished]:
+    """The members polished together (:func:`~.batch.polish_batch`); the ``keep`` best ends then
+    polished one by one to round-off within the bounds (:func:`~.polish.polish`)."""
+    if _weighted(goal):  # each member to its own nearest zero (the search's ranking holds the force terms)
+        return [polish(template, goal, x, ph) for x, ph in zip(members[:keep], evaluate(template, goal,
+                                                                                       members[:keep]).phases)]
+    ends = polish_batch(template, goal, members, evaluate(template, goal, members).phases, iterations=iterations)
+    near = 0.5 * (NEAR_ZERO**2) * goal.targets.size
+    order = [i for i in range(len(members)) if ends.cost[i] <= near][:keep]  # in the search's ranking (force terms)
+    return [polish(template, goal, ends.x[i], ends.phases[i]) for i in order]
 
 
 def _slide(template: Template, goal: Goal, polished: list[Polished], deadline: float | None) -> list[Polished]:

@@ -191,7 +191,7 @@ class Template:
         self.lo = np.array([f.lo for f in frees])
         self.hi = np.array([f.hi for f in frees])
         self.units: Units = _units(Entry(data, file=file, where=""))
-        self.template_scene: Scene = self.scene(0.5 * (self.lo + self.hi))  # the rest of the file checked
+        self.template_scene: Scene = self.scene(0.5 * (self.lo + self.hi), design=False)  # the rest of the file checked
 
     @property
     def periods(self) -> np.ndarray:
@@ -205,22 +205,55 @@ class Template:
     def places(self) -> tuple[str, ...]:
         return tuple(f.place for f in self.free)
 
+    @property
+    def design_name(self) -> str:
+        """The scene name of a design: the template's with ``_synth`` (a saved design is not the template)."""
+        name = self.data.get("scene") if isinstance(self.data.get("scene"), str) else None
+        return f"{name or Path(self.file or 'template').stem}_synth"
+
+    def label(self, free: Free) -> str:
+        """What a free value is in the mechanism's words: ``dyad A–B`` for ``groups[1].lengths[0]``,
+        ``O x`` for ``fixed.O[0]`` (the place alone names it by position only)."""
+        path = free.path
+        if path[0] == "fixed":
+            return f"{path[1]} {'xy'[path[2]]}"
+        group = self.data["groups"][path[1]]
+        name = str(group.get("name", f"groups[{path[1]}]"))
+        point = group.get("point", "?")
+        key = _place(path[2:])
+        if key == "length" and group.get("type") == "crank":
+            return f"{name} {group.get('center', '?')}–{point}"
+        if key == "length":
+            return f"{name} {group.get('end', '?')}–{point}"
+        if key.startswith("lengths["):
+            ends = group.get("ends") or ["?", "?"]
+            return f"{name} {ends[path[3]]}–{point}"
+        if key == "distance":
+            return f"{name} {group.get('base', '?')}–{point}"
+        if key == "angle":
+            return f"{name} angle of {point}"
+        return f"{name} {key.replace('.', ' ')}"
+
     def values_of(self, x: Sequence[float] | np.ndarray) -> dict[str, float]:
         return {f.place: float(v) for f, v in zip(self.free, x)}
 
-    def filled(self, x: Sequence[float] | np.ndarray) -> Any:
-        """The file's data with the free values set to ``x`` (scene units)."""
+    def filled(self, x: Sequence[float] | np.ndarray, *, design: bool = True) -> Any:
+        """The file's data with the free values set to ``x`` (scene units); a ``design`` is named
+        :attr:`design_name`."""
         data = _plain(self.data)
         for f, v in zip(self.free, x):
             _set(data, f.path, float(v))
+        if design:
+            data["scene"] = self.design_name
         return data
 
-    def scene_data(self, x: Sequence[float] | np.ndarray) -> SceneData:
-        return parse_scene(self.filled(x), file=self.file, default_name=Path(self.file or "template").stem)
+    def scene_data(self, x: Sequence[float] | np.ndarray, *, design: bool = True) -> SceneData:
+        return parse_scene(self.filled(x, design=design), file=self.file,
+                           default_name=Path(self.file or "template").stem)
 
-    def scene(self, x: Sequence[float] | np.ndarray) -> Scene:
+    def scene(self, x: Sequence[float] | np.ndarray, *, design: bool = True) -> Scene:
         """The loaded scene of one design (every free value set, every loader check applied)."""
-        return Scene(self.scene_data(x))
+        return Scene(self.scene_data(x, design=design))
 
     # -- populations ----------------------------------------------------------------------------
     def _parts(self, x: np.ndarray) -> tuple[Entry, dict[str, Any], list[Group]]:

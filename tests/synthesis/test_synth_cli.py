@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -31,7 +32,7 @@ def test_cli_writes_a_scene_and_says_exact(tmp_path: Path, capsys: pytest.Captur
     assert text.splitlines()[-1].startswith("exact: largest miss")
     assert "groups[1].length" in text and "targets:" in text
     scene = load_scene(out)
-    phases = [float(line.split()[1]) for line in text.splitlines() if line.startswith("   ") and "e-" in line]
+    phases = [float(m.group(1)) for m in re.finditer(r"^ +\d+ +(-?\d+\.\d{9}) ", text, re.MULTILINE)]
     got = scene.solve(np.array(phases)).point("P").position
     assert np.abs(got - xy).max() < 1e-8  # the summary prints phases to 1e-9 rad
 
@@ -61,3 +62,11 @@ def test_cli_faults_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str],
         import re
 
         assert re.search(message, err), err
+
+
+def test_rrd_needs_the_linkage_ros_entry_point(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """solver.synth_cli alone never imports rerun or linkage_ros: --rrd is one line there."""
+    csv, _ = _targets(tmp_path)
+    code = main([str(SLIDER), "--point", "P", "--through", str(csv), "--rrd", str(tmp_path / "s.rrd")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "--rrd needs the linkage_ros package's linkage-synth" in err and "\n" not in err

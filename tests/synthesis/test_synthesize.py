@@ -207,17 +207,17 @@ def test_time_limit_returns_best_so_far_marked() -> None:
 
 def test_effort_weight_lowers_the_peak_effort() -> None:
     """Two pairs leave a family of exact designs; a weight on the peak input effort (at ω = 3 rad/s,
-    from the kinetostatics of each candidate's own bodies) picks one that needs less."""
+    from the kinetostatics of each candidate's own bodies) ranks them: the design returned is the
+    exact one of least peak effort found (without the weight, exact designs are ranked by their
+    round-off miss, which says nothing about effort)."""
     t = load_template(HERE / "four_bar_loaded_function.yaml")
     phi = np.array([0.5, 3.0])
     psi = t.scene([0.1, 0.4, 0.3]).solve(phi).joint("rocker").position
     sweep = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
-    peaks = []
-    for weight in (0.0, 1.0):
-        res = solver.synthesize(t, joint="rocker", pairs=np.c_[phi, psi], effort_weight=weight, speed=3.0, seed=0)
-        assert res.exact
-        peaks.append(np.abs(res.scene.solve(sweep, omega=3.0).effort("crank")).max())
-    assert peaks[1] < 0.9 * peaks[0]
+    res = solver.synthesize(t, joint="rocker", pairs=np.c_[phi, psi], effort_weight=1.0, speed=3.0, seed=0)
+    assert res.exact
+    peaks = [np.abs(d.scene.solve(sweep, omega=3.0).effort("crank")).max() for d in res.solutions if d.error <= 1e-9]
+    assert peaks[0] <= 1.01 * min(peaks)  # the search ranks on its 180-sample sweep
     assert "peak input effort" in res.summary()
     with pytest.raises(SynthesisError, match=r"effort_weight and pin_weight need a template with bodies"):
         solver.synthesize(FOUR_BAR, point="P", through=[[0.1, 0.2]], effort_weight=1.0)

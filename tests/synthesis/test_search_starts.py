@@ -1,0 +1,81 @@
+"""The multi-start search's parts: the batched Levenberg–Marquardt polish, the start box at the
+targets' scale, and 7-point instances that end exact whatever the seed (issue 32)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import solver
+from solver.synthesis import load_template
+from solver.synthesis.api import make_goal
+from solver.synthesis.batch import polish_batch
+from solver.synthesis.result import meets_constraints
+from solver.synthesis.search import start_box
+from solver.tolerances import EXACT_MISS
+
+FOUR_BAR = Path(__file__).parents[2] / "config" / "templates" / "four_bar_path.yaml"
+CRANK_ROCKER = np.array([0.0, 0.0, 0.4, 0.05, 0.1, 0.35, 0.3, 0.2, 30.0])
+#: a four-bar of the template's ranges (crank 0.141, coupler 0.685, rocker 0.412; P off the coupler)
+SEVEN = np.array([-0.6412, 0.5312, 0.1506, 0.1009, 0.1413, 0.6853, 0.4117, 0.2946, -61.0])
+
+
+def _goal(t, targets):  # type: ignore[no-untyped-def]
+    return make_goal(t, point="P", through=targets, at=None, joint=None, pairs=None, poses=None,
+                     input_range=None, min_transmission=math.radians(30.0), max_ratio=None, samples=180)
+
+
+def _points(t, x, phi):  # type: ignore[no-untyped-def]
+    return t.scene(x).with_outputs(points=["P"], joints=[]).solve(phi).point("P").position
+
+
+def test_batch_polish_ends_at_round_off_from_near_starts() -> None:
+    """Eight starts near the generating design, perturbed 1 % of each range, at once: each ends
+    at a zero of the seven targets' residuals to round-off (the family of zeros is 2-dimensional,
+    so the ends differ from the design, and each is checked by its own scene)."""
+    t = load_template(FOUR_BAR)
+    phi = np.linspace(0.3, 5.9, 7)
+    targets = _points(t, CRANK_ROCKER, phi)
+    goal = _goal(t, targets)
+    rng = np.random.default_rng(3)
+    x0 = CRANK_ROCKER + 0.01 * (t.hi - t.lo) * rng.uniform(-1, 1, (8, t.lo.size))
+    ph0 = phi + rng.uniform(-0.02, 0.02, (8, 7))
+    ends = polish_batch(t, goal, x0, ph0, iterations=60)
+    assert np.all(np.sqrt(2.0 * ends.cost) * goal.scale <= EXACT_MISS)
+    for x, ph in zip(ends.x, ends.phases):
+        assert np.abs(_points(t, x, ph) - targets).max() <= EXACT_MISS
+        assert np.all(x >= t.lo) and np.all(x <= t.hi)
+
+
+def test_start_box_at_the_targets_scale() -> None:
+    """A 0.1 m path in [-1, 1] m bounds: the starts' pivots lie within 1.5 sizes of the targets'
+    middle and their lengths under 3 sizes (inside the bounds)."""
+    t = load_template(FOUR_BAR)
+    targets = np.array([[0.30, 0.20], [0.36, 0.24], [0.40, 0.18], [0.35, 0.12], [0.31, 0.15]])
+    goal = _goal(t, targets)
+    box = start_box(t, goal, np.random.default_rng(0), 200)
+    assert isinstance(box, np.ndarray) and box.shape == (200, t.lo.size)
+    size = goal.scale
+    mid = 0.5 * (targets.min(axis=0) + targets.max(axis=0))
+    for i, f in enumerate(t.free):
+        assert np.all(box[:, i] >= f.lo) and np.all(box[:, i] <= f.hi)
+        if f.path[0] == "fixed":
+            assert np.all(np.abs(box[:, i] - mid[f.path[2]]) <= 1.5 * size + 1e-12)
+        elif f.kind == "length":
+            assert np.all(box[:, i] <= max(3.0 * size, f.lo + 0.1 * (f.hi - f.lo)) + 1e-12)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_seven_points_end_exact_whatever_the_seed(seed: int) -> None:
+    """Seven coupler points of a random crank-rocker: exact and feasible with seeds 0, 1, 2 (the
+    issue's trial: 7.0 mm, exact, 12 mm by seed), checked by solving the returned scene."""
+    t = load_template(FOUR_BAR)
+    targets = _points(t, SEVEN, np.array([0.4, 1.1, 2.0, 2.9, 3.9, 4.8, 5.6]))
+    res = solver.synthesize(t, point="P", through=targets, seed=seed)
+    got = _points(t, res.best.x, res.phases)
+    assert np.abs(got - targets).max() <= EXACT_MISS and res.exact
+    assert meets_constraints(res.scene, res.goal) is None
