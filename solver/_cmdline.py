@@ -6,7 +6,9 @@
 * :func:`check_output`: an output path must be a file in an existing folder (nothing is created
   on the user's behalf; only the default ``runs/`` folder is, by the command that owns it);
 * :func:`quiet_pipe`: a closed pipe (``… | head``) ends the command quietly (status 141, as a
-  command killed by SIGPIPE), Ctrl-C with status 130 and no traceback.
+  command killed by SIGPIPE), Ctrl-C with status 130 and no traceback;
+* :func:`error_line`: a user's mistake (a SolverError, ValueError or OSError) as the command's one
+  error line on stderr, exit status 2; :func:`write_out`: a command's text to a file or stdout.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ from typing import Any, NoReturn
 
 __all__ = [
     "Parser", "finite", "positive", "count", "bounded", "check_output", "quiet_pipe", "EXIT_PIPE", "one_line",
-    "OMEGA_MAX", "EPSILON_MAX", "PHI_MAX",
+    "OMEGA_MAX", "EPSILON_MAX", "PHI_MAX", "error_line", "write_out",
 ]
 
 EXIT_PIPE = 141  # 128 + SIGPIPE, what a shell reports for a command whose reader went away
@@ -134,6 +136,25 @@ def check_output(path: str | os.PathLike[str], what: str = "output") -> Path:
     if not os.access(parent, os.W_OK | os.X_OK) or (p.exists() and not os.access(p, os.W_OK)):
         raise ValueError(f"{what} {p}: permission denied")
     return p
+
+
+def error_line(prog: str, exc: BaseException) -> int:
+    """Print ``prog: error: …`` for ``exc`` in one line (an OSError as its reason and file) and
+    return the exit status 2. (A BrokenPipeError is the reader going away: re-raise it before.)"""
+    if isinstance(exc, OSError):
+        text = f"{one_line(exc.strerror or str(exc))}: {exc.filename or ''}"
+    else:
+        text = one_line(str(exc))
+    print(f"{prog}: error: {text}", file=sys.stderr)
+    return 2
+
+
+def write_out(text: str, output: str | os.PathLike[str]) -> None:
+    """``text`` to the file ``output``, or to stdout where it is ``-``."""
+    if str(output) == "-":
+        sys.stdout.write(text)
+    else:
+        Path(output).write_text(text, encoding="utf-8")
 
 
 def quiet_pipe(main: Callable[..., int]) -> Callable[..., int]:

@@ -16,7 +16,17 @@ from typing import Any, TextIO
 import numpy as np
 
 from . import assembly, classify
-from ._cmdline import EPSILON_MAX, OMEGA_MAX, PHI_MAX, Parser, bounded, check_output, count, one_line, quiet_pipe
+from ._cmdline import (
+    EPSILON_MAX,
+    OMEGA_MAX,
+    PHI_MAX,
+    Parser,
+    bounded,
+    check_output,
+    count,
+    error_line,
+    quiet_pipe,
+)
 from ._extremes import Evaluate
 from .cli_inputs import force_columns, force_table, help_epilog, is_multi_input, per_input_values
 from .cli_inputs import main as main_inputs
@@ -390,14 +400,10 @@ def main(argv: Sequence[str] | None = None) -> int:
                                       default_speed=args.omega is None and args.epsilon == 0.0)]
             print(summary(scene, k, periodic=args.phi is None and not stroke, given=args.phi is not None,
                           sections=sections))
-    except (SolverError, ValueError) as exc:
-        print(f"linkage-solve: error: {one_line(str(exc))}", file=sys.stderr)
-        return 2
     except BrokenPipeError:
         raise  # the reader went away (`| head`): quiet_pipe ends quietly
-    except OSError as exc:
-        print(f"linkage-solve: error: {one_line(exc.strerror or str(exc))}: {exc.filename or ''}", file=sys.stderr)
-        return 2
+    except (SolverError, ValueError, OSError) as exc:
+        return error_line("linkage-solve", exc)
     return 0
 
 

@@ -25,7 +25,17 @@ from typing import TextIO
 
 import numpy as np
 
-from ._cmdline import EPSILON_MAX, OMEGA_MAX, PHI_MAX, Parser, bounded, check_output, count, one_line, quiet_pipe
+from ._cmdline import (
+    EPSILON_MAX,
+    OMEGA_MAX,
+    PHI_MAX,
+    Parser,
+    bounded,
+    check_output,
+    count,
+    error_line,
+    quiet_pipe,
+)
 from .errors import SolverError
 from .forces.friction_report import friction_columns, friction_table
 from .forces.report import force_section
@@ -387,12 +397,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             forces = force_section(scene, k, sampling=f"read off {grid}",
                                    default_speed=not args.omega and not args.epsilon)
             print(summary(scene, k, sampling=grid, sections=[forces]))
-    except (SolverError, ValueError) as exc:
-        print(f"linkage-solve: error: {one_line(str(exc))}", file=sys.stderr)
-        return 2
     except BrokenPipeError:
-        raise
-    except OSError as exc:
-        print(f"linkage-solve: error: {one_line(exc.strerror or str(exc))}: {exc.filename or ''}", file=sys.stderr)
-        return 2
+        raise  # the reader went away (`| head`): quiet_pipe ends quietly
+    except (SolverError, ValueError, OSError) as exc:
+        return error_line("linkage-solve", exc)
     return 0

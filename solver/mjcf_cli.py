@@ -12,9 +12,8 @@ import argparse
 import math
 import sys
 from collections.abc import Sequence
-from pathlib import Path
 
-from ._cmdline import PHI_MAX, Parser, bounded, check_output, one_line
+from ._cmdline import PHI_MAX, Parser, bounded, check_output, error_line, write_out
 from .errors import SolverError
 from .models.export import scene_to_mjcf
 from .scene import load_scene
@@ -46,16 +45,11 @@ def main(argv: Sequence[str] | None = None) -> int:
             if args.deg:
                 phi = [math.radians(v) for v in phi]
         text = scene_to_mjcf(scene, phi=phi)
-        if args.output == "-":
-            sys.stdout.write(text)
-        else:
-            Path(args.output).write_text(text, encoding="utf-8")
-    except (SolverError, ValueError) as exc:
-        print(f"linkage-mjcf: error: {one_line(str(exc))}", file=sys.stderr)
-        return 2
-    except OSError as exc:
-        print(f"linkage-mjcf: error: {one_line(exc.strerror or str(exc))}: {exc.filename or ''}", file=sys.stderr)
-        return 2
+        write_out(text, args.output)
+    except BrokenPipeError:
+        raise  # the reader went away (`| head`): quiet_pipe ends quietly
+    except (SolverError, ValueError, OSError) as exc:
+        return error_line("linkage-mjcf", exc)
     return 0
 
 

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-from ._cmdline import PHI_MAX, Parser, bounded, check_output, one_line
+from ._cmdline import PHI_MAX, Parser, bounded, check_output, error_line, write_out
 from ._loader import read_yaml
 from .errors import SceneError, SolverError
 from .forces.structure import StructureFault, derive_structure
@@ -238,16 +238,11 @@ def import_main(argv: Sequence[str] | None = None) -> int:
                 raise SolverError("--phi and --deg go with --drawing (a drawing holds its own pose)")
             data = group_scene_of_drawing(args.scene)
         text = dump_scene(data)
-        if args.output == "-":
-            sys.stdout.write(text)
-        else:
-            Path(args.output).write_text(text, encoding="utf-8")
-    except (SolverError, ValueError) as exc:
-        print(f"linkage-import: error: {one_line(str(exc))}", file=sys.stderr)
-        return 2
-    except OSError as exc:
-        print(f"linkage-import: error: {one_line(exc.strerror or str(exc))}: {exc.filename or ''}", file=sys.stderr)
-        return 2
+        write_out(text, args.output)
+    except BrokenPipeError:
+        raise  # the reader went away (`| head`): quiet_pipe ends quietly
+    except (SolverError, ValueError, OSError) as exc:
+        return error_line("linkage-import", exc)
     return 0
 
 
@@ -255,12 +250,10 @@ def structure_main(scene: str) -> int:
     """``linkage-solve SCENE --structure``."""
     try:
         print("\n".join(structure_lines(scene)))
-    except (SolverError, ValueError) as exc:
-        print(f"linkage-solve: error: {one_line(str(exc))}", file=sys.stderr)
-        return 2
-    except OSError as exc:
-        print(f"linkage-solve: error: {one_line(exc.strerror or str(exc))}: {exc.filename or ''}", file=sys.stderr)
-        return 2
+    except BrokenPipeError:
+        raise  # the reader went away (`| head`): quiet_pipe ends quietly
+    except (SolverError, ValueError, OSError) as exc:
+        return error_line("linkage-solve", exc)
     return 0
 
 
