@@ -36,7 +36,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -46,11 +46,19 @@ from .friction_spec import FrictionSpec
 from .state import ForcePass
 from .structure import GROUND, Structure
 
-if TYPE_CHECKING:
-    from .model import ForceModel
-
 __all__ = ["FrictionModel", "breakaway", "cycle_efficiency", "locked_intervals", "locking_message",
            "NEWTON_STEPS", "CONVERGED", "TENDENCY"]
+
+
+class _Responses(Protocol):
+    """What :meth:`FrictionModel.apply` asks of its force model (solver.forces.model.ForceModel,
+    which holds the friction model: named by this protocol, not imported)."""
+
+    @property
+    def base_index(self) -> dict[tuple[str, Any], int]: ...
+
+    def respond(self, values: Any, xp: Backend, load: Callable[[ForcePass], None]) -> list[Any]: ...
+
 
 #: Newton steps before a sample is declared self-locking (it converges quadratically: 3–6 steps).
 NEWTON_STEPS = 60
@@ -150,7 +158,7 @@ class FrictionModel:
         return r / rho, v1, v2
 
     # -- the solve --------------------------------------------------------------------------------
-    def apply(self, model: ForceModel, values: Any, xp: Backend, omega: Any, epsilon: Any,
+    def apply(self, model: _Responses, values: Any, xp: Backend, omega: Any, epsilon: Any,
               out: list[Any]) -> list[Any]:
         """``out`` (the frictionless flat tuple, in ``model``'s base layout) with friction, then the
         values of :attr:`layout`."""

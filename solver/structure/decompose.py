@@ -43,9 +43,11 @@ from dataclasses import dataclass, field
 from functools import partial
 from typing import Any, TypeVar
 
-from ..tolerances import SINGULAR
 from .drawing import GROUND, Drawing
 from .graph import body_points
+from .step import Step, cross, dot
+from .step import refuse_toggle as _toggle
+from .triad_step import triad_candidates
 
 __all__ = ["Step", "Stall", "decompose", "cross", "dot", "ON_LINE"]
 
@@ -53,36 +55,6 @@ T = TypeVar("T")
 
 #: A slide's point farther than this from its line, relative to the drawing's size, is off it.
 ON_LINE = 1e-9
-
-
-def cross(a: complex, b: complex) -> float:
-    return a.real * b.imag - a.imag * b.real
-
-
-def dot(a: complex, b: complex) -> float:
-    return a.real * b.real + a.imag * b.imag
-
-
-@dataclass(frozen=True)
-class Step:
-    """One group of the decomposition: ``kind`` (a group type of the scene files), its ``name``,
-    the drawn bodies it places (``links``), the points it provides, its ``fields`` as a group
-    entry in the file's units (without ``type`` and ``name``), its assembly mode and its
-    conditioning at the drawn pose (1 well conditioned, 0 a toggle), where it has them."""
-
-    kind: str
-    name: str
-    links: tuple[str, ...]
-    provides: tuple[str, ...]
-    fields: dict[str, Any]
-    mode: int | None = None
-    conditioning: float | None = None
-    #: the input's value at the drawn pose (rad for a crank, file length unit for an actuator)
-    drawn: float | None = None
-
-    def entry(self) -> dict[str, Any]:
-        """The group entry of a scene file: ``{type, name, **fields}``."""
-        return {"type": self.kind, "name": self.name, **self.fields}
 
 
 @dataclass
@@ -287,7 +259,6 @@ def _candidates_of(st: _State, what: str, name: str) -> Iterator[Candidate]:
         yield from _slide_candidates(st, st.d.slides[name])
     else:
         yield from _rrr_candidates(st, name)
-        from .triad_step import triad_candidates  # (it imports Step from here: no import at the top)
 
         yield from triad_candidates(st, name)
 
@@ -445,12 +416,6 @@ def _slotted(st: _State, s: Any, pivot: str) -> None:
     fields = {"pivot": pivot, "through": s.point, "points": dict(on_line)}
     st.done_slides.add(s.name)
     st.add(Step("slotted", st.unique(s.on), (s.on, s.name), tuple(q for q, _ in on_line), fields, None, cond))
-
-
-def _toggle(st: _State, cond: float, entry: str, what: str) -> None:
-    if not cond >= SINGULAR:
-        raise st.d.error(f"{what}: its assembly mode is undefined there (conditioning {cond:.2g}); draw it in the "
-                         "assembly it is meant to run in", entry)
 
 
 # -- what is left ---------------------------------------------------------------------------------

@@ -20,6 +20,8 @@ import numpy as np
 
 from ..groups.triad import triad_analogs, triad_roots
 from ..jet import Jet
+from .step import Step
+from .step import refuse_toggle as _toggle
 
 __all__ = ["triad_candidates", "DRAWN_MATCH"]
 
@@ -64,8 +66,6 @@ def triad_candidates(st: Any, link: str) -> Iterator[tuple[int, tuple[str, ...],
 
 
 def _triad(st: Any, ternary: str, arms: tuple[tuple[str, str, str], ...]) -> None:
-    from .decompose import Step, _toggle  # (decompose imports this module inside a function)
-
     d = st.d
     (pd, l1, a), (pe, l2, b), (pf, l3, c) = arms
     za, zb, zc, zd, ze, zf = (d.points[q] for q in (a, b, c, pd, pe, pf))
