@@ -85,7 +85,8 @@ def _parser() -> Parser:
     p.add_argument("--dask", metavar="ADDRESS", help="run the starts on this dask.distributed scheduler (default: "
                    "in this process)")
     p.add_argument("--all", action="store_true", help="list every distinct design found, not only the best")
-    p.add_argument("--rrd", metavar="FILE", help="write the rerun view of the search and its design (.rrd)")
+    p.add_argument("--rrd", metavar="FILE", help="write the rerun view of the search and its design (.rrd; "
+                   "default: none)")
     return p
 
 
