@@ -7,7 +7,8 @@
 * ``client``: an rclpy context, node and executor in the test process (subscribers, service
   clients, a /clock publisher), shared by the session.
 * ``start_node``: starts the installed ``mechanism_node`` console script as its own process;
-  every process it started is ended by PID when the session ends (SIGKILL after a grace period).
+  every process it started is ended by PID when its test module ends (SIGKILL after a grace
+  period).
 """
 
 from __future__ import annotations
@@ -90,9 +91,11 @@ class NodeProcess:
         self._out.close()
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def start_node(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Callable[..., NodeProcess]]:
-    """``start_node(*ros_args, executable=..., env=...)`` → a running :class:`NodeProcess`."""
+    """``start_node(*ros_args, executable=..., env=...)`` → a running :class:`NodeProcess`; the
+    processes a test module started end with the module (a node left ticking at 1 kHz would load
+    the machine under every later module's timing)."""
     started: list[NodeProcess] = []
     logs = tmp_path_factory.mktemp("node_logs")
 
