@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import signal
 import struct
-import time
 from typing import Any
 
 import numpy as np
@@ -161,10 +160,14 @@ def test_the_five_bar_is_published_at_100_hz_and_at_1_khz(five_bar: Any, client:
         (ok,) = client.set_parameters(NODE, rate_hz=rate)
         assert ok.successful, ok.reason
         client.spin_for(0.2)
-        start, t0 = len(listener.by_topic[full("joint_states")]), time.monotonic()
-        client.spin_for(1.0)
-        elapsed = time.monotonic() - t0
-        stamps = [stamp_of(d) for d in listener.by_topic[full("joint_states")][start:]]
+        start = len(listener.by_topic[full("joint_states")])
+        # one second of the node's own clock, counted by stamps once the messages are in (this
+        # process's executor, subscribed to every topic of the session so far, may read them late)
+        client.spin_for(2.0)
+        received = [stamp_of(d) for d in listener.by_topic[full("joint_states")][start:]]
+        assert received, f"no joint_states at {rate} Hz"
+        stamps = [s for s in received if s < received[0] + NS]
+        elapsed = 1.0
         assert len(stamps) >= 0.5 * rate * elapsed, f"{len(stamps)} ticks in {elapsed:.2f} s at {rate} Hz"
         assert float(np.median(np.diff(stamps))) == pytest.approx(NS / rate, rel=0.05)
         assert stamps == sorted(set(stamps))
