@@ -34,7 +34,8 @@ from typing import Any
 from ._yaml import line_of
 from .errors import SceneError
 
-__all__ = ["Units", "Entry", "MISSING", "LENGTH_MIN", "LENGTH_MAX", "ANGLE_MAX", "NAME_MAX", "show", "suggest"]
+__all__ = ["Units", "Entry", "MISSING", "LENGTH_MIN", "LENGTH_MAX", "ANGLE_MAX", "NAME_MAX", "show", "suggest",
+           "read_units"]
 
 MISSING: Any = object()
 
@@ -277,3 +278,17 @@ def show(value: Any, limit: int = 60) -> str:
     complete = walk(value, 0)
     text = "".join(out)
     return text if complete and len(text) <= limit else text[: limit - 3] + "..."
+
+
+def read_units(top: Entry, *, done: bool = True) -> Units:
+    """The scene's ``units:`` (SI where absent); one line for an unknown unit. ``done``: also
+    refuse unknown keys there (the drawing's reader leaves that to the loader)."""
+    u = top.child("units", top.raw("units"))
+    length, angle = u.name("length"), u.name("angle")
+    if length not in LENGTH_UNITS:
+        raise u.error(f"unknown length unit '{length}'; use one of {sorted(LENGTH_UNITS)}", "length")
+    if angle not in ANGLE_UNITS:
+        raise u.error(f"unknown angle unit '{angle}'; use one of {sorted(ANGLE_UNITS)}", "angle")
+    if done:
+        u.done()
+    return Units(LENGTH_UNITS[length], ANGLE_UNITS[angle])

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from ._fields import ANGLE_UNITS, LENGTH_UNITS, Entry, Units, show, suggest
+from ._fields import Entry, Units, read_units, show, suggest
 from ._inputs import check_actuators, check_coupled, check_drivers
 from ._yaml import load_yaml
 from .errors import SceneError
@@ -91,7 +91,7 @@ def _parse_scene(data: Any, *, file: str | None, default_name: str = "scene") ->
     name = top.name("scene", default_name)
     provenance = _text(top, "provenance", 100_000)
     _text(top, "description", 100_000)
-    units = _units(top)
+    units = read_units(top)
     fixed, dim = _fixed(top, units)
     groups: list[Group] = []
     raw_groups = top.raw("groups", [])
@@ -174,17 +174,6 @@ def _descriptions(top: Entry, names: set[str]) -> dict[str, str]:
             raise d.error(f"a description of {len(text)} characters: at most {DESCRIPTION_MAX}", str(key))
         out[str(key)] = text
     return out
-
-
-def _units(top: Entry) -> Units:
-    u = top.child("units", top.raw("units"))
-    length, angle = u.name("length"), u.name("angle")
-    if length not in LENGTH_UNITS:
-        raise u.error(f"unknown length unit '{length}'; use one of {sorted(LENGTH_UNITS)}", "length")
-    if angle not in ANGLE_UNITS:
-        raise u.error(f"unknown angle unit '{angle}'; use one of {sorted(ANGLE_UNITS)}", "angle")
-    u.done()
-    return Units(LENGTH_UNITS[length], ANGLE_UNITS[angle])
 
 
 def _fixed(top: Entry, units: Units) -> tuple[dict[str, Any], int]:

@@ -21,7 +21,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from .._fields import ANGLE_UNITS, LENGTH_UNITS, Entry, Units, show
+from .._fields import Entry, read_units, show
 from ..errors import SceneError
 from ..groups import GROUP_TYPES
 from .decompose import Stall, Step, decompose, dot
@@ -67,16 +67,6 @@ class Structure:
                 for s in self.drivers}
 
 
-def _units(top: Entry) -> Units:
-    u = top.child("units", top.raw("units"))
-    length, angle = u.name("length"), u.name("angle")
-    if length not in LENGTH_UNITS:
-        raise u.error(f"unknown length unit '{length}'; use one of {sorted(LENGTH_UNITS)}", "length")
-    if angle not in ANGLE_UNITS:
-        raise u.error(f"unknown angle unit '{angle}'; use one of {sorted(ANGLE_UNITS)}", "angle")
-    return Units(LENGTH_UNITS[length], ANGLE_UNITS[angle])
-
-
 def find_structure(scene: Mapping[str, Any], *, source: str | None = None) -> Structure:
     """The structure of a drawn scene mapping (one with ``drawing:``); a SceneError line for
     every fault (docs/scenes.md, "The drawn form")."""
@@ -84,7 +74,7 @@ def find_structure(scene: Mapping[str, Any], *, source: str | None = None) -> St
     for key in ("fixed", "groups"):
         if key in top.data:
             raise top.error(f"a drawn scene has no '{key}': its ground points and groups come from the drawing", key)
-    units = _units(top)
+    units = read_units(top, done=False)
     drawing = read_drawing(top, units)
     check_connected(drawing)
     mob = mobility(drawing)

@@ -27,8 +27,8 @@ from typing import Any
 
 import numpy as np
 
-from .._fields import MISSING, Entry, Units, show, suggest
-from .._loader import SceneData, _joints, _rigid_pairs, _units, parse_scene
+from .._fields import MISSING, Entry, Units, read_units, show, suggest
+from .._loader import SceneData, _joints, _rigid_pairs, parse_scene
 from .._yaml import line_of, load_yaml
 from ..errors import SceneError
 from ..forces import ForceModel
@@ -190,7 +190,7 @@ class Template:
         self.free: tuple[Free, ...] = tuple(frees)
         self.lo = np.array([f.lo for f in frees])
         self.hi = np.array([f.hi for f in frees])
-        self.units: Units = _units(Entry(data, file=file, where=""))
+        self.units: Units = read_units(Entry(data, file=file, where=""))
         self.template_scene: Scene = self.scene(0.5 * (self.lo + self.hi), design=False)  # the rest of the file checked
 
     @property
