@@ -21,6 +21,7 @@ import sys
 import time
 from collections import defaultdict
 from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -122,6 +123,7 @@ class Listener:
     def __init__(self) -> None:
         self.messages: list[tuple[str, bytes]] = []
         self.by_topic: dict[str, list[bytes]] = defaultdict(list)
+        self.subscriptions: dict[str, Any] = {}
 
     def callback(self, topic: str) -> Callable[[bytes], None]:
         def keep(data: bytes) -> None:
@@ -174,8 +176,27 @@ class Client:
         classes = message_classes(sorted(set(topics.values())))
         qos = QoSProfile(depth=depth, reliability=ReliabilityPolicy.RELIABLE)
         for topic, typename in topics.items():
-            self.node.create_subscription(classes[typename], topic, listener.callback(topic), qos, raw=True)
+            listener.subscriptions[topic] = self.node.create_subscription(
+                classes[typename], topic, listener.callback(topic), qos, raw=True)
         return listener
+
+    @contextmanager
+    def only(self, listener: Listener, topics: set[str], *, wait: float = 20.0) -> Iterator[None]:
+        """Pause ``listener``'s subscriptions but ``topics`` for the block, then subscribe again and
+        wait until each is matched: a rate is counted at 1 kHz without this process reading (and
+        the node's reliable writers waiting on) topics the count does not use."""
+        paused = {t: s for t, s in listener.subscriptions.items() if t not in topics}
+        for topic in paused:
+            self.node.destroy_subscription(listener.subscriptions.pop(topic))
+        try:
+            yield
+        finally:
+            for topic, subscription in paused.items():
+                listener.subscriptions[topic] = self.node.create_subscription(
+                    subscription.msg_type, topic, listener.callback(topic), subscription.qos_profile, raw=True)
+            matched = [listener.subscriptions[t] for t in paused]
+            self.spin_until(lambda: all(s.get_publisher_count() >= 1 for s in matched), wait)
+            self.spin_for(0.3)  # the writers' side of the match
 
     def published_by(self, node_name: str, namespace: str) -> list[tuple[str, list[str]]]:
         """The topics ``node_name`` publishes, as far as discovery has got: none until the graph
