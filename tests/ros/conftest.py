@@ -161,6 +161,28 @@ class Client:
             self.executor.spin_once(timeout_sec=0.05)
         return True
 
+    def spin_until_latest(self, listener: Listener, topic: str, typename: str, holds: Callable[[Any], bool],
+                          timeout: float = 20.0) -> bool:
+        """Spin until the latest message on ``topic`` (decoded) ``holds``: after a parameter set, the
+        messages already in flight on a loaded machine are read before the first with the new value."""
+        def latest_holds() -> bool:
+            messages = listener.by_topic[topic]
+            return bool(messages) and holds(decode(messages[-1], typename))
+
+        return self.spin_until(latest_holds, timeout)
+
+    def spin_until_quiet(self, listener: Listener, topic: str, quiet: float, timeout: float = 20.0) -> bool:
+        """Spin until no message has arrived on ``topic`` for ``quiet`` seconds."""
+        deadline = time.monotonic() + timeout
+        count, since = len(listener.by_topic[topic]), time.monotonic()
+        while time.monotonic() < deadline:
+            self.executor.spin_once(timeout_sec=0.02)
+            if len(listener.by_topic[topic]) != count:
+                count, since = len(listener.by_topic[topic]), time.monotonic()
+            elif time.monotonic() - since >= quiet:
+                return True
+        return False
+
     def spin_for(self, seconds: float) -> None:
         deadline = time.monotonic() + seconds
         while time.monotonic() < deadline:

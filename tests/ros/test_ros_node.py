@@ -163,8 +163,8 @@ def test_parameters_are_accepted_and_rejected_with_a_reason_while_publishing(fou
     assert not unknown.successful and "unknown scene 'no_such_mechanism'" in unknown.reason
     assert [v for _, v in client.get_parameters("/mechanism_node", "omega", "epsilon", "rate_hz")] == [-1.5, 0.0, 100.0]
     wait_for_ticks(client, listener, "/joint_states", 20)  # still publishing
-    js = decode(listener.by_topic["/joint_states"][-1], FOUR_BAR_TOPICS["joint_states"])
-    assert js.velocity[js.name.index("crank")] == -1.5
+    assert client.spin_until_latest(listener, "/joint_states", FOUR_BAR_TOPICS["joint_states"],
+                                    lambda js: js.velocity[js.name.index("crank")] == -1.5, WAIT_S)
     (back,) = client.set_parameters("/mechanism_node", omega=2.0)
     assert back.successful
 
@@ -173,7 +173,12 @@ def test_a_new_rate_takes_effect_at_run_time(four_bar: Any, client: Client) -> N
     _, listener = four_bar
     (ok,) = client.set_parameters("/mechanism_node", rate_hz=50)  # an integer, taken as 50.0
     assert ok.successful, ok.reason
-    client.spin_for(0.2)
+
+    def at_50_hz() -> bool:  # the messages of the old rate still in flight are read first
+        last = [stamp("/joint_states", d) for d in listener.by_topic["/joint_states"][-4:]]
+        return len(last) == 4 and min(np.diff(last)) > 0.75 * NS / 50
+
+    assert client.spin_until(at_50_hz, WAIT_S)
     start = len(listener.by_topic["/joint_states"])
     wait_for_ticks(client, listener, "/joint_states", 15)
     stamps = [stamp("/joint_states", d) for d in listener.by_topic["/joint_states"][start:]]
@@ -313,15 +318,19 @@ def test_unassemblable_stops_then_reverses_and_never_publishes_non_finite(start_
         assert client.spin_until(lambda: error_seen("stopped"), WAIT_S), process.output()
         assert error_seen("cannot be assembled for φ in (113.9")
         wait_for_ticks(client, listener, "/rock/joint_states", 10)
-        held = [decode(d, FOUR_BAR_TOPICS["joint_states"]) for d in listener.by_topic["/rock/joint_states"][-5:]]
-        assert len({m.position[0] for m in held}) == 1 and all(v == 0.0 for m in held for v in m.velocity)
+
+        def held() -> bool:  # the moving ticks still in flight on a loaded machine are read first
+            last = [decode(d, FOUR_BAR_TOPICS["joint_states"]) for d in listener.by_topic["/rock/joint_states"][-5:]]
+            return len({m.position[0] for m in last}) == 1 and all(v == 0.0 for m in last for v in m.velocity)
+
+        assert client.spin_until(held, WAIT_S)
         # an accepted set resumes the held input (docs/ros.md): into the gap again, reversed there
         (ok,) = client.set_parameters("/rock/mechanism_node", on_unassemblable="reverse")
         assert ok.successful
         assert client.spin_until(lambda: error_seen("reversed"), WAIT_S), process.output()
         wait_for_ticks(client, listener, "/rock/joint_states", 10)
-        after = decode(listener.by_topic["/rock/joint_states"][-1], FOUR_BAR_TOPICS["joint_states"])
-        assert abs(after.velocity[0]) == pytest.approx(5.0)
+        assert client.spin_until_latest(listener, "/rock/joint_states", FOUR_BAR_TOPICS["joint_states"],
+                                        lambda js: abs(js.velocity[0]) == pytest.approx(5.0), WAIT_S)
         for data in listener.by_topic["/rock/joint_states"]:
             message = decode(data, FOUR_BAR_TOPICS["joint_states"])
             assert all(math.isfinite(x) for x in [*message.position, *message.velocity])

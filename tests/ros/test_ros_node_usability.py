@@ -119,8 +119,8 @@ def test_setting_reverse_while_stopped_resumes_the_input(start_node: Any, client
         assert ok.successful
         assert client.spin_until(lambda: error_seen("reversed"), WAIT_S), process.output()
         wait_for(client, listener, "/resume/joint_states", 10, process)
-        last = decode(listener.by_topic["/resume/joint_states"][-1], TYPES["joint_states"])
-        assert last.velocity[0] == pytest.approx(-5.0)
+        assert client.spin_until_latest(listener, "/resume/joint_states", TYPES["joint_states"],
+                                        lambda js: js.velocity[0] == pytest.approx(-5.0), WAIT_S), process.output()
     finally:
         assert process.stop(signal.SIGTERM) == 0
 
