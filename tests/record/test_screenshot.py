@@ -23,7 +23,7 @@ RERUN = next((str(p) for p in (Path(sys.executable).parent / "rerun",) if p.exis
 COLOR_TOL = 40  # per channel, for antialiased edges and shading
 MIN_LINK_FRACTION = 5e-4  # of the mechanism view's pixels
 MIN_PIVOT_PIXELS = 20
-ATTEMPTS = 3
+ATTEMPTS = 5
 """The headless viewer shoots after a fixed number of frames; on a loaded machine the recording
 may not be on screen yet (loading indicators, empty plots), so a blank picture is retaken."""
 
