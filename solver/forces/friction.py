@@ -23,7 +23,8 @@ the friction against the motion: the mechanism **self-locks** there (no finite e
 it); every value of such a sample is NaN and ``locked`` True there (``k.locked``, and
 ``locking_message`` names the φ intervals in one line).
 
-Direction rule where a relative velocity is zero: the sign of the relative acceleration; where
+Direction rule where a relative velocity is zero (its analog within tolerances.RELATIVE_REST of
+the rates it is a difference of: a zero rounded): the sign of the relative acceleration; where
 that is zero too (at rest), the load's tendency — the motion the loads would start if the
 input let go, i.e. the input moving by −sign(Q₀) (Q₀ the frictionless effort of the first
 input): the friction then opposes it and the effort is the smallest that holds. The breakaway
@@ -42,6 +43,7 @@ import numpy as np
 
 from .._backend import Backend
 from ..errors import SolverError
+from ..tolerances import RELATIVE_REST
 from .friction_spec import FrictionSpec
 from .state import ForcePass
 from .structure import GROUND, Structure
@@ -142,20 +144,22 @@ class FrictionModel:
         c1 = np.conj(r) * r1
         return c1.imag / rr, (np.conj(r) * r2).imag / rr - 2.0 * c1.real * c1.imag / (rr * rr)
 
-    def _slide(self, e: _Element, values: Any) -> tuple[Any, Any, Any]:
-        """The block's unit direction along its guide, and (dv/dφ, d²v/dφ²) of its sliding."""
+    def _slide(self, e: _Element, values: Any) -> tuple[Any, Any, Any, Any]:
+        """The block's unit direction along its guide, (dv/dφ, d²v/dφ²) of its sliding, and the
+        scale of dv/dφ's rounding (the block's and its guide point's |dB/dφ|)."""
         ln = self.links[e.body]
         b = values[e.point]
         if ln.along is None:  # a fixed guide
             u = complex(ln.guide if ln.guide is not None else 1.0)
-            return u, _arr((np.conj(u) * _arr(b.d1)).real), _arr((np.conj(u) * _arr(b.d2)).real)
+            b1 = _arr(b.d1)
+            return u, _arr((np.conj(u) * b1).real), _arr((np.conj(u) * _arr(b.d2)).real), np.abs(b1)
         a = values[ln.along[0]]
         r, r1, r2 = _arr(b.value - a.value), _arr(b.d1 - a.d1), _arr(b.d2 - a.d2)
         rho = np.abs(r)
         c1 = (np.conj(r) * r1).real
         v1 = c1 / rho
         v2 = (np.conj(r) * r2).real / rho + (r1.real ** 2 + r1.imag ** 2) / rho - c1 * c1 / rho ** 3
-        return r / rho, v1, v2
+        return r / rho, v1, v2, np.abs(_arr(b.d1)) + np.abs(_arr(a.d1))
 
     # -- the solve --------------------------------------------------------------------------------
     def apply(self, model: _Responses, values: Any, xp: Backend, omega: Any, epsilon: Any,
@@ -179,14 +183,16 @@ class FrictionModel:
             if e.kind == "pin":
                 (a1, a2), (b1, b2) = rates[e.body], rates[e.other]
                 v1, v2 = _arr(a1) - _arr(b1), _arr(a2) - _arr(b2)
+                scale = np.abs(_arr(a1)) + np.abs(_arr(b1))
                 unit: Any = None
                 load = _couples(e.body, e.other)
                 carriers.append(index["pin", e.index])
             else:
-                unit, v1, v2 = self._slide(e, values)
+                unit, v1, v2, scale = self._slide(e, values)
                 load = _pushes(e.body, e.other, e.point, unit if xp.vectorised else complex(np.ravel(unit)[0]))
                 carriers.append(index["slide", e.index])
-            dirs.append(_direction(v1 * w, v2 * w * w + v1 * eps, v1 * tendency))
+            at_rest = np.abs(v1) <= RELATIVE_REST * scale  # a zero rounded (tolerances.RELATIVE_REST)
+            dirs.append(_direction(np.where(at_rest, 0.0, v1) * w, v2 * w * w + v1 * eps, v1 * tendency))
             speeds.append(np.abs(v1 * w))
             units.append(unit)
             responses.append([_full(v, n) for v in model.respond(values, xp, load)])
