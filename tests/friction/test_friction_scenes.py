@@ -110,3 +110,16 @@ def test_a_friction_scene_is_not_compiled_its_original_is(name: str) -> None:
     with pytest.raises(solver.SolverError, match=rf"{name}: a scene with friction is not compiled"):
         solver.load_scene(name).compiled()
     solver.load_scene(FRICTION_SCENES[name]).compiled()
+
+
+def test_one_instant_of_several_inputs_with_friction_is_the_vectorised_sample() -> None:
+    """A scene with several inputs and friction at one instant takes the scalar path (it is not
+    compiled): the same efforts and losses as the vectorised solve, to round-off."""
+    scene = solver.load_scene("excavator_friction")
+    q, w = (1.3, 1.5, 1.2), (0.1, 0.05, -0.02)
+    one = scene.solve(q, omega=w, epsilon=0.0)
+    many = scene.solve(np.array([q, q]), omega=np.array([w, w]), epsilon=0.0)
+    for j in scene.inputs:
+        assert one.effort(j) == pytest.approx(float(many.effort(j)[0]), rel=1e-13)
+        assert one.effort(j) != pytest.approx(one.ideal_effort(j), rel=1e-3)
+    assert one.friction_power == pytest.approx(float(many.friction_power[0]), rel=1e-13)
