@@ -48,7 +48,7 @@ from .friction_spec import FrictionSpec
 from .state import ForcePass
 from .structure import GROUND, Structure
 
-__all__ = ["FrictionModel", "breakaway", "cycle_efficiency", "locked_intervals", "locking_message",
+__all__ = ["FrictionModel", "breakaway", "cycle_efficiency", "efficiency", "locked_intervals", "locking_message",
            "NEWTON_STEPS", "CONVERGED", "TENDENCY"]
 
 
@@ -437,6 +437,19 @@ def breakaway(scene: Any, phi: Any, joint: str | None = None) -> tuple[Any, Any]
         q = np.where(np.asarray(k.locked), sign * math.inf, q)
         edges.append(float(q) if q.ndim == 0 else q)
     return edges[0], edges[1]
+
+
+def efficiency(power: Any, ideal: Any) -> Any:
+    """The instantaneous efficiency from the input power P = Σ Q·q̇ and the ideal P₀ = Σ Q₀·q̇
+    (arrays or floats): P₀/P where the ideal mechanism takes power from its inputs (P₀ > 0);
+    P/P₀ where it gives power to them (P₀ < 0: back-driven; negative where friction still needs
+    the input to push); where P₀ = 0, 1 if P = 0 (at rest) else 0; NaN where either is NaN. The
+    one formula of ``k.efficiency`` and of the recorded runs' efficiency plot."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        p, p0 = np.asarray(power, float), np.asarray(ideal, float)
+        eta = np.where(p0 > 0.0, p0 / np.where(p0 > 0.0, p, 1.0),
+                       np.where(p0 < 0.0, p / np.where(p0 < 0.0, p0, 1.0), np.where(p == 0.0, 1.0, 0.0)))
+        return np.where(np.isnan(p) | np.isnan(p0), np.nan, eta)
 
 
 def cycle_efficiency(k: Any) -> float:
