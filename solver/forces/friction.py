@@ -167,9 +167,16 @@ class FrictionModel:
         """``out`` (the frictionless flat tuple, in ``model``'s base layout) with friction, then the
         values of :attr:`layout`."""
         index = model.base_index
-        n = _size(out, omega, epsilon)
-        w, eps = _arr(omega) * np.ones(n), _arr(epsilon) * np.ones(n)
-        base = [_full(v, n) for v in out]
+        # the samples' shape: (n,) for a sweep, (C, S) for a synthesis population (solved flat,
+        # reshaped at the end); n its size
+        shape = _shape(out, omega, epsilon)
+        n = math.prod(shape)
+
+        def flat(v: Any) -> np.ndarray:
+            return np.broadcast_to(np.asarray(v), shape).reshape(-1)
+
+        w, eps = flat(omega).astype(float), flat(epsilon).astype(float)
+        base = [flat(v) for v in out]
         q0 = base[index["effort", self.inputs[0]]]
         tendency = -np.sign(q0)
         rates: dict[str, tuple[Any, Any]] = {}
@@ -182,8 +189,8 @@ class FrictionModel:
         for e in self.elements:
             if e.kind == "pin":
                 (a1, a2), (b1, b2) = rates[e.body], rates[e.other]
-                v1, v2 = _arr(a1) - _arr(b1), _arr(a2) - _arr(b2)
-                scale = np.abs(_arr(a1)) + np.abs(_arr(b1))
+                v1, v2 = flat(_arr(a1) - _arr(b1)), flat(_arr(a2) - _arr(b2))
+                scale = flat(np.abs(_arr(a1)) + np.abs(_arr(b1)))
                 unit: Any = None
                 load = _couples(e.body, e.other)
                 carriers.append(index["pin", e.index])
@@ -191,11 +198,13 @@ class FrictionModel:
                 unit, v1, v2, scale = self._slide(e, values)
                 load = _pushes(e.body, e.other, e.point, unit if xp.vectorised else complex(np.ravel(unit)[0]))
                 carriers.append(index["slide", e.index])
+                v1, v2, scale = flat(v1), flat(v2), flat(scale)
+                unit = unit if np.ndim(unit) == 0 else flat(unit)
             at_rest = np.abs(v1) <= RELATIVE_REST * scale  # a zero rounded (tolerances.RELATIVE_REST)
             dirs.append(_direction(np.where(at_rest, 0.0, v1) * w, v2 * w * w + v1 * eps, v1 * tendency))
             speeds.append(np.abs(v1 * w))
             units.append(unit)
-            responses.append([_full(v, n) for v in model.respond(values, xp, load)])
+            responses.append([flat(v) for v in model.respond(values, xp, load)])
         x, locked = _solve(base, responses, dirs, carriers, np.array([e.coefficient for e in self.elements]), n)
         final = list(base)
         for j in range(len(self.elements)):
@@ -207,13 +216,13 @@ class FrictionModel:
         losses = [x[:, j] * speeds[j] for j in range(len(self.elements))]
         for seal in self.spec.seals:
             jet = values[seal.joint]
-            d1, d2 = _arr(jet.d1), _arr(jet.d2)
+            d1, d2 = flat(_arr(jet.d1)), flat(_arr(jet.d2))
             k = index["effort", seal.joint]
             q = base[k]
             d = _direction(d1 * w, d2 * w * w + d1 * eps, d1 * -np.sign(q))
             final[k] = final[k] - seal.force * d
             losses.append(seal.force * np.abs(d1 * w))
-        rate = [_arr(values[j].d1) * w for j in self.inputs]
+        rate = [flat(_arr(values[j].d1)) * w for j in self.inputs]
         power = sum(final[index["effort", j]] * r for j, r in zip(self.inputs, rate))
         power0 = sum(base[index["effort", j]] * r for j, r in zip(self.inputs, rate))
         extra = [base[index["effort", j]] for j in self.inputs] + losses + [power, power0, locked.astype(float)]
@@ -221,7 +230,7 @@ class FrictionModel:
         if locked.any():
             result = [np.where(locked, _nan_like(v), v) for v in result[:-1]] + [result[-1]]
         if xp.vectorised:
-            return result
+            return result if len(shape) == 1 else [v.reshape(shape) for v in result]
         return [complex(v[0]) if np.iscomplexobj(v) else float(v[0]) for v in result]
 
 
@@ -229,19 +238,15 @@ def _arr(x: Any) -> np.ndarray:
     return np.atleast_1d(np.asarray(x))
 
 
-def _full(v: Any, n: int) -> np.ndarray:
-    """``v`` as an (n,) array (a view where it is one already, broadcast where it is a number)."""
-    a = np.asarray(v)
-    return a if a.shape == (n,) else np.broadcast_to(a, (n,))
-
-
 def _zero(a: np.ndarray) -> bool:
     """A response that is one broadcast zero (a load this output does not feel)."""
     return a.strides == (0,) and a.size > 0 and a[0] == 0
 
 
-def _size(out: Sequence[Any], omega: Any, epsilon: Any) -> int:
-    return max([np.size(v) for v in out] + [np.size(omega), np.size(epsilon), 1])
+def _shape(out: Sequence[Any], omega: Any, epsilon: Any) -> tuple[int, ...]:
+    """The samples' shape: every value's broadcast together (at least (1,))."""
+    shape = np.broadcast_shapes(*(np.shape(v) for v in out), np.shape(omega), np.shape(epsilon))
+    return shape if shape else (1,)
 
 
 def _nan_like(v: np.ndarray) -> Any:
