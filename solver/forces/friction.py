@@ -173,7 +173,12 @@ class FrictionModel:
         n = math.prod(shape)
 
         def flat(v: Any) -> np.ndarray:
-            return np.broadcast_to(np.asarray(v), shape).reshape(-1)
+            a = np.asarray(v)
+            if a.shape == shape:
+                return a if len(shape) == 1 else a.reshape(-1)
+            if a.size == 1 and n == 1:  # one instant: a float
+                return a.reshape(1)
+            return np.broadcast_to(a, shape).reshape(-1)
 
         w, eps = flat(omega).astype(float), flat(epsilon).astype(float)
         base = [flat(v) for v in out]
