@@ -10,7 +10,8 @@ Linear system. Route 2 is linear in the loads, so every output is affine in the 
 magnitudes x: out = out₀ + Σⱼ xⱼ·dⱼ·Uⱼ, where out₀ is the frictionless solve and Uⱼ the solve
 with only a unit load of friction element j (one more pass of the groups per element). The
 magnitudes solve x = c·|R₀ + B·x|, started from the frictionless x₀ = c·|R₀|, per sample and
-vectorised: Gauss–Seidel fixed-point sweeps on whole (n,) columns (real and imaginary parts
+vectorised (a sweep's (n,) samples, or a synthesis population's (C, S) block solved as C·S
+samples and reshaped): Gauss–Seidel fixed-point sweeps on whole (n,) columns (real and imaginary parts
 apart, in place; a contraction of gain μ·r/arm ≈ 0.1 reaches round-off in about a dozen
 sweeps), to |Δx| ≤ CONVERGED·|x|; the samples not settled after FIXED_STEPS sweeps go to
 Newton (Jacobian I − diag(c)·Re(conj(R)/|R| · B), an m × m system per sample), which also stops
