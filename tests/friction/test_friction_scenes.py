@@ -123,3 +123,17 @@ def test_one_instant_of_several_inputs_with_friction_is_the_vectorised_sample() 
         assert one.effort(j) == pytest.approx(float(many.effort(j)[0]), rel=1e-13)
         assert one.effort(j) != pytest.approx(one.ideal_effort(j), rel=1e-3)
     assert one.friction_power == pytest.approx(float(many.friction_power[0]), rel=1e-13)
+
+
+def test_a_relative_velocity_zero_to_rounding_takes_the_accelerations_direction() -> None:
+    """four_bar_loaded's coupler and rocker turn alike at φ = 0 (the crank on the line of the fixed
+    pivots): pin B's relative velocity there is a rounded zero (3e-17), whose sign must not pick
+    the friction's direction (tolerances.RELATIVE_REST): φ = 0 and 2π give the same effort, the
+    limit from the side the relative acceleration points to (φ → 0⁺ at ω > 0)."""
+    scene = solver.load_scene("four_bar_loaded_friction")
+    at = [float(scene.solve(p, omega=3.0, epsilon=0.0).effort("crank")) for p in (0.0, 2 * np.pi)]
+    swept = np.asarray(scene.solve(np.array([0.0, 2 * np.pi]), omega=3.0, epsilon=0.0).effort("crank"))
+    assert at[0] == pytest.approx(at[1], rel=1e-14) and swept[0] == pytest.approx(swept[1], rel=1e-14)
+    right = float(scene.solve(1e-7, omega=3.0, epsilon=0.0).effort("crank"))
+    left = float(scene.solve(-1e-7, omega=3.0, epsilon=0.0).effort("crank"))
+    assert abs(at[0] - right) < 1e-5 * abs(at[0]) < abs(at[0] - left)  # the friction at B flips across φ = 0
