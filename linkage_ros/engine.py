@@ -28,7 +28,18 @@ import solver
 from solver.errors import AssemblyError, SceneError, format_intervals
 from solver.tolerances import NEAR_SINGULAR
 
-from .forces import LoadPair, force_layout, forces_row, frame_forces, run_forces, sampled_loads
+from .forces import (
+    LoadPair,
+    force_layout,
+    forces_row,
+    frame_forces,
+    frame_friction,
+    friction_names,
+    friction_row,
+    run_forces,
+    run_friction,
+    sampled_loads,
+)
 from .frame import (
     NO_VALUES,
     STATUS_BEHIND,
@@ -149,6 +160,8 @@ class Engine:
         self.load_pairs: tuple[LoadPair, ...]
         self.effort_units: dict[str, str]
         self.forces, self.load_pairs, self.effort_units = force_layout(scene, self.inputs)
+        #: The entries of ``frame.friction`` (``total``, then each element; empty without friction).
+        self.friction_names: tuple[str, ...] = friction_names(scene)
         self._event_message = ""
         first = self._tick(t0, phi0, omega0, eps0)
         if not isinstance(first, Frame):
@@ -286,9 +299,10 @@ class Engine:
         if not self.forces:
             return k, None
         efforts, loads = run_forces(k, self.inputs, self.load_pairs)
-        if not all(np.isfinite(v).all() for v in (*efforts.values(), *loads.values())):
+        friction = run_friction(k, self.friction_names)
+        if not all(np.isfinite(v).all() for v in (*efforts.values(), *loads.values(), *friction.values())):
             return None
-        return k, (efforts, loads)
+        return k, (efforts, loads, friction)
 
     def _make_frame(
         self,
@@ -300,10 +314,11 @@ class Engine:
         i: int | None,
         *,
         holding: bool,
-        forces: tuple[Mapping[str, NDArray[np.float64]], Mapping[str, NDArray[np.float64]]] | None = None,
+        forces: tuple[Mapping[str, NDArray[np.float64]], ...] | None = None,
     ) -> Frame:
         """The frame of sample ``i`` of ``k`` (``None``: a scalar solve); ``forces``: the
-        efforts and loads of a vectorised ``k`` (:func:`~linkage_ros.forces.run_forces`)."""
+        efforts, loads and friction of a vectorised ``k`` (:func:`~linkage_ros.forces.run_forces`,
+        :func:`~linkage_ros.forces.run_friction`)."""
         if i is None:
             # the solver's 3-tuples become the named tuples as they are (no per-field __new__)
             floats, new = k.floats, tuple.__new__
@@ -322,6 +337,8 @@ class Engine:
                 )
         efforts, loads = (NO_VALUES, NO_VALUES) if not self.forces else (
             frame_forces(k, self.inputs, self.load_pairs) if forces is None else forces_row(forces, i))
+        friction = NO_VALUES if not self.friction_names else (
+            frame_friction(k, self.friction_names) if forces is None else friction_row(forces[2], i))
         conditioning = 1.0
         worst = ""
         for group, values in k.conditioning.items():
@@ -349,6 +366,7 @@ class Engine:
             message=message,
             efforts=efforts,
             loads=loads,
+            friction=friction,
         )
 
     def _paths(self, phi0: Any, samples: int) -> dict[str, NDArray[np.float64]]:

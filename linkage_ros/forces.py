@@ -18,6 +18,12 @@ and ``<name>_slide`` for a slide, so that a block's pin and its slide at one poi
 A scene without forces has none of this: the frames' ``efforts`` and ``loads`` are empty and
 every message is as before.
 
+A scene with Coulomb friction (``friction:``, docs/forces.md#friction) has efforts and loads with
+the friction in them (what ``k.effort`` and ``k.reaction`` give), and ``frame.friction``: the power
+friction dissipates (W), ``total`` first (:data:`FRICTION_TOTAL`, ``k.friction_power``), then per
+element (:func:`friction_names`: a pin by its point, a slider block, an actuator's seal;
+``k.friction_loss``) — the ``friction_power`` topic. Empty without friction.
+
 How long a load's arrow is drawn (the node's ``markers`` and the rerun view alike) is one rule,
 :class:`LoadArrows` chosen by :func:`load_arrows` from the loads of one cycle: proportional,
 ``scale`` m per N, up to a ``knee``; beyond it each further tenfold of the load adds one knee
@@ -42,6 +48,7 @@ from numpy.typing import NDArray
 from .arrows import ARROW_FRACTION, ARROW_PERCENTILE, nice_scale
 
 __all__ = [
+    "FRICTION_TOTAL",
     "KIND_PIN",
     "KIND_SLIDE",
     "TOPIC_PREFIX",
@@ -51,13 +58,19 @@ __all__ = [
     "force_layout",
     "forces_row",
     "frame_forces",
+    "frame_friction",
+    "friction_names",
+    "friction_row",
     "has_forces",
     "load_arrows",
     "load_pairs",
     "run_forces",
+    "run_friction",
     "sampled_loads",
 ]
 
+#: The first entry of ``frame.friction`` and of the ``friction_power`` topic: all friction's power.
+FRICTION_TOTAL = "total"
 KIND_PIN = "pin"
 KIND_SLIDE = "slide"
 #: The first part of the load topics, by kind of pair.
@@ -235,10 +248,11 @@ def run_forces(k: Any, inputs: Sequence[str], pairs: Sequence[LoadPair]
     return efforts, loads
 
 
-def forces_row(forces: tuple[Mapping[str, Any], Mapping[str, Any]], i: Any
+def forces_row(forces: Sequence[Mapping[str, Any]], i: Any
                ) -> tuple[dict[str, float], dict[str, tuple[float, float, float]]]:
-    """Sample ``i`` of :func:`run_forces`' efforts and loads, as Python floats."""
-    efforts, loads = forces
+    """Sample ``i`` of :func:`run_forces`' efforts and loads (the first two of ``forces``), as
+    Python floats."""
+    efforts, loads = forces[0], forces[1]
     return ({q: float(v[i]) for q, v in efforts.items()},
             {key: (float(v[i, 0]), float(v[i, 1]), float(v[i, 2])) for key, v in loads.items()})
 
@@ -248,3 +262,31 @@ def sampled_loads(k: Any, inputs: Sequence[str], pairs: Sequence[LoadPair]) -> d
     valid = np.asarray(k.valid, dtype=bool)
     _, loads = run_forces(k, inputs, pairs)
     return {key: np.ascontiguousarray(v[valid & np.isfinite(v).all(axis=1), :2]) for key, v in loads.items()}
+
+
+def friction_names(scene: Any) -> tuple[str, ...]:
+    """The entries of ``frame.friction``: :data:`FRICTION_TOTAL`, then each friction element
+    (solver.forces.friction_report.friction_names: pins by point, slider blocks, actuators'
+    seals); empty for a scene without friction."""
+    if not getattr(scene, "has_friction", False):
+        return ()
+    from solver.forces.friction_report import friction_names as elements
+
+    return (FRICTION_TOTAL, *elements(scene))
+
+
+def frame_friction(k: Any, names: Sequence[str]) -> dict[str, float]:
+    """``frame.friction`` of a one-instant solve (W, Python floats); ``names``: :func:`friction_names`."""
+    return {name: float(k.friction_power if name == FRICTION_TOTAL else k.friction_loss(name)) for name in names}
+
+
+def run_friction(k: Any, names: Sequence[str]) -> dict[str, NDArray[np.float64]]:
+    """:func:`frame_friction` of a vectorised solve: (N,) arrays."""
+    n = np.shape(k.valid)[0]
+    return {name: np.broadcast_to(np.asarray(k.friction_power if name == FRICTION_TOTAL else k.friction_loss(name),
+                                             dtype=np.float64), (n,)).reshape(-1) for name in names}
+
+
+def friction_row(friction: Mapping[str, NDArray[np.float64]], i: Any) -> dict[str, float]:
+    """Sample ``i`` of :func:`run_friction`, as Python floats."""
+    return {name: float(v[i]) for name, v in friction.items()}

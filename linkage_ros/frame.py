@@ -88,6 +88,9 @@ class Frame:
     #: load key → (Fx, Fy, M) (N, N, N·m); empty otherwise.
     efforts: Mapping[str, float] = field(default_factory=lambda: NO_VALUES)
     loads: Mapping[str, tuple[float, float, float]] = field(default_factory=lambda: NO_VALUES)
+    #: Scenes with friction (:func:`linkage_ros.forces.friction_names`): the power (W) friction
+    #: dissipates, ``total`` then per element; empty otherwise.
+    friction: Mapping[str, float] = field(default_factory=lambda: NO_VALUES)
 
 
 def finite_sum(frame: Frame) -> float:
@@ -97,6 +100,8 @@ def finite_sum(frame: Frame) -> float:
     total = sum(chain(chain(frame.points.values()))) + sum(chain(frame.joints.values()))
     if frame.efforts:
         total += sum(frame.efforts.values()) + sum(chain(frame.loads.values()))
+    if frame.friction:
+        total += sum(frame.friction.values())
     return total
 
 
@@ -114,4 +119,5 @@ def with_status(frame: Frame, status: str, message: str) -> Frame:
         message=message,
         efforts=frame.efforts,
         loads=frame.loads,
+        friction=frame.friction,
     )

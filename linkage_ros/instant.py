@@ -94,7 +94,7 @@ def _flat(engine: Engine) -> tuple[tuple[Slot, ...], FlatSolve, _Shape | None]:
     """:func:`flat_solver`, and the shape of the compiled tuple (None on the scalar path)."""
     scene = every_output(engine.scene)
     near = engine.near_singular_below
-    if hasattr(scene, "compiled"):
+    if hasattr(scene, "compiled") and not getattr(scene, "has_friction", False):  # friction: not compiled
         return _compiled(engine, scene, near)
     return (*_scalar(engine, scene, near), None)
 
@@ -192,6 +192,11 @@ def _scalar(engine: Engine, scene: Any, near: float) -> tuple[tuple[Slot, ...], 
 
         inputs, pairs = tuple(engine.inputs), tuple(engine.load_pairs)
         layout += [("e", q) for q in inputs] + [("l", pair.key, i) for pair in pairs for i in range(3)]
+    friction = tuple(getattr(engine, "friction_names", ()))
+    if friction:
+        from .forces import frame_friction
+
+        layout += [("f", name) for name in friction]
 
     def solve(phi: Any, omega: Any, epsilon: Any) -> tuple[float, ...] | None:
         try:
@@ -214,6 +219,8 @@ def _scalar(engine: Engine, scene: Any, near: float) -> tuple[tuple[Slot, ...], 
             out += efforts.values()
             for load in loads.values():
                 out += load
+        if friction:
+            out += frame_friction(k, friction).values()
         return tuple(out)
 
     return tuple(layout), solve

@@ -28,6 +28,8 @@ from .topics import (
     ENERGIES,
     ENERGY_LABELS,
     FIXED_TOPIC_TYPES,
+    FRICTION_POWER,
+    FRICTION_POWER_TYPE,
     INPUT_JOINT_STATES,
     INPUT_TYPES,
     JOINT_KINEMATICS,
@@ -52,6 +54,8 @@ __all__ = [
     "ENERGIES",
     "ENERGY_LABELS",
     "FIXED_TOPIC_TYPES",
+    "FRICTION_POWER",
+    "FRICTION_POWER_TYPE",
     "INPUT_JOINT_STATES",
     "INPUT_TYPES",
     "JOINT_KINEMATICS",
@@ -164,6 +168,13 @@ class MessageBuilder:
         #: The force messages (None: the scene has no forces, and no message changes).
         self.loads = LoadMessages(self, size=size, tree_joints=tree_effort_joints(self._tree, self._inputs)
                                   ) if getattr(engine, "forces", False) else None
+        #: The ``friction_power`` entries (:func:`linkage_ros.forces.friction_names`; empty: no topic).
+        self.friction_names: tuple[str, ...] = tuple(getattr(engine, "friction_names", ()))
+        if self.friction_names:
+            n = len(self.friction_names)
+            dim = c["std_msgs/msg/MultiArrayDimension"](label="W: " + " ".join(self.friction_names), size=n, stride=n)
+            self._friction_layout = c["std_msgs/msg/MultiArrayLayout"](dim=[dim], data_offset=0)
+            self._Float64MultiArray = c[FRICTION_POWER_TYPE]
 
     # ------------------------------------------------------------------ public
     def build(self, frame: Frame, stamp: int, *, include_paths: bool | None = None) -> list[tuple[str, Any]]:
@@ -214,6 +225,8 @@ class MessageBuilder:
                 out.append((acc, self._Vector3Stamped(header=header, vector=self._vector(ps.acceleration))))
         if self.loads is not None:
             out += self.loads.wrenches(frame, header, wanted)
+        if self.friction_names and (wanted is None or FRICTION_POWER in wanted):
+            out.append((FRICTION_POWER, self.friction_power(frame)))
         if wanted is None or MARKERS in wanted:
             if include_paths is None:
                 include_paths = self.wants_paths(frame.t)
@@ -356,6 +369,13 @@ class MessageBuilder:
             for points, style in zip(self._path_points, self._path_styles):
                 markers.append(M(header=header, points=points, **style))
         return self._MarkerArray(markers=markers)
+
+    def friction_power(self, frame: Frame) -> Any:
+        """The ``friction_power`` message of ``frame`` (scenes with friction): the power friction
+        dissipates, W, in the order of :attr:`friction_names` (NaN for a frame without it)."""
+        friction = frame.friction
+        values = [friction.get(name, math.nan) for name in self.friction_names]
+        return self._Float64MultiArray(layout=self._friction_layout, data=self.types.float64s(values))
 
     def energies(self, values: Sequence[float]) -> Any:
         """The ``energies`` row of a dynamic-mode tick (:mod:`linkage_ros._runtime_dynamic`): a

@@ -13,7 +13,8 @@ constant runs of bytes between the numbers, and which number goes where. Numbers
 (joint J: i = 0 position, 1 velocity, 2 acceleration), ``("tq", k)``, ``("tv", k)`` (the URDF tree
 joints' positions and velocities on ``joint_states``), and in scenes with forces
 (:mod:`linkage_ros.forces`) ``("e", J)`` (input J's effort), ``("l", key, i)`` (a load's
-Fx, Fy, M) and ``("lt", k)`` (the load arrows' tips, x and y, flat). Like the tree joints, the
+Fx, Fy, M) and ``("lt", k)`` (the load arrows' tips, x and y, flat); in scenes with friction
+``("f", name)`` (the power friction dissipates: ``total``, then per element). Like the tree joints, the
 tips are derived by the builder (``MessageBuilder.load_tips``), not copied from the frame.
 
 Three ways to fill the templates, one set of templates:
@@ -187,6 +188,8 @@ class Serializer:
         self._loads = tuple(pair.key for pair in engine.load_pairs) if forces else ()
         slots += [("e", q) for q in self._efforts] + [("l", key, i) for key in self._loads for i in range(3)]
         slots += [("lt", k) for k in range(2 * len(self._loads))]
+        self._friction = tuple(getattr(engine, "friction_names", ()))
+        slots += [("f", name) for name in self._friction]
         #: The canonical order of a tick's numbers (:meth:`numbers`).
         self.slots: tuple[Slot, ...] = tuple(slots)
         probe = [float(SEC), float(NSEC)] + [sentinel(i) for i in range(2, len(slots))]
@@ -210,6 +213,8 @@ class Serializer:
             extra["efforts"] = MappingProxyType({q: value[("e", q)] for q in self._efforts})
             extra["loads"] = MappingProxyType({key: tuple(value[("l", key, i)] for i in range(3))
                                                for key in self._loads})
+        if self._friction:
+            extra["friction"] = MappingProxyType({name: value[("f", name)] for name in self._friction})
         frame = Frame(t=0.0, phi=0.0, omega=0.0, epsilon=0.0, points=MappingProxyType(points),
                       joints=MappingProxyType(joints), status=STATUS_OK, conditioning=1.0, message="",
                       **extra)
@@ -268,6 +273,9 @@ class Serializer:
             for key in self._loads:
                 add(loads[key])
             add(self.builder.load_tips(frame))
+        if self._friction:
+            friction = frame.friction
+            add([friction[name] for name in self._friction])
         return tuple(values)
 
     def render(self, frame: Frame, stamp_ns: int, *, paths: bool = False,

@@ -8,6 +8,8 @@ and ROS types, in the order :class:`~linkage_ros.messages.MessageBuilder` builds
     points/<P>/acceleration    geometry_msgs/msg/Vector3Stamped
     pin_loads/<K>              geometry_msgs/msg/WrenchStamped   (scenes with forces only,
     slide_loads/<K>            geometry_msgs/msg/WrenchStamped    :mod:`.load_messages`)
+    friction_power             std_msgs/msg/Float64MultiArray    (scenes with friction only:
+                                                                  W, total then per element)
     markers                    visualization_msgs/msg/MarkerArray
     diagnostics                diagnostic_msgs/msg/DiagnosticArray
 
@@ -28,6 +30,8 @@ __all__ = [
     "EFFORT_COMMANDS",
     "ENERGIES",
     "ENERGY_LABELS",
+    "FRICTION_POWER",
+    "FRICTION_POWER_TYPE",
     "INPUT_JOINT_STATES",
     "INPUT_TYPES",
     "ROBOT_DESCRIPTION",
@@ -83,6 +87,11 @@ MARKER_NAMESPACES = ("links", "joints", "fixed_pivots", "paths")
 #: :mod:`.load_messages`).
 LOADS_NAMESPACE = "loads"
 LOAD_LABELS_NAMESPACE = "load_labels"
+#: Scenes with friction: the power (W) friction dissipates at the tick, ``total`` first, then per
+#: element (a pin by its point, a slider block, an actuator's seal), the one dimension's label
+#: naming them (``W: total O A C B``; :func:`linkage_ros.forces.friction_names`).
+FRICTION_POWER = "friction_power"
+FRICTION_POWER_TYPE = "std_msgs/msg/Float64MultiArray"
 #: The type of every ``pin_loads/<K>`` and ``slide_loads/<K>`` topic.
 WRENCH_STAMPED = "geometry_msgs/msg/WrenchStamped"
 
@@ -122,6 +131,8 @@ def topic_types(engine_or_points: Engine | Sequence[str]) -> list[tuple[str, str
             (acc, "geometry_msgs/msg/Vector3Stamped"),
         ]
     out += load_topic_types(getattr(engine_or_points, "load_pairs", ()))
+    if getattr(engine_or_points, "friction_names", ()):
+        out.append((FRICTION_POWER, FRICTION_POWER_TYPE))
     out += [(MARKERS, FIXED_TOPIC_TYPES[MARKERS]), (DIAGNOSTICS, FIXED_TOPIC_TYPES[DIAGNOSTICS])]
     return out
 

@@ -187,7 +187,10 @@ def _solve_sweep(scene: Scene, phi: np.ndarray, omega: list[Any], epsilon: list[
 
 def _solve_instant(scene: Scene, q: tuple[float, ...], omega: list[Any], epsilon: list[Any], mask: bool) -> Kinematics:
     """One instant: the scene's compiled function (solver._codegen), or, where one of its guards
-    trips, :func:`solve_instant` — today's scalar path."""
+    trips, :func:`solve_instant` — today's scalar path (always, for a scene with friction: it is
+    not compiled)."""
+    if scene.has_friction:
+        return solve_instant(scene, q, omega, epsilon, mask)
     derivatives = Derivatives(each=lambda name: _instant_derivatives(scene, q, name))
     unit = scene.compiled()
     flat = unit.core(*q, *omega, *epsilon)

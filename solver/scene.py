@@ -202,9 +202,12 @@ class Scene:
         )
 
     @property
-    def _friction(self) -> bool:
-        """Whether the scene names Coulomb friction (then one instant is solved uncompiled)."""
+    def has_friction(self) -> bool:
+        """Whether the scene names Coulomb friction (solver.forces.friction; then one instant is
+        solved uncompiled, and its results have ``friction_loss``, ``efficiency`` ...)."""
         return self.forces is not None and self.forces.friction is not None
+
+    _friction = has_friction
 
     @property
     def has_forces(self) -> bool:

@@ -20,7 +20,7 @@ from typing import Any, TextIO
 
 import numpy as np
 
-from ._cmdline import Parser, check_output, count, one_line, positive, quiet_pipe, within
+from ._cmdline import OMEGA_MAX, Parser, check_output, count, one_line, positive, quiet_pipe, within
 from .errors import SolverError, SynthesisError
 
 __all__ = ["main", "read_rows", "RrdWriter"]
@@ -85,6 +85,11 @@ def _parser() -> Parser:
     p.add_argument("--dask", metavar="ADDRESS", help="run the starts on this dask.distributed scheduler (default: "
                    "in this process)")
     p.add_argument("--all", action="store_true", help="list every distinct design found, not only the best")
+    p.add_argument("--efficiency-weight", type=within(0.0, math.inf, "(a weight)"), default=0.0, metavar="W",
+                   help="add W·(1 − the worst efficiency over the input range at --speed) to the search's figure "
+                        "(a template with friction:, docs/forces.md#friction; default 0)")
+    p.add_argument("--speed", type=within(0.0, OMEGA_MAX, "rad/s"), default=1.0, metavar="W",
+                   help="input speed ω (rad/s) of the force terms (default 1)")
     p.add_argument("--rrd", metavar="FILE", help="write the rerun view of the search and its design (.rrd; "
                    "default: none)")
     return p
@@ -161,6 +166,7 @@ def main(argv: Sequence[str] | None = None, *, rrd_writer: RrdWriter | None = No
         res = synthesize(
             args.template, **task, seed=args.seed, time_limit=args.time_limit, workers=client, starts=args.starts,
             min_transmission=math.radians(args.min_transmission), max_ratio=args.max_ratio, progress=bar,
+            efficiency_weight=args.efficiency_weight, speed=args.speed,
         )
         bar.close()
         if args.output:

@@ -96,6 +96,13 @@ CLOSURE_ROUNDING: float = 16 * EPS
 ZERO_TO_ROUNDING: float = 1e-12
 
 
+#: A friction element's relative velocity analog (rad/rad at a pin, m/rad at a slide) at most this
+#: times the rates it is a difference of (the two links' |dθ/dφ|, or the block's and its guide
+#: point's |dB/dφ|) is a zero rounded (a four-bar's coupler and rocker turn alike where the crank
+#: lies on the line of the fixed pivots: 3e-17 apart): the friction takes the direction of the
+#: relative acceleration there (solver.forces.friction), not the sign of the rounding.
+RELATIVE_REST: float = 1024 * EPS
+
 #: Forward dynamics stops where a group's conditioning falls below this: next to a toggle the
 #: reduced inertia grows like 1/conditioning², the motion reaches the toggle in finite time and
 #: the inputs cannot drive through it (solver.dynamics). At 1e-3 (NEAR_SINGULAR) the equation is

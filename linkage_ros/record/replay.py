@@ -35,6 +35,7 @@ import numpy as np
 from ..forces import TOPIC_PREFIX
 from .cdr import extract
 from .forces import forces_from_mcap, forces_metadata
+from .friction import friction_from_mcap
 from .mcap_read import McapContents, read_mcap
 from .rundata import RunData, joint_units
 
@@ -99,7 +100,7 @@ def _suffix(contents: McapContents, meta: Mapping[str, str]) -> dict[str, str]:
     recorded = contents.topics()
     out = {rel: name for rel, name in json.loads(meta.get("topics", "{}")).items() if name in recorded}
     for name in recorded:
-        for rel in ("joint_kinematics", "joint_states", "markers", "diagnostics"):
+        for rel in ("joint_kinematics", "joint_states", "markers", "diagnostics", "friction_power"):
             if name.endswith("/" + rel):
                 out.setdefault(rel, name)
         parts = name.rsplit("/", 3)
@@ -193,6 +194,9 @@ def run_data_from_mcap(path: str | os.PathLike[str],
         phi, omega, eps = _inputs(ts, diag_type, diags, inputs, joints)
     else:
         phi, omega, eps = _input(ts, diag_type, diags, joints.get(input_joint))
+    friction = {}
+    if "friction_power" in topics and _has_all(kind_of["friction_power"][0][0], stamps):
+        friction = friction_from_mcap(ts, kind_of["friction_power"][1], rows("friction_power"))
     note = ""
     if not contents.complete:
         note = (f"Replayed from a file cut short (no footer): {n} complete ticks read, "
@@ -205,6 +209,7 @@ def run_data_from_mcap(path: str | os.PathLike[str],
         inputs=tuple(inputs) if len(inputs) > 1 else (), start_ns=start_ns,
         joint_units={str(j): str(u) for j, u in json.loads(meta.get("joint_units", "{}")).items()},
         cylinders=[(str(n), str(a), str(c), float(s)) for n, a, c, s in json.loads(meta.get("cylinders", "[]"))],
+        friction=friction,
         **forces_from_mcap(ts, meta, topics, rows, types, (kind_of["joint_kinematics"][1], kin_rows, joint_names)))
     return data, contents
 

@@ -24,6 +24,8 @@ Entity layout::
     plots/effort/<Q>                scenes with forces: Scalars, the effort of input Q (:mod:`.forces`)
     plots/energy/<kind>             dynamic runs: Scalars, the energies and works (:mod:`.energy`)
     plots/energy_balance            dynamic runs: Scalars, the energy balance's error
+    plots/friction/<name>           scenes with friction: Scalars (W), total and per element (:mod:`.friction`)
+    plots/efficiency                scenes with friction: Scalars, the instantaneous efficiency
 
 A 2-D view draws its y axis downwards (image coordinates; rerun ignores view coordinates in 2-D
 views), so each drawn entity of a planar scene carries a static mirror ``Transform3D`` (y → −y,
@@ -60,6 +62,7 @@ from ._drawing import (
 )
 from .energy import energy_views, log_energy
 from .forces import effort_views, forces_legend, load_rule, log_forces
+from .friction import friction_views, log_friction
 from .rundata import Array, RunData
 from .viewer import viewer_environment, viewer_executable
 
@@ -151,8 +154,9 @@ def plot_columns(data: RunData) -> list[list[tuple[str, list[str]]]]:
 
 def plot_column_count(data: RunData) -> int:
     """Columns of plots beside the mechanism: :func:`plot_columns`' and, for a dynamic run, its
-    energy column (the legend's width, and so its height, depends on all of them)."""
-    return len(plot_columns(data)) + (1 if data.energy else 0)
+    energy column, for a scene with friction its friction column (the legend's width, and so its
+    height, depends on all of them)."""
+    return len(plot_columns(data)) + (1 if data.energy else 0) + (1 if data.friction else 0)
 
 
 def legend_share(text: str, columns: int) -> tuple[float, float]:
@@ -191,6 +195,8 @@ def blueprint(data: RunData) -> Any:
         columns.append(rrb.Vertical(*views, *(effort_views(data) if c == 0 else [])))
     if data.energy:  # a dynamic run: a column of its energy plots (.energy)
         columns.append(rrb.Vertical(*energy_views(data)))
+    if data.friction:  # a scene with friction: its losses and efficiency (.friction)
+        columns.append(rrb.Vertical(*friction_views(data)))
     plots = rrb.Horizontal(*columns)
     return rrb.Blueprint(
         rrb.Horizontal(mechanism, plots, column_shares=[PLOTS_SHARE[0], PLOTS_SHARE[1] * n_columns]),
@@ -330,6 +336,8 @@ def log_run(rec: Any, data: RunData) -> dict[str, float]:
             log_series(rec, f"plots/joints/{kind}/{joint}", joint, times, values, i)
     if data.energy:  # a dynamic run: the energies and the balance's error (.energy)
         log_energy(rec, data, times)
+    if data.friction:  # a scene with friction: its losses and efficiency (.friction)
+        log_friction(rec, data, times)
     if data.loads or data.efforts:  # scenes with forces: arrows at the pins, efforts (.forces)
         rule = log_forces(rec, data, times, radius=radius)
         knee = {"load_knee": rule.knee} if math.isfinite(rule.knee) else {}

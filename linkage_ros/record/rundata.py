@@ -52,6 +52,10 @@ class RunData:
     angles and lengths apart."""
     cylinders: list[tuple[str, str, str, float]] = field(default_factory=list)
     """Each actuator as ``(name, base A, eye C, closed length m)``: drawn as barrel and rod."""
+    friction: dict[str, Array] = field(default_factory=dict)
+    """A scene with friction (``frame.friction``, the ``friction_power`` topic): per tick the power
+    (W) friction dissipates, ``total`` first, then per element (pin point, slider block,
+    actuator's seal); empty without friction."""
     energy: dict[str, Array] = field(default_factory=dict)
     """A dynamic run (``linkage-run --dynamics``, issue 22): per tick (J) ``kinetic``, ``gravity``,
     ``springs``, ``work_drive``, ``work_other`` and ``balance`` (the energy balance's error,
@@ -122,6 +126,7 @@ class RunBuilder:
         self.jnt = {j: (np.empty(n), np.empty(n), np.empty(n)) for j in engine.joint_names}
         self.eff = {q: np.empty(n) for q in getattr(engine, "effort_units", {})}  # forces only
         self.lds = {p.key: np.empty((n, 3)) for p in getattr(engine, "load_pairs", ())}
+        self.fri = {name: np.empty(n) for name in getattr(engine, "friction_names", ())}  # friction only
 
     def add(self, frame: Any) -> None:
         k = self.k
@@ -139,6 +144,8 @@ class RunBuilder:
             e[k] = frame.efforts[name]
         for key, f in self.lds.items():
             f[k] = frame.loads[key]
+        for name, w in self.fri.items():
+            w[k] = frame.friction[name]
         self.k += 1
 
     def build(self) -> RunData:
@@ -158,6 +165,7 @@ class RunBuilder:
             inputs=self.inputs,
             efforts={q: e[:k] for q, e in self.eff.items()},
             loads={key: f[:k] for key, f in self.lds.items()},
+            friction={name: w[:k] for name, w in self.fri.items()},
             load_pins={p.key: (p.point, p.body, p.other) for p in getattr(self.engine, "load_pairs", ())},
             effort_units=dict(getattr(self.engine, "effort_units", {})),
             joint_units=joint_units(scene, self.jnt),

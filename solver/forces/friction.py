@@ -10,7 +10,8 @@ Linear system. Route 2 is linear in the loads, so every output is affine in the 
 magnitudes x: out = out₀ + Σⱼ xⱼ·dⱼ·Uⱼ, where out₀ is the frictionless solve and Uⱼ the solve
 with only a unit load of friction element j (one more pass of the groups per element). The
 magnitudes solve x = c·|R₀ + B·x|, started from the frictionless x₀ = c·|R₀|, per sample and
-vectorised: Gauss–Seidel fixed-point sweeps on whole (n,) columns (real and imaginary parts
+vectorised (a sweep's (n,) samples, or a synthesis population's (C, S) block solved as C·S
+samples and reshaped): Gauss–Seidel fixed-point sweeps on whole (n,) columns (real and imaginary parts
 apart, in place; a contraction of gain μ·r/arm ≈ 0.1 reaches round-off in about a dozen
 sweeps), to |Δx| ≤ CONVERGED·|x|; the samples not settled after FIXED_STEPS sweeps go to
 Newton (Jacobian I − diag(c)·Re(conj(R)/|R| · B), an m × m system per sample), which also stops
@@ -23,7 +24,8 @@ the friction against the motion: the mechanism **self-locks** there (no finite e
 it); every value of such a sample is NaN and ``locked`` True there (``k.locked``, and
 ``locking_message`` names the φ intervals in one line).
 
-Direction rule where a relative velocity is zero: the sign of the relative acceleration; where
+Direction rule where a relative velocity is zero (its analog within tolerances.RELATIVE_REST of
+the rates it is a difference of: a zero rounded): the sign of the relative acceleration; where
 that is zero too (at rest), the load's tendency — the motion the loads would start if the
 input let go, i.e. the input moving by −sign(Q₀) (Q₀ the frictionless effort of the first
 input): the friction then opposes it and the effort is the smallest that holds. The breakaway
@@ -42,11 +44,12 @@ import numpy as np
 
 from .._backend import Backend
 from ..errors import SolverError
+from ..tolerances import RELATIVE_REST
 from .friction_spec import FrictionSpec
 from .state import ForcePass
 from .structure import GROUND, Structure
 
-__all__ = ["FrictionModel", "breakaway", "cycle_efficiency", "locked_intervals", "locking_message",
+__all__ = ["FrictionModel", "breakaway", "cycle_efficiency", "efficiency", "locked_intervals", "locking_message",
            "NEWTON_STEPS", "CONVERGED", "TENDENCY"]
 
 
@@ -142,20 +145,22 @@ class FrictionModel:
         c1 = np.conj(r) * r1
         return c1.imag / rr, (np.conj(r) * r2).imag / rr - 2.0 * c1.real * c1.imag / (rr * rr)
 
-    def _slide(self, e: _Element, values: Any) -> tuple[Any, Any, Any]:
-        """The block's unit direction along its guide, and (dv/dφ, d²v/dφ²) of its sliding."""
+    def _slide(self, e: _Element, values: Any) -> tuple[Any, Any, Any, Any]:
+        """The block's unit direction along its guide, (dv/dφ, d²v/dφ²) of its sliding, and the
+        scale of dv/dφ's rounding (the block's and its guide point's |dB/dφ|)."""
         ln = self.links[e.body]
         b = values[e.point]
         if ln.along is None:  # a fixed guide
             u = complex(ln.guide if ln.guide is not None else 1.0)
-            return u, _arr((np.conj(u) * _arr(b.d1)).real), _arr((np.conj(u) * _arr(b.d2)).real)
+            b1 = _arr(b.d1)
+            return u, _arr((np.conj(u) * b1).real), _arr((np.conj(u) * _arr(b.d2)).real), np.abs(b1)
         a = values[ln.along[0]]
         r, r1, r2 = _arr(b.value - a.value), _arr(b.d1 - a.d1), _arr(b.d2 - a.d2)
         rho = np.abs(r)
         c1 = (np.conj(r) * r1).real
         v1 = c1 / rho
         v2 = (np.conj(r) * r2).real / rho + (r1.real ** 2 + r1.imag ** 2) / rho - c1 * c1 / rho ** 3
-        return r / rho, v1, v2
+        return r / rho, v1, v2, np.abs(_arr(b.d1)) + np.abs(_arr(a.d1))
 
     # -- the solve --------------------------------------------------------------------------------
     def apply(self, model: _Responses, values: Any, xp: Backend, omega: Any, epsilon: Any,
@@ -163,9 +168,21 @@ class FrictionModel:
         """``out`` (the frictionless flat tuple, in ``model``'s base layout) with friction, then the
         values of :attr:`layout`."""
         index = model.base_index
-        n = _size(out, omega, epsilon)
-        w, eps = _arr(omega) * np.ones(n), _arr(epsilon) * np.ones(n)
-        base = [_full(v, n) for v in out]
+        # the samples' shape: (n,) for a sweep, (C, S) for a synthesis population (solved flat,
+        # reshaped at the end); n its size
+        shape = _shape(out, omega, epsilon)
+        n = math.prod(shape)
+
+        def flat(v: Any) -> np.ndarray:
+            a = np.asarray(v)
+            if a.shape == shape:
+                return a if len(shape) == 1 else a.reshape(-1)
+            if a.size == 1 and n == 1:  # one instant: a float
+                return a.reshape(1)
+            return np.broadcast_to(a, shape).reshape(-1)
+
+        w, eps = flat(omega).astype(float), flat(epsilon).astype(float)
+        base = [flat(v) for v in out]
         q0 = base[index["effort", self.inputs[0]]]
         tendency = -np.sign(q0)
         rates: dict[str, tuple[Any, Any]] = {}
@@ -178,18 +195,22 @@ class FrictionModel:
         for e in self.elements:
             if e.kind == "pin":
                 (a1, a2), (b1, b2) = rates[e.body], rates[e.other]
-                v1, v2 = _arr(a1) - _arr(b1), _arr(a2) - _arr(b2)
+                v1, v2 = flat(_arr(a1) - _arr(b1)), flat(_arr(a2) - _arr(b2))
+                scale = flat(np.abs(_arr(a1)) + np.abs(_arr(b1)))
                 unit: Any = None
                 load = _couples(e.body, e.other)
                 carriers.append(index["pin", e.index])
             else:
-                unit, v1, v2 = self._slide(e, values)
+                unit, v1, v2, scale = self._slide(e, values)
                 load = _pushes(e.body, e.other, e.point, unit if xp.vectorised else complex(np.ravel(unit)[0]))
                 carriers.append(index["slide", e.index])
-            dirs.append(_direction(v1 * w, v2 * w * w + v1 * eps, v1 * tendency))
+                v1, v2, scale = flat(v1), flat(v2), flat(scale)
+                unit = unit if np.ndim(unit) == 0 else flat(unit)
+            at_rest = np.abs(v1) <= RELATIVE_REST * scale  # a zero rounded (tolerances.RELATIVE_REST)
+            dirs.append(_direction(np.where(at_rest, 0.0, v1) * w, v2 * w * w + v1 * eps, v1 * tendency))
             speeds.append(np.abs(v1 * w))
             units.append(unit)
-            responses.append([_full(v, n) for v in model.respond(values, xp, load)])
+            responses.append([flat(v) for v in model.respond(values, xp, load)])
         x, locked = _solve(base, responses, dirs, carriers, np.array([e.coefficient for e in self.elements]), n)
         final = list(base)
         for j in range(len(self.elements)):
@@ -201,13 +222,13 @@ class FrictionModel:
         losses = [x[:, j] * speeds[j] for j in range(len(self.elements))]
         for seal in self.spec.seals:
             jet = values[seal.joint]
-            d1, d2 = _arr(jet.d1), _arr(jet.d2)
+            d1, d2 = flat(_arr(jet.d1)), flat(_arr(jet.d2))
             k = index["effort", seal.joint]
             q = base[k]
             d = _direction(d1 * w, d2 * w * w + d1 * eps, d1 * -np.sign(q))
             final[k] = final[k] - seal.force * d
             losses.append(seal.force * np.abs(d1 * w))
-        rate = [_arr(values[j].d1) * w for j in self.inputs]
+        rate = [flat(_arr(values[j].d1)) * w for j in self.inputs]
         power = sum(final[index["effort", j]] * r for j, r in zip(self.inputs, rate))
         power0 = sum(base[index["effort", j]] * r for j, r in zip(self.inputs, rate))
         extra = [base[index["effort", j]] for j in self.inputs] + losses + [power, power0, locked.astype(float)]
@@ -215,7 +236,7 @@ class FrictionModel:
         if locked.any():
             result = [np.where(locked, _nan_like(v), v) for v in result[:-1]] + [result[-1]]
         if xp.vectorised:
-            return result
+            return result if len(shape) == 1 else [v.reshape(shape) for v in result]
         return [complex(v[0]) if np.iscomplexobj(v) else float(v[0]) for v in result]
 
 
@@ -223,19 +244,15 @@ def _arr(x: Any) -> np.ndarray:
     return np.atleast_1d(np.asarray(x))
 
 
-def _full(v: Any, n: int) -> np.ndarray:
-    """``v`` as an (n,) array (a view where it is one already, broadcast where it is a number)."""
-    a = np.asarray(v)
-    return a if a.shape == (n,) else np.broadcast_to(a, (n,))
-
-
 def _zero(a: np.ndarray) -> bool:
     """A response that is one broadcast zero (a load this output does not feel)."""
     return a.strides == (0,) and a.size > 0 and a[0] == 0
 
 
-def _size(out: Sequence[Any], omega: Any, epsilon: Any) -> int:
-    return max([np.size(v) for v in out] + [np.size(omega), np.size(epsilon), 1])
+def _shape(out: Sequence[Any], omega: Any, epsilon: Any) -> tuple[int, ...]:
+    """The samples' shape: every value's broadcast together (at least (1,))."""
+    shape = np.broadcast_shapes(*(np.shape(v) for v in out), np.shape(omega), np.shape(epsilon))
+    return shape if shape else (1,)
 
 
 def _nan_like(v: np.ndarray) -> Any:
@@ -431,6 +448,19 @@ def breakaway(scene: Any, phi: Any, joint: str | None = None) -> tuple[Any, Any]
         q = np.where(np.asarray(k.locked), sign * math.inf, q)
         edges.append(float(q) if q.ndim == 0 else q)
     return edges[0], edges[1]
+
+
+def efficiency(power: Any, ideal: Any) -> Any:
+    """The instantaneous efficiency from the input power P = Σ Q·q̇ and the ideal P₀ = Σ Q₀·q̇
+    (arrays or floats): P₀/P where the ideal mechanism takes power from its inputs (P₀ > 0);
+    P/P₀ where it gives power to them (P₀ < 0: back-driven; negative where friction still needs
+    the input to push); where P₀ = 0, 1 if P = 0 (at rest) else 0; NaN where either is NaN. The
+    one formula of ``k.efficiency`` and of the recorded runs' efficiency plot."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        p, p0 = np.asarray(power, float), np.asarray(ideal, float)
+        eta = np.where(p0 > 0.0, p0 / np.where(p0 > 0.0, p, 1.0),
+                       np.where(p0 < 0.0, p / np.where(p0 < 0.0, p0, 1.0), np.where(p == 0.0, 1.0, 0.0)))
+        return np.where(np.isnan(p) | np.isnan(p0), np.nan, eta)
 
 
 def cycle_efficiency(k: Any) -> float:

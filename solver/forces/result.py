@@ -8,6 +8,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from ..errors import SolverError
+from .friction import efficiency
 from .model import ForceModel
 
 __all__ = ["ForceResult", "ForceBuffers", "SlideReaction"]
@@ -146,12 +147,7 @@ class ForceResult:
         back-driving efficiency; negative where friction still needs the input to push — the
         mechanism holds itself); where P₀ = 0, 1 if P = 0 (at rest) else 0. NaN only where
         ``locked`` or singular."""
-        p, p0 = self.input_power, self._friction_value(("power0", None))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            p, p0 = np.asarray(p, float), np.asarray(p0, float)
-            eta = np.where(p0 > 0.0, p0 / np.where(p0 > 0.0, p, 1.0),
-                           np.where(p0 < 0.0, p / np.where(p0 < 0.0, p0, 1.0), np.where(p == 0.0, 1.0, 0.0)))
-            eta = np.where(np.isnan(p) | np.isnan(p0), np.nan, eta)
+        eta = efficiency(self.input_power, self._friction_value(("power0", None)))  # solver.forces.friction
         return float(eta) if self._n is None else eta
 
 

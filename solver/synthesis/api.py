@@ -55,6 +55,7 @@ def synthesize(
     max_ratio: float | None = None,
     effort_weight: float = 0.0,
     pin_weight: float = 0.0,
+    efficiency_weight: float = 0.0,
     speed: float = 1.0,
     starts: int = STARTS,
     samples: int = SAMPLES,
@@ -69,7 +70,9 @@ def synthesize(
     ``max_ratio``: the longest link over the shortest at most this. ``effort_weight`` (per N·m,
     or per N for a slider input) and ``pin_weight`` (per N) add the peak input effort and the peak
     pin load over the range at ``speed`` (ω, rad/s) to the search's figure (the template needs
-    bodies or loads, docs/forces.md); the polish still hits the targets. ``starts``: multi-start
+    bodies or loads, docs/forces.md); ``efficiency_weight`` adds weight · (1 − the worst
+    instantaneous efficiency over the range at ``speed``) (the template needs ``friction:``,
+    docs/forces.md#friction); the polish still hits the targets. ``starts``: multi-start
     sweep length (stopped at the first start that gives an exact design); ``workers``: a
     ``dask.distributed.Client`` that runs the starts (the result is the same). An expired
     ``time_limit`` (s) returns the best design so far, marked (``res.expired``).
@@ -89,8 +92,9 @@ def synthesize(
     min_transmission = args.number("min_transmission", min_transmission, low=0.0, high=math.pi / 2, high_open=True,
                                    span="in [0, π/2)", unit="rad")
     max_ratio = args.number("max_ratio", max_ratio, low=1.0, none=True)
-    effort_weight, pin_weight = (args.number(n, v, low=0.0) for n, v in (("effort_weight", effort_weight),
-                                                                       ("pin_weight", pin_weight)))
+    effort_weight, pin_weight, efficiency_weight = (
+        args.number(n, v, low=0.0) for n, v in (("effort_weight", effort_weight), ("pin_weight", pin_weight),
+                                                ("efficiency_weight", efficiency_weight)))
     speed = args.number("speed", speed, low=0.0)
     starts, samples = args.integer("starts", starts, low=1), args.integer("samples", samples, low=8)
     popsize, maxiter = args.integer("popsize", popsize, low=1), args.integer("maxiter", maxiter, low=1)
@@ -99,8 +103,8 @@ def synthesize(
     goal = make_goal(tpl, point=point, through=through, at=at, joint=joint, pairs=pairs, poses=poses,
                      input_range=input_range, min_transmission=min_transmission, max_ratio=max_ratio,
                      samples=samples)
-    if effort_weight or pin_weight:
-        goal = _weighted(tpl, goal, effort_weight, pin_weight, speed)
+    if effort_weight or pin_weight or efficiency_weight:
+        goal = _weighted(tpl, goal, effort_weight, pin_weight, speed, efficiency=efficiency_weight)
     options = Options(popsize=popsize, maxiter=maxiter, starts=starts)
     found: list[Design] = []
 
@@ -114,7 +118,7 @@ def synthesize(
     def rank(d: Design) -> tuple[bool, bool, float]:
         """Feasible first, then exact; among exact designs with force terms, the lowest figure."""
         exact = d.error <= EXACT_MISS
-        if exact and (goal.effort_weight or goal.pin_weight):
+        if exact and goal.weighted:
             return (not d.feasible, False, float(objective(goal, evaluate(tpl, goal, d.x[None]))[0]))
         return (not d.feasible, not exact, d.error)
 
@@ -214,14 +218,22 @@ def make_goal(tpl: Template, *, point: str | None, through: Any, at: Any, joint:
                 closures, full)
 
 
-def _weighted(tpl: Template, goal: Goal, effort: float, pin: float, speed: float) -> Goal:
-    for name, value in (("effort_weight", effort), ("pin_weight", pin), ("speed", speed)):
+def _weighted(tpl: Template, goal: Goal, effort: float, pin: float, speed: float, *, efficiency: float = 0.0) -> Goal:
+    for name, value in (("effort_weight", effort), ("pin_weight", pin), ("speed", speed),
+                        ("efficiency_weight", efficiency)):
         if not (math.isfinite(value) and value >= 0.0):
             raise SynthesisError(f"{name} must be a finite number ≥ 0, got {value}")
     if tpl.template_scene.forces is None:
-        raise SynthesisError(f"{tpl.file or 'template'}: effort_weight and pin_weight need a template with bodies, "
-                             "gravity or loads (docs/forces.md)")
-    return replace(goal, effort_weight=float(effort), pin_weight=float(pin), speed=float(speed))
+        what = "effort_weight and pin_weight need" if effort or pin else "efficiency_weight needs"
+        raise SynthesisError(f"{tpl.file or 'template'}: {what} a template with bodies, gravity or loads "
+                             "(docs/forces.md)")
+    if efficiency and not tpl.template_scene.has_friction:
+        raise SynthesisError(f"{tpl.file or 'template'}: efficiency_weight needs a template with friction: "
+                             "without it every design's efficiency is 1 (docs/forces.md#friction)")
+    if efficiency and speed == 0.0:
+        raise SynthesisError("efficiency_weight needs speed > 0: at rest no power flows, the efficiency is 1")
+    return replace(goal, effort_weight=float(effort), pin_weight=float(pin), speed=float(speed),
+                   efficiency_weight=float(efficiency))
 
 
 def _check_reach(tpl: Template, targets: np.ndarray) -> None:

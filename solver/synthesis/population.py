@@ -18,7 +18,10 @@ RMS miss over the task's size for a feasible design, and above every feasible fi
 that grows with how far a design is from feasible (never NaN). With weights, the force terms the
 scene already computes are added to a feasible design's figure: the peak input effort and the
 peak pin load over the sweep at a given speed, from the kinetostatics of each design's own
-bodies (solver.forces, evaluated on the population's jets: the same arrays, one more pass).
+bodies (solver.forces, evaluated on the population's jets: the same arrays, one more pass), and
+for a template with friction ``efficiency_weight · (1 − η_min)``: η_min the worst instantaneous
+efficiency over the sweep (``k.efficiency``, solver.forces.friction; a self-locking sample
+counts 0, and η_min is clipped to [0, 1]).
 """
 
 from __future__ import annotations
@@ -59,6 +62,12 @@ class Goal:
     effort_weight: float = 0.0  # objective += weight · peak |input effort| (per N·m, or per N)
     pin_weight: float = 0.0  # objective += weight · peak |pin load| (per N)
     speed: float = 1.0  # ω (rad/s) of the force terms (ε = 0)
+    efficiency_weight: float = 0.0  # objective += weight · (1 − worst efficiency over the sweep) (friction)
+
+    @property
+    def weighted(self) -> bool:
+        """Whether the figure holds force terms (the designs' kinetostatics are evaluated)."""
+        return self.effort_weight > 0.0 or self.pin_weight > 0.0 or self.efficiency_weight > 0.0
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -77,6 +86,7 @@ class Evaluation:
     ratio: np.ndarray  # (C,) longest link over shortest
     effort: np.ndarray | None = None  # (C,) peak |input effort| over the sweep at ω = Goal.speed (N·m or N)
     pin_load: np.ndarray | None = None  # (C,) peak |pin reaction| over the sweep (N)
+    efficiency: np.ndarray | None = None  # (C,) worst efficiency over the sweep, in [0, 1] (friction only)
 
 
 def wrap(a: Any) -> Any:
@@ -114,8 +124,10 @@ def link_ratio(plan: Plan, c: int) -> np.ndarray:
         return np.nan_to_num(stack.max(axis=1) / np.maximum(stack.min(axis=1), 1e-300), nan=np.inf)
 
 
-def _force_peaks(goal: Goal, ctx: Context, model: Any, s: int, invalid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Peak |input effort| and peak |pin load| over the valid sweep at ω = ``goal.speed``."""
+def _force_peaks(goal: Goal, ctx: Context, model: Any, s: int, invalid: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """Peak |input effort|, peak |pin load| and (with friction) the worst efficiency over the
+    valid sweep at ω = ``goal.speed``."""
     c = invalid.shape[0]
     with np.errstate(all="ignore"):
         out = model.evaluate(ctx.values, NUMPY, ctx.conditioning, goal.speed, 0.0)
@@ -129,7 +141,15 @@ def _force_peaks(goal: Goal, ctx: Context, model: Any, s: int, invalid: np.ndarr
         a = np.where(invalid[None, :, :s], 0.0, np.nan_to_num(a, nan=np.inf))
         return a.max(axis=(0, 2))  # type: ignore[no-any-return]
 
-    return peak(out[:k]), peak(out[k : k + n_pins])
+    worst = None
+    if model.friction is not None:
+        from ..forces.friction import efficiency
+
+        p, p0 = (np.broadcast_to(out[model.index[key, None]], invalid.shape)[:, :s] for key in ("power", "power0"))
+        eta = np.nan_to_num(efficiency(p, p0), nan=0.0)  # NaN: self-locking (or singular): no efficiency
+        eta = np.where(invalid[:, :s], np.inf, eta)
+        worst = np.clip(eta.min(axis=1, initial=np.inf), 0.0, 1.0)
+    return peak(out[:k]), peak(out[k : k + n_pins]), worst
 
 
 def evaluate(template: Template, goal: Goal, x: np.ndarray) -> Evaluation:
@@ -138,8 +158,7 @@ def evaluate(template: Template, goal: Goal, x: np.ndarray) -> Evaluation:
     c, s = x.shape[0], goal.sweep.size
     at = goal.at if goal.at is not None else np.empty(0)
     phi = np.concatenate([goal.sweep, at])
-    weighted = goal.effort_weight > 0.0 or goal.pin_weight > 0.0
-    ctx, plan, model = solve(template, x, phi, goal.names, forces=weighted)
+    ctx, plan, model = solve(template, x, phi, goal.names, forces=goal.weighted)
     invalid = np.broadcast_to(np.asarray(ctx.invalid, bool), (c, phi.size))
     frac = invalid[:, :s].mean(axis=1) if s else np.zeros(c)
     cond = np.ones(c)
@@ -155,7 +174,7 @@ def evaluate(template: Template, goal: Goal, x: np.ndarray) -> Evaluation:
         misses, phases = _untimed(goal, ctx, s, invalid)
     ev = Evaluation(misses, phases, frac, cond, link_ratio(plan, c))
     if model is not None:
-        ev.effort, ev.pin_load = _force_peaks(goal, ctx, model, s, invalid)
+        ev.effort, ev.pin_load, ev.efficiency = _force_peaks(goal, ctx, model, s, invalid)
     return ev
 
 
@@ -248,6 +267,8 @@ def objective(goal: Goal, ev: Evaluation) -> np.ndarray:
         fit = fit + goal.effort_weight * np.nan_to_num(ev.effort, nan=INFEASIBLE, posinf=INFEASIBLE)
     if ev.pin_load is not None:
         fit = fit + goal.pin_weight * np.nan_to_num(ev.pin_load, nan=INFEASIBLE, posinf=INFEASIBLE)
+    if ev.efficiency is not None:
+        fit = fit + goal.efficiency_weight * (1.0 - ev.efficiency)
     fit = np.minimum(fit, 0.999 * INFEASIBLE)
     penalty = INFEASIBLE * (1.0 + ev.invalid + deficit + np.minimum(excess, 1.0)) + fit / INFEASIBLE
     return np.where(infeasible, penalty, fit)  # type: ignore[no-any-return]

@@ -266,10 +266,11 @@ class SynthesisResult:
             gr = grashof(d.scene, g)
             if gr is not None:
                 lines.append(f"  four-bar {g.name}: {gr}")
-        if self.goal.effort_weight or self.goal.pin_weight:
+        if self.goal.weighted:
             ev = evaluate(self.template, self.goal, d.x[None])
+            worst = "" if ev.efficiency is None else f", worst efficiency {float(ev.efficiency[0]):.4g}"
             lines.append(f"  at ω = {self.goal.speed:g} rad/s: peak input effort {float(ev.effort[0]):.4g}, "  # type: ignore[index]
-                         f"peak pin load {float(ev.pin_load[0]):.4g} N")  # type: ignore[index]
+                         f"peak pin load {float(ev.pin_load[0]):.4g} N{worst}")  # type: ignore[index]
         cognates = [i for i, e in enumerate(self.designs) if e.cognate_of is not None]
         if cognates:
             lines.append(f"cognates (same curve, other dimensions): designs {cognates}")

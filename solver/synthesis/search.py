@@ -192,7 +192,7 @@ def _weighted(goal: Goal) -> bool:
     """Whether the search's figure holds force terms: a batch polish (Levenberg–Marquardt with
     large steps along a family of zeros) would lose the preference they give, so each member
     goes to its own nearest zero instead (:func:`~.polish.polish`)."""
-    return goal.effort_weight > 0.0 or goal.pin_weight > 0.0
+    return goal.weighted
 
 
 def _polished(template: Template, goal: Goal, members: np.ndarray, iterations: int, *, keep: int) -> list[Polished]:
