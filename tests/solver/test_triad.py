@@ -79,6 +79,42 @@ def test_reference_positions_and_analogs(i: int) -> None:
     assert np.abs(k.joint("ternary").velocity - dth).max() <= TOL_VEL
 
 
+@pytest.mark.parametrize("i", range(12))
+def test_reference_in_a_dense_sweep_through_the_anchors_shortcut(i: int) -> None:
+    """0.05° apart, a sweep takes the shortcut of solver.groups._triad_sweep (roots on anchors
+    only, Newton from the interpolated root elsewhere): the same accuracy at the reference's φ,
+    and the same root (to round-off) as the full path at every sample."""
+    from unittest import mock
+
+    from solver.groups import _triad_sweep
+
+    case = _cases()[i]
+    phi_s = np.array([float(s["phi"]) for s in case["samples"]])
+    grid = np.linspace(phi_s.min(), phi_s.max(), 1201)
+    phi = np.unique(np.concatenate([grid, phi_s]))
+    where = np.searchsorted(phi, phi_s)
+    size = _size(case)
+    calls = []
+    real = _triad_sweep.fast_sweep
+
+    def spy(*args: object, **kw: object) -> object:
+        out = real(*args, **kw)  # type: ignore[arg-type]
+        calls.append(out is not None)
+        return out
+    with mock.patch.object(_triad_sweep, "fast_sweep", spy):
+        k = _scene(case).solve(phi)  # type: ignore[attr-defined]
+    assert calls == [True]
+    with mock.patch.object(_triad_sweep, "fast_sweep", lambda *a, **kw: None):
+        full = _scene(case).solve(phi)  # type: ignore[attr-defined]
+    for name in "DEF":
+        got = k.point(name).position @ [1, 1j]
+        ref = np.array([_c(s[name]) for s in case["samples"]])
+        vel = np.array([_c(s["d" + name]) for s in case["samples"]])
+        assert np.abs(got[where] - ref).max() <= TOL_POS * size, name
+        assert np.abs((k.point(name).velocity @ [1, 1j])[where] - vel).max() <= TOL_VEL * size, name
+        assert np.abs(got - full.point(name).position @ [1, 1j]).max() <= TOL_POS * size, name
+
+
 def test_reference_per_tick_path() -> None:
     """One tick at a time from the drawn input outwards (the previous tick carries the mode)."""
     case = _cases()[0]
