@@ -1,40 +1,38 @@
 """The triad's mode followed tick by tick (solver.groups.triad's per-tick and compiled paths).
 
-One tick is one opaque call (``xp.call``: the compiled instant records it as one line, and the
-scalar path runs it as it is), so that the state it carries — the previous tick's root — lives
-at run time, never in a traced constant:
+The state — the previous tick's root — lives at run time, never in a traced constant: the group
+reads and moves it through small opaque calls (``xp.call``: the compiled instant records each as
+one line, the scalar path runs it as it is) — :func:`predict` and :func:`predicted_point`, then
+:func:`accept`, or :func:`full`, :func:`full_point` and :func:`accept_full` — while the Newton
+steps and the analogs between them are the group's own lines, traced like a dyad's:
 
-* **Follow** (no eigenvalues): from the previous tick's (φ, θ, θ') the root is predicted,
-  θ_p = θ + θ'·Δφ, D from Cramer's rule at θ_p (solver.groups.triad's elimination), and polished
-  by at most ``FOLLOW_STEPS`` Newton steps on the three loop equations (:func:`triad_polish`). It
-  is accepted when Newton has converged (a last step ≤ ``FOLLOW_DONE``), the loop closes,
-  |θ − θ_p| ≤ ``FOLLOW_SHARE`` × the distance from the previous full solve's root to its nearest
-  other root (the branch rule's own radius, so the nearest root is the one found), and the
-  Jacobian determinant keeps its sign and at least
-  ``FOLLOW_DET`` of its size at that solve (a branch point, where two modes merge, is never
-  crossed unseen: the determinant vanishes there).
-* **Full** otherwise (the first tick, or a check failed): every real root (:func:`triad_roots`)
-  and the branch rule of the module docstring of solver.groups.triad: the root nearest θ₀ at the
-  first tick, else nearest θ_p, refused as a mode jump where the count of real roots dropped and
-  the nearest is farther than half the previous root's gap.
+* **Follow** (no eigenvalues): from the previous tick's (φ, θ, θ', D, D') the root is predicted,
+  θ_p = θ + θ'·Δφ, D_p = D + D'·Δφ, and polished by at most ``FOLLOW_STEPS`` Newton steps on the
+  three loop equations (:func:`triad_polish`). It is accepted when Newton has converged (a last
+  step ≤ ``FOLLOW_DONE``), the loop closes, |θ − θ_p| ≤ ``FOLLOW_SHARE`` × the distance from the
+  last full solve's root to its nearest other root (the branch rule's own radius, so the nearest
+  root is the one found), and the Jacobian determinant keeps its sign and at least ``FOLLOW_DET``
+  of its size at that solve (a branch point, where two modes merge, is never crossed unseen: the
+  determinant vanishes there). At the first tick the prediction is the full solve's root.
+* **Full** otherwise (a check failed): every real root (:func:`triad_roots`) and the branch rule
+  of the module docstring of solver.groups.triad: the root nearest θ₀ at the first tick, else
+  nearest θ_p, refused as a mode jump where the count of real roots dropped and the nearest is
+  farther than half the previous root's gap.
 
-The tick returns θ (NaN where no real root exists or the step would jump mode, with the reason
-kept for the group's error), and keeps D and θ' for the group to read; the same instant again
-(the same input and ends: a compiled instant handed back to the scalar path) returns the same
-root, to the bit.
+θ is NaN where no real root exists or the step would jump mode (the reason kept for the group's
+error). The same instant again (the same input and ends: a compiled instant handed back to the
+scalar path) starts again from the same state, so it gives the same bits.
 """
 
 from __future__ import annotations
 
-import cmath
 import math
 from typing import Any
 
 import numpy as np
 
-from .._backend import SCALAR, dot
-
-__all__ = ["tick", "tick_point", "FOLLOW_STEPS", "FOLLOW_DONE", "FOLLOW_SHARE", "FOLLOW_DET", "NO_ROOT", "JUMP"]
+__all__ = ["predict", "predicted_point", "accept", "full", "full_point", "accept_full", "FOLLOW_STEPS", "FOLLOW_DONE",
+           "FOLLOW_SHARE", "FOLLOW_DET", "NO_ROOT", "JUMP"]
 
 #: Newton steps from the predicted root at most: the prediction's error ~θ''·Δφ²/2 (≤ 1e-2 rad
 #: for a tenth of a radian per tick) falls below round-off in three quadratic steps.
@@ -58,56 +56,91 @@ def _wrap(x: float) -> float:
     return (x + math.pi) % (2.0 * math.pi) - math.pi
 
 
-def tick(group: Any, step: float, a: complex, b: complex, c: complex, a1: Any, b1: Any, c1: Any) -> float:
-    """θ of ``group``'s followed root at the input ``step`` (the sum of the inputs), the ends at
-    ``a``, ``b``, ``c`` moving at ``a1``, ``b1``, ``c1`` (velocity analogs)."""
-    from .triad import triad_polish, triad_start
+#: The follow's state (besides the reason of a failure and the pending values of one instant).
+_STATE = ("phi", "theta", "rate", "d", "d1", "det", "det_full", "gap", "count", "key")
 
+
+def predict(group: Any, step: float, a: complex, b: complex, c: complex) -> float:
+    """The predicted θ at the input ``step`` (the sum of the inputs), the ends at ``a``, ``b``,
+    ``c``: the previous tick's root carried forward, θ + θ'·Δφ (D + D'·Δφ kept for
+    :func:`predicted_point`); at the first tick the full solve's root itself; NaN where it fails.
+    The same instant again (a compiled instant handed back to the scalar path) starts from the
+    same state, so that it gives the same bits."""
     st: dict[str, Any] = group._last
     step, a, b, c = float(step), complex(a), complex(b), complex(c)
     key = (step, a, b, c)
-    if st.get("key") == key:  # the same instant again (a compiled instant's miss): the same bits
-        return st["theta"]  # type: ignore[no-any-return]
-    u, v = group.shape
-    found = None
-    if "theta" in st:
-        pred = st["theta"] + st["rate"] * (step - st["phi"])
-        d0 = triad_start(pred, a, b, c, group.lengths, u, v, SCALAR)
-        d, th, w, ok, last = triad_polish(d0, pred, a, b, c, group.lengths, u, v, steps=FOLLOW_STEPS, xp=SCALAR,
-                                          until=FOLLOW_DONE)
-        if ok and last <= FOLLOW_DONE and abs(_wrap(th - pred)) <= FOLLOW_SHARE * st["gap"]:
-            rate, det = _rate(d, w, u, v, a, b, c, a1, b1, c1)
-            if det * st["det"] > 0.0 and abs(det) >= FOLLOW_DET * st["det_full"]:
-                found = (_wrap(th), d, rate, det)
-    if found is None:
+    if st.get("key") == key:
+        for k in _STATE:
+            st.pop(k, None)
+        st.update(st["before"])
+    st["pending"] = {k: st[k] for k in _STATE if k in st}
+    st["fresh"] = "theta" not in st
+    if st["fresh"]:
         full = _full(group, st, step, a, b, c)
         if full is None:
-            st["d"] = _NAN_POINT
+            st["d_pred"] = _NAN_POINT
             return math.nan
         th, d, gap, count = full
-        rate, det = _rate(d, cmath.rect(1.0, th), u, v, a, b, c, a1, b1, c1)
-        st.update(gap=gap, count=count, det_full=abs(det))
-        found = (th, d, rate, det)
-    th, d, rate, det = found
-    st.update(phi=step, theta=th, rate=rate, det=det, d=d, key=key)
+        st.update(gap=gap, count=count, d_pred=d)
+        return th
+    dphi = step - st["phi"]
+    st["d_pred"] = st["d"] + st["d1"] * dphi
+    return st["theta"] + st["rate"] * dphi  # type: ignore[no-any-return]
+
+
+def predicted_point(group: Any, theta: float) -> complex:
+    """D of :func:`predict`'s θ."""
+    return group._last["d_pred"]  # type: ignore[no-any-return]
+
+
+def accept(group: Any, step: float, a: complex, b: complex, c: complex, pred: float, theta: float, d: complex,
+           d1: complex, rate: float, det: float) -> float:
+    """θ (wrapped) when the polished root is the one predicted — within ``FOLLOW_SHARE`` of its
+    distance to the nearest other root, its determinant of the same sign and at least
+    ``FOLLOW_DET`` of its size at the last full solve — and the state moved to it; else NaN."""
+    st: dict[str, Any] = group._last
+    theta, det = float(theta), float(det)
+    if not st["fresh"] and not (abs(_wrap(theta - pred)) <= FOLLOW_SHARE * st["gap"] and det * st["det"] > 0.0
+                                and abs(det) >= FOLLOW_DET * st["det_full"]):
+        return math.nan
+    if st["fresh"]:
+        st["det_full"] = abs(det)
+    return _store(st, step, a, b, c, _wrap(theta), d, d1, rate, det)
+
+
+def full(group: Any, step: float, a: complex, b: complex, c: complex) -> float:
+    """θ of every root and the branch rule (the follow refused), D kept for :func:`full_point`;
+    NaN where no real root exists or the step would jump mode (the reason kept)."""
+    st: dict[str, Any] = group._last
+    res = _full(group, st, float(step), complex(a), complex(b), complex(c))
+    if res is None:
+        st["d_full"] = _NAN_POINT
+        return math.nan
+    th, d, gap, count = res
+    st.update(gap=gap, count=count, d_full=d)
     return th
 
 
-def tick_point(group: Any, theta: float) -> complex:
-    """D of the tick that gave ``theta``."""
-    return group._last["d"] if theta == theta else _NAN_POINT  # type: ignore[no-any-return]
+def full_point(group: Any, theta: float) -> complex:
+    """D of :func:`full`'s θ."""
+    return group._last["d_full"] if theta == theta else _NAN_POINT  # type: ignore[no-any-return]
 
 
-def _rate(d: complex, w: complex, u: complex, v: complex, a: complex, b: complex, c: complex, a1: Any, b1: Any,
-          c1: Any) -> tuple[float, float]:
-    """(θ', det) of the first-order analog system at the root."""
-    from .triad import _solve3
+def accept_full(group: Any, step: float, a: complex, b: complex, c: complex, theta: float, d: complex,
+                d1: complex, rate: float, det: float) -> float:
+    """The state moved to :func:`full`'s root; its θ."""
+    st: dict[str, Any] = group._last
+    st["det_full"] = abs(float(det))
+    return _store(st, step, a, b, c, float(theta), d, d1, rate, float(det))
 
-    uw, vw = u * w, v * w
-    p, q, s = d - a, d + uw - b, d + vw - c
-    g, h = uw.real * q.imag - uw.imag * q.real, vw.real * s.imag - vw.imag * s.real
-    _, t1, det = _solve3(p, q, s, g, h, dot(a1, p), dot(b1, q), dot(c1, s))
-    return float(t1), float(det)
+
+def _store(st: dict[str, Any], step: float, a: complex, b: complex, c: complex, theta: float, d: complex,
+           d1: complex, rate: float, det: float) -> float:
+    step = float(step)
+    st["before"] = st.pop("pending")
+    st.update(phi=step, theta=theta, rate=float(rate), d=complex(d), d1=complex(d1), det=det,
+              key=(step, complex(a), complex(b), complex(c)))
+    return theta
 
 
 def _full(group: Any, st: dict[str, Any], step: float, a: complex, b: complex, c: complex,

@@ -264,18 +264,33 @@ class Triad(Group):
         th: Any
         d: Any
         w: Any
-        if not ctx.xp.vectorised:  # one tick: one opaque call (solver.groups._triad_tick)
+        if not ctx.xp.vectorised:  # one tick: Newton from the predicted root, in the traced lines
             xp = ctx.xp
             step = sum(phi) if isinstance(phi, (tuple, list, np.ndarray)) else phi
             saved = dict(self._last) if xp.name == "trace" else None  # a trace never moves the mode
-            th = xp.call(self._tick, step, ja.value, jb.value, jc.value, ja.d1, jb.d1, jc.d1)
-            d = xp.call(self._tick_point, th)
+            a_, b_, c_ = ja.value, jb.value, jc.value
+            th = math.nan
+            pred = xp.call(self._t_predict, step, a_, b_, c_)
+            if pred == pred:
+                d = xp.call(self._t_predicted_point, pred)
+                d, th_n, w, closed, last = triad_polish(d, pred, a_, b_, c_, self.lengths, u, v,
+                                                        steps=_tick.FOLLOW_STEPS, xp=xp, until=_tick.FOLLOW_DONE)
+                analogs = triad_analogs(d, w, u, v, ja, jb, jc)
+                if closed and last <= _tick.FOLLOW_DONE:
+                    th = xp.call(self._t_accept, step, a_, b_, c_, pred, th_n, d, analogs[0], analogs[1],
+                                 analogs[4])
+            if not th == th:  # refused (or no prediction): every root and the branch rule
+                th = xp.call(self._t_full, step, a_, b_, c_)
+                d = xp.call(self._t_full_point, th)
+                if not th == th:  # NaN: no real root, or a mode jump
+                    ctx.require(self, False, reason=self._last.get("reason", _tick.NO_ROOT))
+                w = xp.cis(th)
+                analogs = triad_analogs(d, w, u, v, ja, jb, jc)
+                if th == th:
+                    th = xp.call(self._t_accept_full, step, a_, b_, c_, th, d, analogs[0], analogs[1], analogs[4])
             if saved is not None:
                 self._last.clear()
                 self._last.update(saved)
-            if not th == th:  # NaN: no real root, or a mode jump
-                ctx.require(self, False, reason=self._last.get("reason", _tick.NO_ROOT))
-            w = xp.cis(th)
         else:
             # a block of a longer sweep (solver.scene solves in blocks of views into one array):
             # continue from where the previous block of the same array ended
@@ -300,8 +315,6 @@ class Triad(Group):
                 analogs = triad_analogs(d, w, u, v, ja, jb, jc)
             if key is not None and self._end_state:
                 self._last["block"] = dict(self._end_state, key=(key[0], key[1] + len(phi)))
-        if not ctx.xp.vectorised:
-            analogs = triad_analogs(d, w, u, v, ja, jb, jc)
         d1, t1, d2, t2, det = analogs
         uw, vw = u * w, v * w
         e_, f_ = d + uw, d + vw
@@ -315,11 +328,26 @@ class Triad(Group):
         a, b, c = self.lengths
         ctx.conditioning[self.name] = abs(det) / (a * b * c * (abs(u) + abs(v)))
 
-    def _tick(self, step: float, a: complex, b: complex, c: complex, a1: Any, b1: Any, c1: Any) -> float:
-        return _tick.tick(self, step, a, b, c, a1, b1, c1)
+    # the per-tick follow's calls (solver.groups._triad_tick), bound methods the compiled code calls
+    def _t_predict(self, step: float, a: complex, b: complex, c: complex) -> float:
+        return _tick.predict(self, step, a, b, c)
 
-    def _tick_point(self, theta: float) -> complex:
-        return _tick.tick_point(self, theta)
+    def _t_predicted_point(self, theta: float) -> complex:
+        return _tick.predicted_point(self, theta)
+
+    def _t_accept(self, step: float, a: complex, b: complex, c: complex, pred: float, theta: float, d: complex,
+                  d1: complex, rate: float, det: float) -> float:
+        return _tick.accept(self, step, a, b, c, pred, theta, d, d1, rate, det)
+
+    def _t_full(self, step: float, a: complex, b: complex, c: complex) -> float:
+        return _tick.full(self, step, a, b, c)
+
+    def _t_full_point(self, theta: float) -> complex:
+        return _tick.full_point(self, theta)
+
+    def _t_accept_full(self, step: float, a: complex, b: complex, c: complex, theta: float, d: complex,
+                       d1: complex, rate: float, det: float) -> float:
+        return _tick.accept_full(self, step, a, b, c, theta, d, d1, rate, det)
 
     def _full_sweep(self, ctx: Context, phi: Any, ja: Jet, jb: Jet, jc: Jet,
                     carry: dict[str, Any] | None) -> tuple[Any, Any]:
