@@ -53,11 +53,11 @@ def _take(x: Any, rows: np.ndarray) -> Any:
 
 
 class Shortcut:
-    """The followed root at every sample (θ, D), and what the group checks once it has the
+    """The followed root at every sample (θ, D, e^{jθ}), and what the group checks once it has the
     Jacobian determinant ``det`` at every sample: :meth:`holds`."""
 
-    def __init__(self, theta: np.ndarray, d: np.ndarray, sign: np.ndarray, floor: np.ndarray) -> None:
-        self.theta, self.d, self._sign, self._floor = theta, d, sign, floor
+    def __init__(self, theta: np.ndarray, d: np.ndarray, w: np.ndarray, sign: np.ndarray, floor: np.ndarray) -> None:
+        self.theta, self.d, self.w, self._sign, self._floor = theta, d, w, sign, floor
 
     def holds(self, det: np.ndarray) -> bool:
         return bool(np.all(det * self._sign > 0.0) and np.all(np.abs(det) >= self._floor))
@@ -119,7 +119,7 @@ def fast_sweep(group: Any, phi: Any, ja: Jet, jb: Jet, jc: Jet, carry: dict[str,
     d0 = d_a[seg] + h10 * h * d_rate[seg] + h01 * (d_a[seg + 1] - d_a[seg]) + h11 * h * d_rate[seg + 1]
     av, bv, cv = ja.value, jb.value, jc.value
     with np.errstate(all="ignore"):
-        d, th, _, closed, last = triad_polish(d0, guess, av, bv, cv, group.lengths, u, v, steps=SWEEP_STEPS,
+        d, th, w, closed, last = triad_polish(d0, guess, av, bv, cv, group.lengths, u, v, steps=SWEEP_STEPS,
                                               xp=NUMPY)
         near = np.abs(th - guess) <= FOLLOW_SHARE * np.minimum(gap[seg], gap[seg + 1])
     if not np.all(closed & near & (last <= FOLLOW_DONE)):
@@ -128,6 +128,7 @@ def fast_sweep(group: Any, phi: Any, ja: Jet, jb: Jet, jc: Jet, carry: dict[str,
         return None
     th = _wrap(th)
     th[anchors] = th_a  # the anchors' own roots, polished by triad_roots
+    w[anchors] = np.cos(th_a) + 1j * np.sin(th_a)
     d[anchors] = d_a
     sign = np.sign(det_a[seg])
     ok_sign = np.sign(det_a[seg + 1]) == sign
@@ -136,5 +137,5 @@ def fast_sweep(group: Any, phi: Any, ja: Jet, jb: Jet, jc: Jet, carry: dict[str,
         group._end_state.update(saved)
         return None
     floor = FOLLOW_DET * np.minimum(np.abs(det_a[seg]), np.abs(det_a[seg + 1]))
-    return Shortcut(th, d, sign, floor)
+    return Shortcut(th, d, w, sign, floor)
 

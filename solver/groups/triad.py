@@ -304,8 +304,7 @@ class Triad(Group):
             with np.errstate(all="ignore"):
                 fast = _sweep.fast_sweep(self, phi, ja, jb, jc, carry)
             if fast is not None:
-                th, d = fast.theta, fast.d
-                w = np.cos(th) + 1j * np.sin(th)
+                th, d, w = fast.theta, fast.d, fast.w
                 analogs = triad_analogs(d, w, u, v, ja, jb, jc)
                 if not fast.holds(analogs[-1]):
                     fast = None
