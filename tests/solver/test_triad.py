@@ -344,6 +344,26 @@ def test_a_sweep_through_a_branch_point_says_it_would_jump_mode() -> None:
         else:
             assert np.isfinite(k.point("D").position).all()
     assert refused == 2, refused
+    # tick by tick from the reference sample (the per-tick follow: Newton from the previous root,
+    # the full solve where its checks fail), with the same verdicts and the same roots
+    refused = 0
+    for angle in theta[mid][np.isfinite(theta[mid])]:
+        tick_scene = scene(float(angle))
+        sweep = None
+        try:
+            sweep = tick_scene.solve(phi[mid:]).point("D").position  # type: ignore[attr-defined]
+        except AssemblyError:
+            pass
+        try:
+            got = np.array([tick_scene.solve(float(p)).point("D").position  # type: ignore[attr-defined]
+                            for p in phi[mid:]])
+        except AssemblyError as exc:
+            assert "would jump assembly mode" in str(exc) and "group 'tri'" in str(exc)
+            assert sweep is None
+            refused += 1
+        else:
+            assert sweep is not None and np.abs(got - sweep).max() <= 1e-12
+    assert refused == 2, refused
 
 
 def test_paths_without_the_triad_refuse_it_in_one_line() -> None:
