@@ -188,8 +188,9 @@ class Compiled:
                 out.extend(part)
         for j in scene.output_joints:
             out.extend(result.floats(j)[:n])
-        names = self.conditioning if self.conditioning is not None else tuple(result.conditioning)
-        out.extend(result.conditioning[g] for g in names)
+        if self.conditioning is None:  # no path traced yet (a triad's eigenvalues): the scalar path's names
+            self.conditioning = tuple(result.conditioning)
+        out.extend(result.conditioning[g] for g in self.conditioning)
         if result._forces is not None:
             out.extend(result._forces._data)
         return tuple(out)

@@ -19,6 +19,10 @@ rrp A–B on a guide         ``<g>`` rod AB (revolute about A),     pin B: rod /
                            ``<g>_slider`` (prismatic on guide)
 slotted A through B        ``<g>`` (revolute about A),            pin B: eyelet / the body that
                            ``<g>_eyelet`` (prismatic along it)    carries B (the drum)
+triad A, B, C → D, E, F     ``<g>_AD`` (revolute about A),        pins E, F: ``<g>_BE`` /
+                           ``<g>_BE`` (about B), ``<g>_CF``       ``<g>``, ``<g>_CF`` / ``<g>``
+                           (about C), ternary ``<g>`` [D, E, F]
+                           (revolute about D on ``<g>_AD``)
 spherical_crank_slider     ``<g>_shaft`` (about y), ``<g>_ring``  pin K: ring / cage
                            (about the groove normal), ``<g>_cage``
                            (about −x)
@@ -51,6 +55,7 @@ from solver.groups import (
     JointExpression,
     Slotted,
     SphericalCrankSlider,
+    Triad,
 )
 
 from .inertial import name_and_weigh
@@ -69,7 +74,8 @@ __all__ = [
 ]
 
 #: Group kinds the URDF export understands.
-SUPPORTED_GROUPS = ("crank", "actuator", "attached", "rrr", "rrp", "slotted", "spherical_crank_slider", "joint")
+SUPPORTED_GROUPS = ("crank", "actuator", "attached", "rrr", "rrp", "slotted", "triad", "spherical_crank_slider",
+                    "joint")
 
 
 def _c(v: Vec3) -> complex:
@@ -248,6 +254,35 @@ class _Builder:
         body.bars.append((g.base, g.point))
         self.owner[g.point] = body.name
 
+    def triad(self, g: Triad) -> None:
+        """The three binary bars about A, B, C, the ternary link hung at D on the first (frame
+        D → E, as the triad's θ), cut at E and at F (two loops)."""
+        (a, b, c), (d, e, f) = g.ends, g.points
+        u, v = g.shape
+        bars = []
+        for end, point, length in zip((a, b, c), (d, e, f), g.lengths):
+            parent = self.holder(end, g)
+            bar = self.add_body(
+                Body(f"{g.name}_{end}{point}", "bar", end, (end, point),
+                     {end: (0.0, 0.0, 0.0), point: (length, 0.0, 0.0)}), g
+            )
+            bar.bars.append((end, point))
+            self.pin(parent, bar, end)
+            bars.append(bar)
+        ternary = self.add_body(Body(g.name, "bar", d, (d, e), {d: (0.0, 0.0, 0.0), e: _v(u), f: _v(v)}), g)
+        ternary.bars += [(d, e), (e, f), (f, d)]
+        self.pin(bars[0], ternary, d)
+        bars[0].pins.append(d)
+        for name in (d, e, f):
+            self.owner[name] = ternary.name
+        for bar, point in zip(bars[1:], (e, f)):
+            bar.pins.append(point)
+            self.cuts.append(
+                Cut(f"{g.name}_{point}", "pin", point, bar.name, bar.local[point], ternary.name, ternary.local[point],
+                    f"pin {point} joins bar {bar.name} to the ternary link of triad '{g.name}'; cutting it (and "
+                    "the other binary bar's pin) keeps all four bodies on the tree")
+            )
+
     def spherical(self, g: SphericalCrankSlider) -> None:
         centre = self.holder(g.center, g)
         if centre.name != BASE_LINK:
@@ -296,6 +331,7 @@ def build_model(scene: object) -> TreeModel:
         Slotted: b.slotted,
         Attached: b.attached,
         SphericalCrankSlider: b.spherical,
+        Triad: b.triad,
     }
     for g in scene.ordered:  # type: ignore[attr-defined]
         if isinstance(g, JointExpression):

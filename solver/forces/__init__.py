@@ -4,7 +4,7 @@ A scene's optional ``bodies``, ``gravity`` and ``loads`` (solver.forces.parse) n
 that the groups make (solver.forces.structure). ``Scene.solve`` then also gives
 ``k.effort(joint)``, ``k.reaction(point, on=body)`` and ``k.slide_reaction(block)``: route 2, the
 groups' equilibria solved in reverse plan order on the jets the kinematics has just computed
-(one module per group kind: crank, rrr, rrp, slotted). Route 1, the virtual power of the
+(one module per group kind: crank, rrr, rrp, slotted, triad). Route 1, the virtual power of the
 analogs (solver.forces.virtual), is the independent cross-check of the efforts.
 """
 

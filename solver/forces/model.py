@@ -2,7 +2,7 @@
 
 ``ForceModel.evaluate`` reads the jets a kinematics pass has just computed (no second pass),
 puts every body's d'Alembert load, gravity and applied loads into its wrench, then solves the
-groups from the last to the first (solver.forces.crank, .actuator, .rrr, .rrp, .slotted), each handing
+groups from the last to the first (solver.forces.crank, .actuator, .rrr, .rrp, .slotted, .triad), each handing
 the reactions at the pins it shares with earlier groups back to them, sign flipped. Closed form,
 no iteration; the same source runs on numpy arrays and on Python scalars (solver._backend).
 At samples where a group of the mechanism is singular (conditioning < tolerances.SINGULAR) every
@@ -21,7 +21,7 @@ import numpy as np
 
 from .._backend import Backend
 from .._trace import TraceError
-from ..groups import RRP, RRR, Actuator, CoupledCrank, Crank, Slotted
+from ..groups import RRP, RRR, Actuator, CoupledCrank, Crank, Slotted, Triad
 from ..jet import Jet
 from ..tolerances import SINGULAR
 from .actuator import ActuatorForces
@@ -34,10 +34,11 @@ from .slotted import SlottedForces
 from .spec import Body, Damper, ForceSpec, PointForce, Spring, TableForce, Torque
 from .state import ForcePass
 from .structure import GROUND
+from .triad import TriadForces
 
 __all__ = ["ForceModel", "Step"]
 
-Step = CrankForces | ActuatorForces | RRRForces | RRPForces | SlottedForces
+Step = CrankForces | ActuatorForces | RRRForces | RRPForces | SlottedForces | TriadForces
 
 
 @dataclass(frozen=True)
@@ -79,6 +80,13 @@ class ForceModel:
                 (a, c), b = g.ends, g.point
                 out.append(RRRForces((one, two), (a, c), b, (owner[a, one], owner[c, two]),
                                      (pin_index[a, one], pin_index[c, two], pin_index[b, one])))
+            elif isinstance(g, Triad):
+                arms = (f"{g.name}.1", f"{g.name}.2", f"{g.name}.3")
+                (a, b, c), (d, e, f) = g.ends, g.points
+                out.append(TriadForces(arms, g.name, g.ends, g.points,
+                                       (owner[a, arms[0]], owner[b, arms[1]], owner[c, arms[2]]),
+                                       (pin_index[a, arms[0]], pin_index[b, arms[1]], pin_index[c, arms[2]],
+                                        pin_index[d, arms[0]], pin_index[e, arms[1]], pin_index[f, arms[2]])))
             elif isinstance(g, RRP):
                 block = f"{g.name}.block"
                 out.append(RRPForces(g.name, block, g.end, g.point, owner[g.end, g.name], g.direction,

@@ -9,6 +9,9 @@ crank      ``name``: [O, A]                             O: crank ↔ ground; A: 
 actuator   pushed link ``name``: [O, C]; cylinder        O: link ↔ owner(O); A: cylinder ↔
            ``name.cylinder``: [A, C] (massless)         owner(A); C: cylinder ↔ link
 rrr        ``name.1``: [A, B];  ``name.2``: [C, B]      A: 1 ↔ owner(A); C: 2 ↔ owner(C); B: 1 ↔ 2
+triad      ternary ``name``: [D, E, F]; binary            A: 1 ↔ owner(A); B: 2 ↔ owner(B); C: 3 ↔
+           ``name.1``: [A, D], ``.2``: [B, E],          owner(C); D: 1 ↔ ternary; E: 2 ↔ ternary;
+           ``.3``: [C, F]                               F: 3 ↔ ternary
 rrp        rod ``name``: [A, B]; block ``name.block``:  A: rod ↔ owner(A); B: rod ↔ block;
            [B] (frame: the guide's)                     slide: block on the ground's guide
 slotted    link ``name``: [pivot, C, E, …];              pivot: link ↔ owner(pivot); B: block ↔
@@ -20,9 +23,10 @@ joints     none (read-outs)                             —
 
 The *owner* of a point is the body a later group's pin at that point attaches to: ground for a
 fixed point, the crank for its point, an actuator's pushed link for its eye C, the first link
-(A–B) of an RRR for B, the slider block of an RRP for B, the slotted link for its points, the
-carrying link for an attached point (never a cylinder: it carries no other point). A point
-that several bodies carry (B of an RRR is on both links) is "on" each of them for loads.
+(A–B) of an RRR for B, a triad's ternary link for D, E and F, the slider block of an RRP for B,
+the slotted link for its points, the carrying link for an attached point (never a cylinder: it
+carries no other point). A point that several bodies carry (B of an RRR is on both links) is
+"on" each of them for loads.
 
 Spherical groups (seed 001) and vector-loop scenes (seed 004) have no planar body structure
 here: a scene of them with ``bodies``, ``gravity`` or ``loads`` is a one-line SceneError.
@@ -34,7 +38,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..groups import RRP, RRR, Actuator, Attached, Crank, Group, JointExpression, Slotted
+from ..groups import RRP, RRR, Actuator, Attached, Crank, Group, JointExpression, Slotted, Triad
 
 __all__ = ["GROUND", "Link", "Pin", "Slide", "Structure", "derive_structure", "StructureFault"]
 
@@ -126,6 +130,14 @@ def derive_structure(ordered: Sequence[Group], fixed: Mapping[str, Any]) -> Stru
             links += [Link(one, g.name, (a, b)), Link(two, g.name, (c, b))]
             pins += [Pin(a, one, owner[a]), Pin(c, two, owner[c]), Pin(b, one, two)]
             owner[b] = one
+        elif isinstance(g, Triad):
+            (a, b, c), (d, e, f) = g.ends, g.points
+            arms = [f"{g.name}.{i}" for i in (1, 2, 3)]
+            links += [Link(arms[0], g.name, (a, d)), Link(arms[1], g.name, (b, e)), Link(arms[2], g.name, (c, f)),
+                      Link(g.name, g.name, (d, e, f))]
+            pins += [Pin(a, arms[0], owner[a]), Pin(b, arms[1], owner[b]), Pin(c, arms[2], owner[c]),
+                     Pin(d, arms[0], g.name), Pin(e, arms[1], g.name), Pin(f, arms[2], g.name)]
+            owner[d] = owner[e] = owner[f] = g.name
         elif isinstance(g, RRP):
             block = f"{g.name}.block"
             links += [Link(g.name, g.name, (g.end, g.point)), Link(block, g.name, (g.point,), True, g.direction)]
@@ -167,7 +179,7 @@ def derive_structure(ordered: Sequence[Group], fixed: Mapping[str, Any]) -> Stru
         else:
             raise StructureFault(
                 f"{g.kind} '{g.name}': forces are modelled for the planar groups (crank, actuator, rrr, rrp, "
-                "slotted, attached); a vector-loop scene (seed 004) has no body structure here (docs/forces.md)"
+                "slotted, triad, attached); a vector-loop scene (seed 004) has no body structure here (docs/forces.md)"
             )
         if not isinstance(g, Attached):
             makers.append(g)

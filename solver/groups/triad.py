@@ -61,10 +61,12 @@ from typing import Any
 
 import numpy as np
 
-from .._backend import abs2, cross, dot
+from .._backend import NUMPY, Backend, abs2, cross, dot
 from .._fields import Entry, Units
 from ..jet import Jet
 from ..tolerances import EPS
+from . import _triad_sweep as _sweep
+from . import _triad_tick as _tick
 from .base import Context, Group
 from .rrr import solve_linear
 
@@ -108,9 +110,12 @@ def triad_coefficients(b0: Any, c0: Any, lengths: tuple[float, float, float], u:
 
 def _residuals(d: Any, w: Any, a_: Any, b_: Any, c_: Any, lengths: tuple[float, float, float], u: complex,
                v: complex) -> tuple[Any, Any, Any, Any, Any, Any]:
+    """p, q, s and the three loop residuals |p|² − a², |q|² − b², |s|² − c² (plain operators: the
+    same lines on arrays, on floats and on traced values)."""
     p, q, s = d - a_, d + u * w - b_, d + v * w - c_
     a, b, c = lengths
-    return p, q, s, abs2(p) - a * a, abs2(q) - b * b, abs2(s) - c * c
+    return (p, q, s, p.real * p.real + p.imag * p.imag - a * a, q.real * q.real + q.imag * q.imag - b * b,
+            s.real * s.real + s.imag * s.imag - c * c)
 
 
 def _solve3(p: Any, q: Any, s: Any, g: Any, h: Any, r1: Any, r2: Any, r3: Any) -> tuple[Any, Any, Any]:
@@ -120,6 +125,41 @@ def _solve3(p: Any, q: Any, s: Any, g: Any, h: Any, r1: Any, r2: Any, r3: Any) -
     x = solve_linear(p, m, 1j / det, r1, h * r2 - g * r3)
     t = (g * (r2 - dot(x, q)) + h * (r3 - dot(x, s))) / (g * g + h * h)
     return x, t, det
+
+
+def triad_start(at: Any, a_: Any, b_: Any, c_: Any, lengths: tuple[float, float, float], u: complex, v: complex,
+                xp: Backend | None) -> Any:
+    """D by Cramer's rule (module docstring) at the ternary link's angle ``at`` (``xp`` given) or
+    at the unit complex w = e^{jθ} itself (``xp`` None): the start of the Newton polish."""
+    w = at if xp is None else xp.cis(at)
+    n, det = _shape_terms(0.0, b_ - a_, c_ - a_, lengths, u, v, w)
+    return a_ + 1j * n / det
+
+
+def triad_polish(d: Any, theta: Any, a_: Any, b_: Any, c_: Any, lengths: tuple[float, float, float], u: complex,
+                 v: complex, *, steps: int, xp: Backend, until: float | None = None,
+                 ) -> tuple[Any, Any, Any, Any, Any]:
+    """Up to ``steps`` Newton steps on the three loop equations from (D, θ) — per tick also ended
+    by a step |Δθ| ≤ ``until`` (the next would be below round-off) — : ``(D, θ, e^{jθ}, closed,
+    |Δθ| of the last step)``, ``closed`` where every residual is within
+    ``RESIDUAL_ROUNDING``·EPS·size² (one source for the vectorised roots and the per-tick follow)."""
+    dt: Any = 0.0
+    for _ in range(steps):
+        w = xp.cis(theta)
+        p, q, s, f1, f2, f3 = _residuals(d, w, a_, b_, c_, lengths, u, v)
+        uw, vw = u * w, v * w
+        g = uw.real * q.imag - uw.imag * q.real  # −(q × u·w)
+        h = vw.real * s.imag - vw.imag * s.real
+        dx, dt, _ = _solve3(p, q, s, g, h, -0.5 * f1, -0.5 * f2, -0.5 * f3)
+        d = d + dx
+        theta = theta + dt
+        if until is not None and abs(dt) <= until:
+            break
+    w = xp.cis(theta)
+    *_, f1, f2, f3 = _residuals(d, w, a_, b_, c_, lengths, u, v)
+    size = abs(a_) + abs(b_) + abs(c_) + sum(lengths) + abs(u) + abs(v)
+    bound = RESIDUAL_ROUNDING * EPS * size * size
+    return d, theta, w, (abs(f1) <= bound) & (abs(f2) <= bound) & (abs(f3) <= bound), abs(dt)
 
 
 def triad_roots(a_: Any, b_: Any, c_: Any, lengths: tuple[float, float, float], u: complex,
@@ -142,20 +182,8 @@ def triad_roots(a_: Any, b_: Any, c_: Any, lengths: tuple[float, float, float], 
         near = np.abs(np.abs(w) - 1.0) <= ON_CIRCLE
         w = np.where(near, w / np.abs(w), np.nan)
         theta = np.angle(w)
-        n, det = _shape_terms(0.0, b_ - a_, c_ - a_, lengths, u, v, w)
-        d = a_ + 1j * n / det
-        size = np.abs(a_) + np.abs(b_) + np.abs(c_) + sum(lengths) + abs(u) + abs(v)
-        for _ in range(POLISH_STEPS):
-            w = np.cos(theta) + 1j * np.sin(theta)
-            p, q, s, f1, f2, f3 = _residuals(d, w, a_, b_, c_, lengths, u, v)
-            g, h = -cross(q, u * w), -cross(s, v * w)
-            dx, dt, _ = _solve3(p, q, s, g, h, -0.5 * f1, -0.5 * f2, -0.5 * f3)
-            d = d + dx
-            theta = theta + dt
-        w = np.cos(theta) + 1j * np.sin(theta)
-        *_, f1, f2, f3 = _residuals(d, w, a_, b_, c_, lengths, u, v)
-        bound = RESIDUAL_ROUNDING * EPS * size * size
-        good = (np.abs(f1) <= bound) & (np.abs(f2) <= bound) & (np.abs(f3) <= bound)
+        d = triad_start(w, a_, b_, c_, lengths, u, v, None)
+        d, theta, w, good, _ = triad_polish(d, theta, a_, b_, c_, lengths, u, v, steps=POLISH_STEPS, xp=NUMPY)
     theta = np.where(good, np.angle(w), np.nan)
     order = np.argsort(theta, axis=-1)  # NaN last
     theta = np.take_along_axis(theta, order, axis=-1)
@@ -232,21 +260,37 @@ class Triad(Group):
         vals = ctx.values
         ja, jb, jc = (vals[n] for n in self.ends)
         u, v = self.shape
-        theta, dd = self.roots(vals)
-        real = np.isfinite(theta)
-        has = real.any(axis=-1)
-        ctx.require(self, has if theta.ndim > 1 else bool(has), reason="has no real assembly mode (triad)")
         phi = ctx.phi
         th: Any
         d: Any
-        idx = -1
-        if theta.ndim == 1:  # one tick
-            idx, jump = self._pick_tick(phi, theta)
-            if jump:
-                ctx.require(self, False, reason=self._jump_reason())
-            th = float(theta[idx]) if idx >= 0 else math.nan
-            d = complex(dd[idx]) if idx >= 0 else complex(math.nan, math.nan)
-            w: Any = complex(math.cos(th), math.sin(th))
+        w: Any
+        if not ctx.xp.vectorised:  # one tick: Newton from the predicted root, in the traced lines
+            xp = ctx.xp
+            step = sum(phi) if isinstance(phi, (tuple, list, np.ndarray)) else phi
+            saved = dict(self._last) if xp.name == "trace" else None  # a trace never moves the mode
+            a_, b_, c_ = ja.value, jb.value, jc.value
+            th = math.nan
+            pred = xp.call(self._t_predict, step, a_, b_, c_)
+            if pred == pred:
+                d = xp.call(self._t_predicted_point, pred)
+                d, th_n, w, closed, last = triad_polish(d, pred, a_, b_, c_, self.lengths, u, v,
+                                                        steps=_tick.FOLLOW_STEPS, xp=xp, until=_tick.FOLLOW_DONE)
+                analogs = triad_analogs(d, w, u, v, ja, jb, jc)
+                if closed and last <= _tick.FOLLOW_DONE:
+                    th = xp.call(self._t_accept, step, a_, b_, c_, pred, th_n, d, analogs[0], analogs[1],
+                                 analogs[4])
+            if not th == th:  # refused (or no prediction): every root and the branch rule
+                th = xp.call(self._t_full, step, a_, b_, c_)
+                d = xp.call(self._t_full_point, th)
+                if not th == th:  # NaN: no real root, or a mode jump
+                    ctx.require(self, False, reason=self._last.get("reason", _tick.NO_ROOT))
+                w = xp.cis(th)
+                analogs = triad_analogs(d, w, u, v, ja, jb, jc)
+                if th == th:
+                    th = xp.call(self._t_accept_full, step, a_, b_, c_, th, d, analogs[0], analogs[1], analogs[4])
+            if saved is not None:
+                self._last.clear()
+                self._last.update(saved)
         else:
             # a block of a longer sweep (solver.scene solves in blocks of views into one array):
             # continue from where the previous block of the same array ended
@@ -257,20 +301,20 @@ class Triad(Group):
                 key = (id(base), offset)
             carry = self._last.get("block")
             carry = carry if key is not None and carry is not None and carry["key"] == key else None
-            slots, jumps = self._pick_sweep(phi, theta, dd, ja, jb, jc, carry=carry)
-            if key is not None and len(slots) and slots[-1] >= 0:
-                self._last["block"] = dict(self._end_state, key=(key[0], key[1] + len(slots)))
-            if jumps.any():
-                ctx.require(self, ~jumps, reason=self._jump_reason())
-            rows = np.arange(len(theta))
-            pick = np.maximum(slots, 0)
-            th = np.where(slots >= 0, theta[rows, pick], np.nan)
-            d = np.where(slots >= 0, dd[rows, pick], np.nan)
-            w = np.cos(th) + 1j * np.sin(th)
-        d1, t1, d2, t2, det = triad_analogs(d, w, u, v, ja, jb, jc)
-        if theta.ndim == 1 and idx >= 0:
-            gap = self._gap(theta, idx)
-            self._last.update(phi=phi, theta=th, rate=t1, gap=gap, count=int(real.sum()))
+            with np.errstate(all="ignore"):
+                fast = _sweep.fast_sweep(self, phi, ja, jb, jc, carry)
+            if fast is not None:
+                th, d, w = fast.theta, fast.d, fast.w
+                analogs = triad_analogs(d, w, u, v, ja, jb, jc)
+                if not fast.holds(analogs[-1]):
+                    fast = None
+            if fast is None:
+                th, d = self._full_sweep(ctx, phi, ja, jb, jc, carry)
+                w = np.cos(th) + 1j * np.sin(th)
+                analogs = triad_analogs(d, w, u, v, ja, jb, jc)
+            if key is not None and self._end_state:
+                self._last["block"] = dict(self._end_state, key=(key[0], key[1] + len(phi)))
+        d1, t1, d2, t2, det = analogs
         uw, vw = u * w, v * w
         e_, f_ = d + uw, d + vw
         for name, off in zip(self.points, (0.0, uw, vw)):
@@ -283,24 +327,42 @@ class Triad(Group):
         a, b, c = self.lengths
         ctx.conditioning[self.name] = abs(det) / (a * b * c * (abs(u) + abs(v)))
 
-    @staticmethod
-    def _gap(theta: np.ndarray, i: int) -> float:
-        others = np.abs(_wrap(theta[np.isfinite(theta)] - theta[i]))
-        others = others[others > 0.0]
-        return float(others.min()) if others.size else math.inf
+    # the per-tick follow's calls (solver.groups._triad_tick), bound methods the compiled code calls
+    def _t_predict(self, step: float, a: complex, b: complex, c: complex) -> float:
+        return _tick.predict(self, step, a, b, c)
 
-    def _pick_tick(self, phi: Any, theta: np.ndarray) -> tuple[int, bool]:
-        real = np.flatnonzero(np.isfinite(theta))
-        if not real.size:
-            return -1, False
-        last = self._last
-        if not last:
-            return int(real[np.argmin(np.abs(_wrap(theta[real] - self.angle)))]), False
-        dphi = float(np.sum(np.asarray(phi) - np.asarray(last["phi"])))
-        pred = last["theta"] + last["rate"] * dphi
-        dist = np.abs(_wrap(theta[real] - pred))
-        k = int(np.argmin(dist))
-        return int(real[k]), bool(dist[k] > 0.5 * last["gap"] and real.size < last["count"])
+    def _t_predicted_point(self, theta: float) -> complex:
+        return _tick.predicted_point(self, theta)
+
+    def _t_accept(self, step: float, a: complex, b: complex, c: complex, pred: float, theta: float, d: complex,
+                  d1: complex, rate: float, det: float) -> float:
+        return _tick.accept(self, step, a, b, c, pred, theta, d, d1, rate, det)
+
+    def _t_full(self, step: float, a: complex, b: complex, c: complex) -> float:
+        return _tick.full(self, step, a, b, c)
+
+    def _t_full_point(self, theta: float) -> complex:
+        return _tick.full_point(self, theta)
+
+    def _t_accept_full(self, step: float, a: complex, b: complex, c: complex, theta: float, d: complex,
+                       d1: complex, rate: float, det: float) -> float:
+        return _tick.accept_full(self, step, a, b, c, theta, d, d1, rate, det)
+
+    def _full_sweep(self, ctx: Context, phi: Any, ja: Jet, jb: Jet, jc: Jet,
+                    carry: dict[str, Any] | None) -> tuple[Any, Any]:
+        """Every sample's roots and the branch rule (the path that decides where the shortcut of
+        solver.groups._triad_sweep does not): ``(θ, D)`` of the followed root."""
+        a_, b_, c_ = ja.value, jb.value, jc.value
+        theta, dd = triad_roots(a_, b_, c_, self.lengths, *self.shape)
+        has = np.isfinite(theta).any(axis=-1)
+        ctx.require(self, has, reason=_tick.NO_ROOT)
+        self._end_state.clear()
+        slots, jumps = self._pick_sweep(phi, theta, dd, ja, jb, jc, carry=carry)
+        if jumps.any():
+            ctx.require(self, ~jumps, reason=_tick.JUMP)
+        rows = np.arange(len(theta))
+        pick = np.maximum(slots, 0)
+        return np.where(slots >= 0, theta[rows, pick], np.nan), np.where(slots >= 0, dd[rows, pick], np.nan)
 
     def _pick_sweep(self, phi: Any, theta: np.ndarray, dd: np.ndarray, ja: Jet, jb: Jet, jc: Jet, *,
                     carry: dict[str, Any] | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -313,10 +375,10 @@ class Triad(Group):
             start = 0
         else:
             start = int(np.argmin(np.abs(_wrap(ph[:, 0] - self.at))))
-        starts = [i for i in range(start, n) if np.isfinite(theta[i]).any()]
-        if not starts:
+        starts = np.flatnonzero(np.isfinite(theta[start:]).any(axis=-1))
+        if not starts.size:
             return idx, jumps
-        i0 = starts[0]
+        i0 = start + int(starts[0])
         real = np.isfinite(theta[i0])
         target = self.angle
         if carry is not None:  # the previous block's last root, carried forward
@@ -368,11 +430,6 @@ class Triad(Group):
         if last >= 0:
             self._end_state.update(theta=rows[-1][last], rate=rate_l[-1][last], phi=step_phi[-1])
         return np.array(out), np.array(jump)
-
-    @staticmethod
-    def _jump_reason() -> str:
-        return ("would jump assembly mode (a branch point: two of the triad's modes merge between this sample and "
-                "the previous one; sample more finely or choose another mode)")
 
     def assembly_residual(self, vals: Mapping[str, Jet]) -> tuple[Any, Any, Any]:
         """``R = +1`` where a real assembly mode exists, ``−1`` where none (a step: its sign change

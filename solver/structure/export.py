@@ -20,7 +20,7 @@ from typing import Any
 from .._fields import LENGTH_UNITS
 from ..errors import SceneError
 from ..forces.structure import StructureFault, derive_structure
-from ..groups import RRP, Actuator, Attached, Crank, Group, JointExpression, Slotted
+from ..groups import RRP, Actuator, Attached, Crank, Group, JointExpression, Slotted, Triad
 
 __all__ = ["drawing_from_groups"]
 
@@ -112,6 +112,10 @@ def drawing_from_groups(
         drawing["slides"] = slides
     if actuators:
         drawing["actuators"] = actuators
+    # a triad's joint (the ternary link's angle arg(E − D)) is the drawing's read-out angle of D → E
+    extra = {g.joint: {"angle": [g.points[0], g.points[1]]} for g in groups if isinstance(g, Triad) and g.joint}
+    if extra:
+        raw = {**raw, "joints": {**(raw.get("joints") or {}), **extra}}
     out: dict[str, Any] = {}
     for key, value in raw.items():
         if key in _REPLACED:

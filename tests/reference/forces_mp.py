@@ -22,7 +22,10 @@ link without a ``bodies`` entry is massless (a slot's block too, unless a body n
 An input effort is the torque about +z the actuator applies to its crank (the opposite torque on
 the ground). ``R(P, on=X)`` is the force on body X at pin P from the other body. Unnamed links
 take the solver's default names (a crank's or slotted link's group name, ``name.1`` / ``name.2``
-for an RRR's links, ``name.block`` for a block): topology is shared, formulas are not.
+for an RRR's links, ``name.block`` for a block; a triad's ternary link ``name`` and binary links
+``name.1`` … ``name.3``): topology is shared, formulas are not. A triad (one input, drawn by its
+``shape`` at ``at``) is solved by ``findroot`` on its three loop equations, continued from the
+drawn pose in steps of ≤ 0.25° of the input (the mode drawn, followed as the scene follows it).
 
 Loads: a force at a point, a torque, a spring ``[[body, point], [body, point]]`` (tension
 k·(ℓ − ℓ₀), ends on ground allowed), a force of fixed direction whose size is read off a table of a
@@ -55,6 +58,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import mpmath
 import yaml
 from mpmath import mp, mpf
 
@@ -127,6 +131,8 @@ class Mechanism:
     gravity: Vec
     loads: list[dict[str, Any]]
     dampers: list[tuple[str, str, str, mpf]] = field(default_factory=list)  # (joint, body, other, c)
+    #: per triad (group index): input q → solved (Dx, Dy, θ), the continuation's start points
+    triad_memo: dict[int, dict[mpf, list]] = field(default_factory=dict)
 
 
 def _links(groups: list[dict[str, Any]], fixed: dict[str, Vec], angle: mpf) -> tuple[dict, dict, dict]:
@@ -152,6 +158,10 @@ def _links(groups: list[dict[str, Any]], fixed: dict[str, Vec], angle: mpf) -> t
             links[name] = Link(name, [g["pivot"], *map(str, g["points"])])
             links[f"{name}.block"] = Link(f"{name}.block", [g["through"]], True, None, (g["pivot"], g["through"]))
             slides[f"{name}.block"] = name
+        elif kind == "triad":  # binary links A–D, B–E, C–F and the ternary link D–E–F
+            for i, (x, y) in enumerate(zip(g["ends"], g["points"]), 1):
+                links[f"{name}.{i}"] = Link(f"{name}.{i}", [x, y])
+            links[name] = Link(name, list(g["points"]))
         elif kind == "attached":
             need = {g.get("base", g["along"][0]), *g["along"]}
             if not need <= set(fixed):
@@ -229,14 +239,17 @@ def _damped(m: Mechanism, joint: str) -> tuple[str, str]:
     raise ValueError(f"{m.file}: the reference damps no joint of kind '{kind}'")
 
 
-def positions(m: Mechanism, q: Sequence[mpf]) -> dict[str, Vec]:
-    """Every point at input coordinates q (one per input, rad), in m."""
+def positions(m: Mechanism, q: Sequence[mpf], upto: int | None = None) -> dict[str, Vec]:
+    """Every point at input coordinates q (one per input, rad), in m (of the groups before the
+    ``upto``-th, when given)."""
     pts: dict[str, Vec] = dict(m.fixed)
     qs = dict(zip(m.inputs, q))
     L, A = m.length, m.angle
-    for g in m.groups:
+    for index, g in enumerate(m.groups[:upto]):
         kind = g["type"]
-        if kind == "crank":
+        if kind == "triad":
+            pts.update(_triad(m, index, list(q)))
+        elif kind == "crank":
             o, r, t = pts[g["center"]], _n(g["length"]) * L, qs[str(g.get("joint", g["name"]))]
             pts[g["point"]] = (o[0] + r * mp.cos(t), o[1] + r * mp.sin(t))
         elif kind == "rrr":  # circle ∩ circle; M = +1: E1 → P → E2 counter-clockwise
@@ -271,6 +284,65 @@ def positions(m: Mechanism, q: Sequence[mpf]) -> dict[str, Vec]:
             c, s, d = mp.cos(t), mp.sin(t), _n(g["distance"]) * L
             pts[g["point"]] = (base[0] + d * (c * u[0] - s * u[1]), base[1] + d * (s * u[0] + c * u[1]))
     return pts
+
+
+TRIAD_DRAWN = mpf("1e-9")
+"""The drawn shape must close the loop at ``at`` to this (relative to the link lengths)."""
+
+
+def _triad_loop(m: Mechanism, g: dict[str, Any], pts: dict[str, Vec]) -> tuple[Callable[..., list], Any, Any]:
+    """The triad's three loop equations in (Dx, Dy, θ) with the ends at ``pts``, and the ternary
+    link's shape u = E − D, v = F − D in its own frame (θ = arg(E − D))."""
+    L = m.length
+    sh = g["shape"]
+    d0, e0, f0 = (mpmath.mpc(_n(sh[k][0]) * L, _n(sh[k][1]) * L) for k in g["points"])
+    u = abs(e0 - d0)
+    v = (f0 - d0) * abs(e0 - d0) / (e0 - d0)
+    a_, b_, c_ = (mpmath.mpc(*pts[k]) for k in g["ends"])
+    la, lb, lc = (_n(x) * L for x in g["lengths"])
+
+    def f(x: mpf, y: mpf, t: mpf) -> list:
+        d = mpmath.mpc(x, y)
+        w = mpmath.mpc(mp.cos(t), mp.sin(t))
+        return [abs(d - a_) ** 2 - la**2, abs(d + u * w - b_) ** 2 - lb**2, abs(d + v * w - c_) ** 2 - lc**2]
+
+    return f, u, v
+
+
+def _triad(m: Mechanism, index: int, q: list[mpf]) -> dict[str, Vec]:
+    """D, E, F of the ``index``-th group, a triad, at q: its loop solved by findroot, continued in
+    steps of at most 0.25° of the input from the drawn pose at ``at`` (the scene's ``shape`` is
+    that pose, one input) — the mode is the one drawn, followed continuously, as the scene says."""
+    g = m.groups[index]
+    if len(m.inputs) != 1 or "shape" not in g or "at" not in g:
+        raise NotImplementedError("the reference solves a triad of one input drawn by its shape at 'at'")
+    memo = m.triad_memo.setdefault(index, {})
+    if not memo:  # the drawn pose closes the loop at `at`
+        at = _n(g["at"]) * m.angle
+        sh = g["shape"]
+        d0, e0 = (mpmath.mpc(_n(sh[k][0]), _n(sh[k][1])) * m.length for k in g["points"][:2])
+        f, _, _ = _triad_loop(m, g, positions(m, [at], index))
+        x0 = [d0.real, d0.imag, mpmath.arg(e0 - d0)]
+        worst = max(abs(r) for r in f(*x0)) / max(_n(x) * m.length for x in g["lengths"]) ** 2
+        if worst > TRIAD_DRAWN:
+            raise NotImplementedError(f"triad '{g['name']}': its shape is not the pose drawn at 'at' ({worst})")
+        memo[at] = x0
+    target = q[0]
+    start = min(memo, key=lambda k: abs(k - target))
+    x = memo[start]
+    steps = max(1, int(mp.ceil(abs(target - start) / (mpf("0.25") * mp.pi / 180))))
+    prev = None
+    for k in range(1, steps + 1):
+        qk = start + (target - start) * k / steps
+        f, _, _ = _triad_loop(m, g, positions(m, [qk], index))
+        guess = x if prev is None else [2 * a - b for a, b in zip(x, prev)]
+        sol = mpmath.findroot(f, guess, tol=mpf(10) ** (-2 * mp.dps + 10))
+        prev, x = x, [sol[0], sol[1], sol[2]]
+    memo[target] = x
+    _, u, v = _triad_loop(m, g, positions(m, [target], index))
+    d = mpmath.mpc(x[0], x[1])
+    w = mpmath.mpc(mp.cos(x[2]), mp.sin(x[2]))
+    return {name: (p.real, p.imag) for name, p in zip(g["points"], (d, d + u * w, d + v * w))}
 
 
 def _frame(m: Mechanism, li: Link, pts: dict[str, Vec]) -> tuple[Vec, Vec]:

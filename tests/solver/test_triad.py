@@ -79,6 +79,42 @@ def test_reference_positions_and_analogs(i: int) -> None:
     assert np.abs(k.joint("ternary").velocity - dth).max() <= TOL_VEL
 
 
+@pytest.mark.parametrize("i", range(12))
+def test_reference_in_a_dense_sweep_through_the_anchors_shortcut(i: int) -> None:
+    """0.05° apart, a sweep takes the shortcut of solver.groups._triad_sweep (roots on anchors
+    only, Newton from the interpolated root elsewhere): the same accuracy at the reference's φ,
+    and the same root (to round-off) as the full path at every sample."""
+    from unittest import mock
+
+    from solver.groups import _triad_sweep
+
+    case = _cases()[i]
+    phi_s = np.array([float(s["phi"]) for s in case["samples"]])
+    grid = np.linspace(phi_s.min(), phi_s.max(), 1201)
+    phi = np.unique(np.concatenate([grid, phi_s]))
+    where = np.searchsorted(phi, phi_s)
+    size = _size(case)
+    calls = []
+    real = _triad_sweep.fast_sweep
+
+    def spy(*args: object, **kw: object) -> object:
+        out = real(*args, **kw)  # type: ignore[arg-type]
+        calls.append(out is not None)
+        return out
+    with mock.patch.object(_triad_sweep, "fast_sweep", spy):
+        k = _scene(case).solve(phi)  # type: ignore[attr-defined]
+    assert calls == [True]
+    with mock.patch.object(_triad_sweep, "fast_sweep", lambda *a, **kw: None):
+        full = _scene(case).solve(phi)  # type: ignore[attr-defined]
+    for name in "DEF":
+        got = k.point(name).position @ [1, 1j]
+        ref = np.array([_c(s[name]) for s in case["samples"]])
+        vel = np.array([_c(s["d" + name]) for s in case["samples"]])
+        assert np.abs(got[where] - ref).max() <= TOL_POS * size, name
+        assert np.abs((k.point(name).velocity @ [1, 1j])[where] - vel).max() <= TOL_VEL * size, name
+        assert np.abs(got - full.point(name).position @ [1, 1j]).max() <= TOL_POS * size, name
+
+
 def test_reference_per_tick_path() -> None:
     """One tick at a time from the drawn input outwards (the previous tick carries the mode)."""
     case = _cases()[0]
@@ -308,24 +344,45 @@ def test_a_sweep_through_a_branch_point_says_it_would_jump_mode() -> None:
         else:
             assert np.isfinite(k.point("D").position).all()
     assert refused == 2, refused
+    # tick by tick from the reference sample (the per-tick follow: Newton from the previous root,
+    # the full solve where its checks fail), with the same verdicts and the same roots
+    refused = 0
+    for angle in theta[mid][np.isfinite(theta[mid])]:
+        tick_scene = scene(float(angle))
+        sweep = None
+        try:
+            sweep = tick_scene.solve(phi[mid:]).point("D").position  # type: ignore[attr-defined]
+        except AssemblyError:
+            pass
+        try:
+            got = np.array([tick_scene.solve(float(p)).point("D").position  # type: ignore[attr-defined]
+                            for p in phi[mid:]])
+        except AssemblyError as exc:
+            assert "would jump assembly mode" in str(exc) and "group 'tri'" in str(exc)
+            assert sweep is None
+            refused += 1
+        else:
+            assert sweep is not None and np.abs(got - sweep).max() <= 1e-12
+    assert refused == 2, refused
 
 
 def test_paths_without_the_triad_refuse_it_in_one_line() -> None:
-    """Forces (and so dynamics), synthesis and URDF export do not handle a triad yet: each says so."""
+    """Synthesis does not vary a triad yet: it says so (forces, dynamics and the URDF tree take it:
+    tests/forces/test_triad_forces.py, tests/dynamics/test_dynamics_triad.py, tests/urdf)."""
     import yaml
 
     import solver
     from linkage_ros.urdf.model import build_model
 
     data = yaml.safe_load(Path(solver.find_scene("triad_press")).read_text(encoding="utf-8"))
-    with pytest.raises(SceneError, match=r"triad 'triad': forces are modelled for the planar groups"):
-        build({**data, "bodies": {"triad": {"mass": 1.0}}})
+    k = build({**data, "bodies": {"triad": {"points": ["D", "E", "F"], "mass": 1.0}}, "gravity": [0.0, -9.81]}
+              ).solve(np.linspace(0.0, 1.0, 5))  # type: ignore[attr-defined]
+    assert np.isfinite(k.effort("crank")).all()
     free = copy_of(data)
     free["fixed"]["B"] = [{"free": [0.45, 0.55]}, 0.64]
     with pytest.raises(SceneError, match=r"groups\[1\]: triad 'triad': synthesis does not vary a triad yet"):
         solver.synthesize(free, point="E", through=[[-0.06, 0.38], [-0.08, 0.42], [-0.1, 0.45]])
-    with pytest.raises(SceneError, match=r"triad 'triad': URDF export: group kind 'triad' has no URDF export"):
-        build_model(solver.load_scene("triad_press"))
+    assert {"triad", "triad_AD", "triad_BE", "triad_CF"} <= set(build_model(solver.load_scene("triad_press")).bodies)
 
 
 def copy_of(data: dict) -> dict:
@@ -339,7 +396,9 @@ def test_a_sweep_longer_than_one_block_follows_its_mode_across_blocks() -> None:
     scene = solver.load_scene("triad_press")
     phi = np.linspace(0.0, 4 * np.pi, 9000)
     k = scene.solve(phi)
-    np.testing.assert_array_equal(k.point("D").position[:4000], scene.solve(phi[:4000]).point("D").position)
+    # the same root (to round-off: each sweep's Newton starts from its own anchors' interpolation)
+    np.testing.assert_allclose(k.point("D").position[:4000], scene.solve(phi[:4000]).point("D").position,
+                               rtol=0.0, atol=1e-14)
     turn = np.exp(1j * (phi[8000:] - 2 * np.pi))  # the same crank positions one turn earlier
     again = scene.solve(np.angle(turn) % (2 * np.pi)).point("D").position
     np.testing.assert_allclose(k.point("D").position[8000:], again, atol=1e-12)

@@ -24,7 +24,6 @@ NOT_DRAWN = {
     "spherical_converter": "spatial",
     "four_bar_vectors": "vector-loop",
     "harvester_finger_vectors": "vector-loop",
-    "triad_press": "triad: the group form has no drawing export yet (solver.forces.structure knows no triad)",
 }
 
 SCENES = sorted(n for n in shipped_scenes() if not n.startswith("vectors/") and n not in NOT_DRAWN)

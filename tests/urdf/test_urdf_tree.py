@@ -189,7 +189,6 @@ def test_cli_reports_an_unknown_scene_and_exits_2(capsys: pytest.CaptureFixture[
 
 
 def test_every_shipped_scene_is_exportable_vector_scenes_included() -> None:
-    # the triad (issue 28) has no force structure yet, so no URDF tree: refused in one line (test_triad)
-    assert NOT_EXPORTABLE == ["triad_press"]
-    assert EXPORTABLE == [s for s in SHIPPED if s != "triad_press"]
+    assert NOT_EXPORTABLE == []  # the triad (issue 28) included: three bars, the ternary link, two cuts
+    assert EXPORTABLE == SHIPPED
     assert {"four_bar_vectors", "harvester_finger_vectors", "vectors/pl2s_linked_slides"} <= set(VECTOR_SCENES)
