@@ -275,6 +275,7 @@ def _stroke_events(scene: Any) -> list[Any]:
             return _stroke_end(lo, hi, name, open_end=abs(y[i] - hi) < abs(y[i] - lo))
 
         end.terminal = True  # type: ignore[attr-defined]
+        end.plain = True  # type: ignore[attr-defined]  # takes y as a list (the own step loop's)
         end.direction = -1  # type: ignore[attr-defined]  # leaving the stroke (a run may start at an end)
         end.message = message  # type: ignore[attr-defined]
         out.append(end)
@@ -377,6 +378,7 @@ def simulate(
                   max_step=max_step, events=[(ev, int(getattr(ev, "direction", 0))) for ev in all_events],
                   t_eval=t_eval)
         ts, ys, sol_status, hit, dense, nfev = out.t, out.y, out.status, out.hit, out.sol, out.nfev
+        known = out.rates
         if out.fault is not None and eq.fault is None:  # (the trial state's own, where a stage could not be assembled)
             eq.fault = out.fault
         last = dense.t_max
@@ -385,6 +387,7 @@ def simulate(
                         events=all_events, t_eval=t_eval, max_step=max_step)
         ts, ys, sol_status, dense, nfev = sol.t, sol.y, sol.status, sol.sol, sol.nfev
         hit = None
+        known = None
         if sol.status == 1:  # an event
             hit = next(i for i, te in enumerate(sol.t_events) if len(te))
             te, ye = sol.t_events[hit][0], sol.y_events[hit][0]
@@ -412,8 +415,9 @@ def simulate(
         message = _limit_message(scene, eq.fault, "the step size fell below the spacing of floats")
         if ts.size and last > ts[-1]:  # the last accepted step, past the last requested sample
             ts, ys = np.append(ts, last), np.column_stack([ys, dense(last)])
+            known = None
     traj = _trajectory(scene, eq, ts, ys, dense, status=status, message=message, kind=kind, method=method,
-                       rtol=rtol, atol=atol, nfev=nfev)
+                       rtol=rtol, atol=atol, nfev=nfev, known=known)
     if status in ("toggle", "assembly", "runaway", "steps"):
         at = _where(scene, ys[:, -1])
         if status in ("runaway", "steps"):
@@ -428,15 +432,22 @@ def simulate(
 
 def _trajectory(
     scene: Any, eq: Equation, ts: np.ndarray, ys: np.ndarray, dense: Any, *, status: str, message: str, kind: str,
-    method: str, rtol: float, atol: float, nfev: int,
+    method: str, rtol: float, atol: float, nfev: int, known: Sequence[Any] | None = None,
 ) -> Trajectory:
+    """The run's samples; ``known``: per sample, y' where the integrator evaluated it (q̈ read
+    from it, the drive's effort alone evaluated anew), or None."""
     k = eq.k
     n = ts.size
     eps = np.empty((n, k))
     eff = np.empty((n, k))
+    known = known if known is not None and len(known) == n else [None] * n
     for i in range(n):
         q = [float(v) for v in ys[:k, i]]
         qd = [float(v) for v in ys[k:2 * k, i]]
+        rates = known[i]
+        if rates is not None and all(map(math.isfinite, rates[k:2 * k])):
+            eps[i], eff[i] = rates[k:2 * k], list(eq.drive(float(ts[i]), q, qd))
+            continue
         try:
             qdd, qdrive, _ = eq.accelerations(float(ts[i]), q, qd)
         except AssemblyError:
