@@ -295,10 +295,11 @@ class Integrator:
             if crossing is None or tries:
                 break
             i, bound = crossing
+            if abs(y_new[i] - bound) <= DYNAMICS_KINK_MISS * abs(y_new[i] - y[i]):
+                break  # landed on the kink (the interpolant's crossing is needed only where it missed)
             cubic = hermite(t, h, y, y_new, fy, f_new)
             tau = _root(lambda s, cubic=cubic, i=i, bound=bound: cubic.component(t + s, i) - bound, h)
-            miss = abs(y_new[i] - bound)
-            if miss <= DYNAMICS_KINK_MISS * abs(y_new[i] - y[i]) or tau <= 0.0:
+            if tau <= 0.0:
                 break
             h, tries, end = tau, 1, None  # once more, from the interpolant's crossing
         crossing = self._crossing(y_new, slack=DYNAMICS_KINK_MISS)
@@ -307,7 +308,7 @@ class Integrator:
             self._advance(t_new, y_new, crossed=crossing)
         else:
             self._advance(t_new, y_new, f_new=f_new)
-        return hermite(t, h, y, y_new, fy, self.fy if crossing is not None else f_new)
+        return _LazyHermite(t, h, y, y_new, fy, self.fy if crossing is not None else f_new)
 
     def _crossing(self, y_new: list[float], *, slack: float = 0.0) -> tuple[int, float] | None:
         """(component, the window's end) that the step passed first (or reached within ``slack``
@@ -382,6 +383,31 @@ class _LazyDense(Dense):
                     store.pop(key, None)
             self._args = None  # type: ignore[assignment]
         return self._dense(t)
+
+
+class _LazyHermite(Dense):
+    """RK4's cubic Hermite interpolant of a step, made on first use (a tick that lands on the
+    step's end never reads it)."""
+
+    __slots__ = ("_ends", "_dense")
+    _dense: Dense | None
+
+    def __init__(self, t: float, h: float, y: list[float], y_new: list[float], fy: list[float],
+                 f_new: list[float]) -> None:
+        super().__init__(t, h, y, [])
+        self._ends, self._dense = (y_new, fy, f_new), None
+
+    def _made(self) -> Dense:
+        if self._dense is None:
+            y_new, fy, f_new = self._ends
+            self._dense = hermite(self.t_old, self.h, self.y_old, y_new, fy, f_new)
+        return self._dense
+
+    def __call__(self, t: float) -> list[float]:
+        return self._made()(t)
+
+    def component(self, t: float, j: int) -> float:
+        return self._made().component(t, j)
 
 
 class _LazyPoly(Dense):

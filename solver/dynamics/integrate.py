@@ -49,6 +49,8 @@ class Equation:
         #: whether the two work integrals are integrated (False: their rates are 0, no pass for the
         #: other loads with several inputs)
         self.works = works
+        #: one input: (compiled unit, its size, the efforts' start, other loads?, the drive's ``one``)
+        self._layout: tuple[Any, int, int, bool, Any] | None = None
 
     def accelerations(
         self, t: float, q: Sequence[float], qd: Sequence[float]
@@ -103,17 +105,21 @@ class Equation:
         if not all(map(math.isfinite, y[:2 * k])):  # a trial stage beyond an overflowing one: rejected too
             return [math.nan] * len(y)
         if k == 1:
-            unit = self.model._stacked_unit  # (its ``function`` is replaced on the first call: read it each time)
-            flat = unit.function(y[0], y[1], 0.0)
-            size = unit.size
-            start = size + len(unit.conditioning)
+            layout = self._layout
+            if layout is None:
+                unit = self.model._stacked_unit
+                size = unit.size
+                layout = self._layout = (unit, size, size + len(unit.conditioning), self.model.other is not None,
+                                         getattr(self.drive, "one", None))
+            unit, size, start, has_other, one = layout
+            phi, w = y[0], y[1]
+            flat = unit.function(phi, w, 0.0)  # (its ``function`` is replaced on the first call: read it each time)
             self.last_conditioning = min(flat[size:start]) if start > size else 1.0
-            w = y[1]
-            effort = self.drive(t, y[:1], y[1:2])[0]
+            effort = one(t, phi, w) if one is not None else self.drive(t, y[:1], y[1:2])[0]
             accel = (effort - flat[start]) / flat[start + 1]
             if not self.works:
                 return [w, accel, 0.0, 0.0]
-            return [w, accel, effort * w, (-flat[start + 2] * w) if self.model.other is not None else 0.0]
+            return [w, accel, effort * w, (-flat[start + 2] * w) if has_other else 0.0]
         q, qd = y[:k], y[k:2 * k]
         qdd, qdrive, other, self.last_conditioning = self._solve(t, q, qd)
         if not self.works:
