@@ -153,9 +153,12 @@ class Integrator:
             q, w, e = y[i], fy[i], (fy[k + i] if i < k else 0.0)  # a rate's window: linear in time
             # the jerk from the last step's two accelerations: q + q̇τ + ½q̈τ² + ⅙q⃛τ³, off by O(τ⁴)
             jerk = (e - previous[1][i]) / (self.t - previous[0]) if previous and i < k else 0.0
-            for bound, ahead in ((lo, q > lo), (hi, q < hi)):
+            # an end behind the motion is reached only where it turns back within the step (its rate
+            # w + eτ + ½jτ² cannot reach 0 before h where |w| > |e|·h + ½|j|·h²)
+            turns = abs(w) <= (abs(e) + 0.5 * abs(jerk) * h) * h
+            for bound, ahead, behind in ((lo, q > lo, w > 0.0), (hi, q < hi, w < 0.0)):
                 # (a state a rounding outside its window, just past a kink: that end is behind it)
-                if ahead and math.isfinite(bound):
+                if ahead and (turns or not behind) and math.isfinite(bound):
                     tau = _reach(bound - q, w, e)
                     if tau is not None and jerk:
                         for _ in range(2):  # Newton on the cubic from the quadratic's root
@@ -268,17 +271,18 @@ class Integrator:
             if h < self._min_step(t):
                 raise StepFailure(t, y, *fault)
             worst = [math.inf]
-            f = self._f
+            f = self.f
             if self._conditioning is not None and self._conditioning() < WATCH_BELOW:
                 read = self._conditioning
 
                 def f(t: float, y: list[float], worst: list[float] = worst, read: Any = read) -> list[float]:
-                    out = self._f(t, y)
+                    out = self.f(t, y)
                     worst[0] = min(worst[0], read())
                     return out
             try:
+                self.nfev += 4  # (counted here: no call of _f per evaluation)
                 y_new = rk4_step(f, t, y, fy, h)
-                f_new = self._f(t + h, y_new)
+                f_new = self.f(t + h, y_new)
             except AssemblyError as exc:
                 fault = (exc.group, exc.reason)
                 h, end = 0.5 * h, None
@@ -291,7 +295,8 @@ class Integrator:
             if self._conditioning is not None and worst[0] < DYNAMICS_TOGGLE <= self._conditioning():
                 h, end = 0.5 * h, None  # across a toggle: shorter, until the step ends at it
                 continue
-            crossing = self._crossing(y_new)
+            # the kink passed, or reached within DYNAMICS_KINK_MISS of the move (landed on it)
+            crossing = self._crossing(y_new, slack=DYNAMICS_KINK_MISS)
             if crossing is None or tries:
                 break
             i, bound = crossing
@@ -302,7 +307,6 @@ class Integrator:
             if tau <= 0.0:
                 break
             h, tries, end = tau, 1, None  # once more, from the interpolant's crossing
-        crossing = self._crossing(y_new, slack=DYNAMICS_KINK_MISS)
         t_new = t + h if end is None else end
         if crossing is not None:
             self._advance(t_new, y_new, crossed=crossing)

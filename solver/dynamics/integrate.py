@@ -91,20 +91,13 @@ class Equation:
         cannot be assembled (kept in ``fault`` with the state's coordinates, and counted, as
         :meth:`__call__` does), NaN where it is not finite (a trial stage of a step that overflowed).
         Keeps the state's conditioning in ``last_conditioning``."""
-        try:
-            return self._rates(t, y)
-        except AssemblyError as exc:
-            self.fault = (exc.group, exc.reason, list(y[:self.k]))
-            self.faults += 1
-            raise
-
-    def _rates(self, t: float, y: list[float]) -> list[float]:
-        """:meth:`rates` itself. Keeps the state's conditioning in ``last_conditioning``. One input:
-        the stacked compiled pass read in place (ReducedModel.state's layout), no layer between."""
         k = self.k
         if not all(map(math.isfinite, y[:2 * k])):  # a trial stage beyond an overflowing one: rejected too
             return [math.nan] * len(y)
-        if k == 1:
+        try:
+            if k != 1:
+                return self._several(t, y, k)
+            # one input: the stacked compiled pass read in place (ReducedModel.state's layout), inline
             layout = self._layout
             if layout is None:
                 unit = self.model._stacked_unit
@@ -120,6 +113,13 @@ class Equation:
             if not self.works:
                 return [w, accel, 0.0, 0.0]
             return [w, accel, effort * w, (-flat[start + 2] * w) if has_other else 0.0]
+        except AssemblyError as exc:
+            self.fault = (exc.group, exc.reason, list(y[:k]))
+            self.faults += 1
+            raise
+
+    def _several(self, t: float, y: list[float], k: int) -> list[float]:
+        """:meth:`rates` with k > 1 inputs, at a finite state."""
         q, qd = y[:k], y[k:2 * k]
         qdd, qdrive, other, self.last_conditioning = self._solve(t, q, qd)
         if not self.works:
