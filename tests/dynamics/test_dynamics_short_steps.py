@@ -12,7 +12,14 @@ from scipy.integrate import RK45
 
 import solver
 from solver.dynamics import Stepper, _stepping
-from solver.dynamics._rk import dopri5_dense, dopri5_error, dopri5_step
+from solver.dynamics._rk import (
+    dop853_step,
+    dop853_step_loop,
+    dopri5_dense,
+    dopri5_error,
+    dopri5_step,
+    dopri5_step_loop,
+)
 from solver.dynamics.drive import make_drive
 from solver.forces.spec import Motor
 
@@ -91,3 +98,17 @@ def test_a_drives_scalar_form_is_its_list_form() -> None:
             assert fn.one(0.0, 0.1, w) == fn(0.0, [0.1], [w])[0]  # type: ignore[attr-defined]
     constant, _ = make_drive(2.5, ["drum"], {}, scene="s")
     assert constant.one(0.0, 0.1, 3.0) == constant(0.0, [0.1], [3.0])[0] == 2.5  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize("n", [2, 4, 6])
+def test_the_unrolled_steps_are_the_loops_to_the_bit(n: int) -> None:
+    rng = np.random.default_rng(n)
+
+    def f(t: float, y: list[float]) -> list[float]:
+        return [math.sin(t + 0.3 * j) * y[(j + 1) % n] - 0.5 * y[j] ** 3 for j in range(n)]
+
+    for _ in range(5):
+        y = [float(v) for v in rng.uniform(-2.0, 2.0, n)]
+        t, h = float(rng.uniform(0.0, 5.0)), float(rng.uniform(1e-4, 0.2))
+        for fast, loop in ((dop853_step, dop853_step_loop), (dopri5_step, dopri5_step_loop)):
+            assert fast(f, t, y, f(t, y), h) == loop(f, t, y, f(t, y), h)
