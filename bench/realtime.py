@@ -14,8 +14,10 @@ rate, and work–precision at every error level against MuJoCo and EXUDYN (docs/
   1e-2 … 1e-10 rad the fastest run of each that reaches it.
 
 ``python -m bench.realtime`` prints Markdown and writes the section "## Real time" of
-docs/dynamics.md (``--no-write``: print only). Timings are of a shared machine: the load average
-is printed beside them; compare within one run.
+docs/dynamics.md (``--no-write``: print only); ``--engine`` prints the engine's table alone (CPU
+time, paired in process against DOP853 on every step, without scipy's slow run), ``--node`` the
+node's fixed-step table alone (the tolerance's step and one step a tick). Timings are of a shared
+machine: the load average is printed beside them; compare within one run.
 """
 
 from __future__ import annotations
