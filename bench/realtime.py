@@ -14,8 +14,10 @@ rate, and work–precision at every error level against MuJoCo and EXUDYN (docs/
   1e-2 … 1e-10 rad the fastest run of each that reaches it.
 
 ``python -m bench.realtime`` prints Markdown and writes the section "## Real time" of
-docs/dynamics.md (``--no-write``: print only). Timings are of a shared machine: the load average
-is printed beside them; compare within one run.
+docs/dynamics.md (``--no-write``: print only); ``--engine`` prints the engine's table alone (CPU
+time, paired in process against DOP853 on every step, without scipy's slow run), ``--node`` the
+node's fixed-step table alone (the tolerance's step and one step a tick). Timings are of a shared
+machine: the load average is printed beside them; compare within one run.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from __future__ import annotations
 import math
 import sys
 import time
+import timeit
 from pathlib import Path
 from typing import Any
 
@@ -30,7 +33,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 import solver
-from solver.dynamics import Stepper, fixed_step
+from solver.dynamics import Stepper, _stepping, fixed_step
 from solver.dynamics.drive import make_drive
 from solver.dynamics.integrate import Equation
 
@@ -57,23 +60,59 @@ def _best_of(fn: Any, repeat: int = 3) -> tuple[Any, float]:
 # --- engine.simulate(2.0) ------------------------------------------------------------------------
 
 
-def _engine_rows() -> list[str]:
+def _cpu_best_of(fn: Any, repeat: int = 3) -> tuple[Any, float, float]:
+    """(the result, the best wall time, the best CPU time of the process) over ``repeat`` runs."""
+    best_wall = best_cpu = math.inf
+    out = None
+    for _ in range(repeat):
+        wall, cpu = time.perf_counter(), time.process_time()
+        out = fn()
+        best_cpu = min(best_cpu, time.process_time() - cpu)
+        best_wall = min(best_wall, time.perf_counter() - wall)
+    return out, best_wall, best_cpu
+
+
+def _engine_rows(*, scipy_too: bool = True) -> list[str]:
+    """engine.simulate(2.0) at the default tolerance: ours (a step cut short by a kink tried with
+    the 5(4) pair first), DOP853 on every step (``_stepping.SHORT_STEP = 0``: the loop before that
+    change, paired in this process), and scipy's solve_ivp; CPU times, and the µs of one (M, h)
+    here (to scale to another machine's figure)."""
     engine = solver.load_scene("engine")
     engine.simulate(0.01)  # compile
     model = engine.reduced()
     fn, _ = make_drive(None, engine.inputs, model.motors, scene=engine.name)
+    unit = model._stacked_unit
+    unit.function(0.3, 200.0, 0.0)
+    f = unit.function
+    instant = min(timeit.repeat(lambda: f(0.3, 200.0, 0.0), number=2000, repeat=7)) / 2000
     rows = []
     for omega0 in (0.0, 200.0):
-        run, wall = _best_of(lambda w=omega0: engine.simulate(2.0, omega0=w))
-        start = time.perf_counter()
-        old = solve_ivp(Equation(model, fn), (0.0, 2.0), np.array([0.0, omega0, 0.0, 0.0]), method="DOP853",
-                        rtol=1e-9, atol=1e-9)
-        old_wall = time.perf_counter() - start
-        ref = engine.simulate(2.0, omega0=omega0, rtol=1e-12, atol=1e-12)
-        rows.append(f"| from φ = 0, ω = {omega0:g} rad/s | {wall:.3f} s ({2.0 / wall:.1f}× real time), "
-                    f"{run.evaluations} evaluations | {abs(run.phi[-1] - ref.phi[-1]):.1e} rad | "
-                    f"{old_wall:.3f} s, {old.nfev} evaluations | {abs(old.y[0, -1] - ref.phi[-1]):.1e} rad |")
+        short = _stepping.SHORT_STEP
+        try:
+            _stepping.SHORT_STEP = 0.0
+            ref = engine.simulate(2.0, omega0=omega0, rtol=1e-12, atol=1e-12)
+            plain, _, plain_cpu = _cpu_best_of(lambda w=omega0: engine.simulate(2.0, omega0=w))
+        finally:
+            _stepping.SHORT_STEP = short
+        run, wall, cpu = _cpu_best_of(lambda w=omega0: engine.simulate(2.0, omega0=w))
+        row = (f"| from φ = 0, ω = {omega0:g} rad/s | {cpu:.3f} s CPU ({2.0 / cpu:.1f}× real time; wall {wall:.3f} s), "
+               f"{run.evaluations} evaluations, {abs(run.phi[-1] - ref.phi[-1]):.1e} rad | {plain_cpu:.3f} s CPU, "
+               f"{plain.evaluations} evaluations, {abs(plain.phi[-1] - ref.phi[-1]):.1e} rad | "
+               f"{plain_cpu / cpu:.2f} | {cpu / instant:.0f} (M, h) of {instant * 1e6:.1f} µs |")
+        if scipy_too:
+            start = time.process_time()
+            old = solve_ivp(Equation(model, fn), (0.0, 2.0), np.array([0.0, omega0, 0.0, 0.0]), method="DOP853",
+                            rtol=1e-9, atol=1e-9)
+            row += (f" {time.process_time() - start:.3f} s CPU, {old.nfev} evaluations, "
+                    f"{abs(old.y[0, -1] - ref.phi[-1]):.1e} rad |")
+        else:
+            row += " — |"
+        rows.append(row)
     return rows
+
+
+ENGINE_HEADER = ("| run | ours | DOP853 on every step | its CPU / ours | ours in units of one (M, h) here | "
+                 "scipy solve_ivp (DOP853, no breakpoints) |")
 
 
 # --- the node's fixed step -----------------------------------------------------------------------
@@ -91,29 +130,37 @@ def _node_rows(seconds: float = 2.0, rate: float = 1000.0) -> list[str]:
         start = time.perf_counter()
         step, _ = fixed_step(scene, period=1.0 / rate, tolerance=1e-9, **kw)
         calibration = time.perf_counter() - start
-        fixed = Stepper(scene, method="RK4", step=step, works=False, **kw)
         exact = Stepper(scene, rtol=1e-12, atol=1e-12, works=False, **kw)
         n = int(seconds * rate)
-        dphi = dw = 0.0
-        wall = 0.0
-        reached = n
+        wanted = []
         for i in range(1, n + 1):
-            t = i / rate
             try:
-                t0 = time.perf_counter()
-                got = fixed.advance(t)
-                fixed.accelerations()
-                wall += time.perf_counter() - t0
-                want = exact.advance(t)
+                wanted.append(exact.advance(i / rate)[:2].copy())
             except solver.DynamicsError:
-                reached = i - 1
                 break
-            dphi = max(dphi, abs(got[0] - want[0]))
-            dw = max(dw, abs(got[1] - want[1]) / max(1.0, abs(want[1])))
+        cells = []
+        wall = 0.0
+        for h in (step, 1.0 / rate):  # the tolerance's step, and one step a tick (the node's under its budget)
+            fixed = Stepper(scene, method="RK4", step=h, works=False, **kw)
+            dphi = dw = 0.0
+            wall = 0.0
+            for i, want in enumerate(wanted, start=1):
+                t0 = time.process_time()
+                got = fixed.advance(i / rate)
+                fixed.accelerations()
+                wall += time.process_time() - t0
+                dphi = max(dphi, abs(got[0] - want[0]))
+                dw = max(dw, abs(got[1] - want[1]) / max(1.0, abs(want[1])))
+            cells.append((dphi, dw, wall / max(len(wanted), 1)))
+        (p1, w1, c1), (p2, w2, c2) = cells
         rows.append(f"| {name} {', '.join(f'{k} = {v:g}' for k, v in kw.items())} | {round(1 / (rate * step))} | "
-                    f"{dphi:.1e} | {dw:.1e} | {wall / max(reached, 1) * 1e6:.0f} µs | {reached / rate:g} s | "
-                    f"{calibration:.2f} s |")
+                    f"{p1:.1e} | {w1:.1e} | {c1 * 1e6:.0f} µs | {p2:.1e} | {w2:.1e} | {c2 * 1e6:.0f} µs | "
+                    f"{len(wanted) / rate:g} s | {calibration:.2f} s |")
     return rows
+
+
+NODE_HEADER = ("| scene, start | steps a tick for 1e-9 | φ error | ω error | a tick (CPU) | φ error, one step a tick | "
+               "ω error | a tick (CPU) | run | calibration |")
 
 
 # --- work–precision ------------------------------------------------------------------------------
@@ -272,26 +319,43 @@ def _levels(runs: list[Run]) -> list[str]:
     return rows
 
 
+def _engine_text(*, scipy_too: bool) -> list[str]:
+    return ["The own step loop, breakpoint to breakpoint across the 145 kinks of the 720° gas table (a step cut "
+            "short by a kink tried with Dormand and Prince's 5(4) pair first), against the same loop with DOP853 on "
+            "every step (in this process) and scipy's `solve_ivp` (DOP853, same equation and tolerance, no "
+            "breakpoints; one run); CPU time of the process (the best of three), errors of φ after 2 s against "
+            "DOP853 at 1e-12.", "", ENGINE_HEADER, "|---|---|---|---|---|---|", *_engine_rows(scipy_too=scipy_too)]
+
+
+def _node_text() -> list[str]:
+    return ["The step `fixed_step` chooses for ticks of 1 ms at the default `dynamics_tolerance` (1e-9) without a "
+            "budget, and one step a tick (what the node's budget gives on a loaded machine, and on every machine for "
+            "the engine at 200 rad/s): the largest error at a tick over 2 s against DOP853 at 1e-12 (φ in rad, ω "
+            "relative to max(1, |ω|)), the CPU time of a tick (the law's advance and its ε), and the calibration's "
+            "time.", "", NODE_HEADER, "|---|---|---|---|---|---|---|---|---|---|", *_node_rows()]
+
+
 def main() -> None:
+    if "--node" in sys.argv:  # the node's rows alone, printed
+        info = machine()
+        print(f"load {info['load']}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
+        print("\n".join(_node_text()))
+        return
+    if "--engine" in sys.argv:  # the engine's rows alone (no scipy), printed
+        info = machine()
+        print(f"load {info['load']}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
+        print("\n".join(_engine_text(scipy_too=False)))
+        return
     info = machine()
     lines = ["## Real time", "",
              f"Measured on {info['cpu']} ({info['cores']} cores, load {info['load']} — a shared machine: other "
              f"sessions ran beside it), Python {info['python']}, numpy {info['numpy']}, "
              f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, by `python -m bench.realtime` (the best "
              "of three runs each).", "",
-             "### engine.simulate(2.0), adaptive DOP853 at its default tolerance (rtol = atol = 1e-9)", "",
-             "The own step loop, breakpoint to breakpoint across the 145 kinks of the 720° gas table, against "
-             "scipy's `solve_ivp` (DOP853, same equation and tolerance, no breakpoints; one run); errors of φ "
-             "after 2 s against the own DOP853 at 1e-12.", "",
-             "| run | ours | error | scipy solve_ivp | error |", "|---|---|---|---|---|"]
-    lines += _engine_rows()
+             "### engine.simulate(2.0), adaptive DOP853 at its default tolerance (rtol = atol = 1e-9)", ""]
+    lines += _engine_text(scipy_too=True)
     lines += ["", "### The node's fixed step: RK4 at 1 kHz against the adaptive run", "",
-              "The step `fixed_step` chooses for ticks of 1 ms at the default `dynamics_tolerance` (1e-9), the "
-              "largest error at a tick over 2 s against DOP853 at 1e-12 (φ in rad, ω relative to max(1, |ω|)), "
-              "the wall time of a tick (the law's advance and its ε), and the calibration's time.", "",
-              "| scene, start | steps a tick | φ error | ω error | a tick | run | calibration |",
-              "|---|---|---|---|---|---|---|"]
-    lines += _node_rows()
+              *_node_text()]
     pendulum, slider = _pendulum_runs(), _slider_runs()
     lines += ["", "### Work–precision at every error level", "",
               "The fastest run of each tool whose error of φ at the end is within the level (its settings in "

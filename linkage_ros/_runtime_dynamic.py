@@ -8,7 +8,10 @@ energies in the recording.
   ``effort_timeout``: the efforts count as zero), ``efforts`` (the command in force) and
   ``real_time_factor``: run time advanced per second of wall-clock (monotonic) time since the
   previous diagnostics message — 1 while the node keeps up with its clock; under
-  ``use_sim_time`` the ``/clock``'s rate.
+  ``use_sim_time`` the ``/clock``'s rate; ``fixed_step`` (s, the RK4 step the law chose at its
+  start) and ``step_error`` (that step's error over its first 50 ticks against the adaptive run,
+  in units of ``dynamics_tolerance``: above 1 where the tick budget allowed no more steps — the
+  tolerance is missed by that factor, said, never silently).
 * :func:`energy_values` gives the row of the ``energies`` topic (``std_msgs/Float64MultiArray``,
   recorded, not published): the kinetic energy ½q̇ᵀM(q)q̇, the potentials of gravity and of the
   springs, and their sum T + V (J), of the state a tick reached.
@@ -16,6 +19,7 @@ energies in the recording.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 from typing import Any
@@ -71,4 +75,6 @@ class DriveState:
         return [("drive", kind), ("command_age", "none" if age is None else f"{age:.6f}"),
                 ("stale", "true" if stale else "false"),
                 ("efforts", " ".join(repr(float(v)) for v in motion.efforts)),
-                ("real_time_factor", factor)]
+                ("real_time_factor", factor),
+                ("fixed_step", f"{float(getattr(motion, 'step', math.nan)):.6g}"),
+                ("step_error", f"{float(getattr(motion, 'step_error', math.nan)):.3g}")]

@@ -6,7 +6,7 @@ at the tick's run time, and that law advances the scene's forward dynamics
 (:class:`solver.dynamics.Stepper` with RK4 at a fixed step landing on every tick, breakpoint to
 breakpoint across a table's kinks; the step is chosen from ``dynamics_tolerance`` for the
 ``rate_hz`` at the start by :func:`solver.dynamics.fixed_step`: at most 16 steps a tick, and
-only as many as fit in a quarter of a tick on this machine) from
+only as many as fit in 15 % of a tick on this machine) from
 ``phi0`` / ``omega`` (``input_phi0s`` / ``input_omegas``). The
 laws have the interface of :class:`~linkage_ros.motion.Motion` / :class:`~linkage_ros.motion.Motions`,
 so the engine, the fast path, the messages and the recorder are those of the kinematic mode: a
@@ -86,8 +86,12 @@ REALTIME_WINDOW = 1.0
 #: Below this share of ``rate_hz`` ticks in a window the law says it falls behind.
 TICKS_WANTED = 0.99
 #: The share of a tick's period the law's steps may take (solver.dynamics.fixed_step's budget:
-#: more steps a tick only while they fit, the tolerance second to real time).
-TICK_BUDGET = 0.25
+#: more steps a tick only while they fit, the tolerance second to real time). 15 %: with the
+#: kinematic tick, the message build and the executor's publishing (≈ 0.25 ms at 1 kHz on the
+#: project's machine), a node at 1 kHz stays under half a core, room for the jitter of a shared
+#: machine (issue 32: at 25 % the calibration took 4–8 steps a tick, and the node 72–99 % of a
+#: core, 84–98 % of the ticks).
+TICK_BUDGET = 0.15
 #: A tick advances the law by at most this many periods; a longer gap slips (the law falls
 #: behind the clock instead of taking ever longer ticks to catch up with it).
 MAX_GAP_TICKS = 20

@@ -119,10 +119,11 @@ class RunGuard:
         """A terminal event of solve_ivp at max|q̇ᵢ| = max_rate."""
         k, bound = self.k, self.max_rate
 
-        def runaway(t: float, y: np.ndarray) -> float:
-            return bound - float(np.max(np.abs(y[k:2 * k])))
+        def runaway(t: float, y: Any) -> float:
+            return bound - max(abs(float(v)) for v in y[k:2 * k])
 
         runaway.terminal = True  # type: ignore[attr-defined]
+        runaway.plain = True  # type: ignore[attr-defined]  # takes y as a list (the own step loop's)
         runaway.direction = -1  # type: ignore[attr-defined]
         return runaway
 
@@ -130,7 +131,7 @@ class RunGuard:
         """The runaway's reason at state ``y``, or None."""
         k = self.k
         rates = [abs(float(v)) for v in y[k:2 * k]]
-        if not all(math.isfinite(r) for r in rates) or max(rates) > self.max_rate:
+        if not all(map(math.isfinite, rates)) or max(rates) > self.max_rate:
             return self.runaway_text()
         return None
 
@@ -152,6 +153,7 @@ class RunGuard:
             return 1.0
 
         steps.terminal = True  # type: ignore[attr-defined]
+        steps.plain = True  # type: ignore[attr-defined]
         steps.direction = -1  # type: ignore[attr-defined]
         return steps
 

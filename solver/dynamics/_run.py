@@ -61,6 +61,8 @@ class Outcome:
     fault: tuple[str, str, list[float]] | None
     nfev: int
     sol: Solution
+    #: per sample, y' there where the integrator had it (a step's end: its last evaluation), else None
+    rates: list[list[float] | None] | None = None
 
 
 def run(
@@ -83,15 +85,18 @@ def run(
                 return eq.model.instant(y[:k], y[k:2 * k])[2] - DYNAMICS_TOGGLE
             except AssemblyError:
                 return -DYNAMICS_TOGGLE
-        return float(g(t, np.asarray(y)))
+        return float(g(t, y if plain[i] else np.asarray(y)))
 
+    plain = [bool(getattr(g, "plain", False)) for g, _ in events]
     g_old = [value(i, 0.0, integ.y, end=True) for i in range(len(events))]
     ts: list[float] = []
     ys: list[list[float]] = []
+    rs: list[list[float] | None] = []
     sample = 0
     if t_eval is None:
         ts.append(0.0)
         ys.append(list(integ.y))
+        rs.append(integ.fy)
     steps: list[Dense] = []
     status, hit, fault = 0, None, None
     while integ.t < t_end:
@@ -117,21 +122,26 @@ def run(
             if first is None:
                 ts.append(t_new)
                 ys.append(list(y_new))
+                rs.append(integ.fy)
         else:
             while sample < t_eval.size and t_eval[sample] <= t_stop:
                 ts.append(float(t_eval[sample]))
-                ys.append(list(y_new) if t_eval[sample] == t_new else dense(float(t_eval[sample])))
+                on_end = t_eval[sample] == t_new
+                ys.append(list(y_new) if on_end else dense(float(t_eval[sample])))
+                rs.append(integ.fy if on_end else None)
                 sample += 1
         if first is not None:
             status, hit = 1, first[1]
             if not ts or ts[-1] < t_stop:
                 ts.append(t_stop)
                 ys.append(dense(t_stop))
+                rs.append(None)
             dense.t = t_stop
             break
         g_old = g_new
     if status == -1 and integ.t > (ts[-1] if ts else -math.inf):
         ts.append(integ.t)  # the last step made, past the last requested sample
         ys.append(list(integ.y))
+        rs.append(integ.fy)
     y_arr = np.array(ys, float).T if ys else np.empty((len(y0), 0))
-    return Outcome(np.array(ts, float), y_arr, status, hit, fault, integ.nfev, Solution(steps))
+    return Outcome(np.array(ts, float), y_arr, status, hit, fault, integ.nfev, Solution(steps), rs)

@@ -19,7 +19,8 @@ from ..forces.spec import Motor
 
 __all__ = ["Drive", "HELD", "motor_torque", "make_drive"]
 
-#: Q_drive(t, q, qd) → one effort per input (N·m; N for a length input)
+#: Q_drive(t, q, qd) → one effort per input (N·m; N for a length input). With one input a drive
+#: may carry ``one(t, q, w) → float``, the same effort on floats (the equation's per-step path).
 Drive = Callable[[float, Sequence[float], Sequence[float]], Sequence[float]]
 
 
@@ -62,6 +63,19 @@ def make_drive(spec: Any, inputs: Sequence[str], motors: Mapping[str, Motor], *,
         def by_motor(t: float, q: Sequence[float], qd: Sequence[float]) -> Sequence[float]:
             return [0.0 if m is None else motor_torque(m, qd[i]) for i, m in enumerate(chosen)]
 
+        if k == 1 and chosen[0] is not None:
+            motor = chosen[0]
+            if motor.linear:
+                stall, no_load = motor.stall, motor.no_load
+                assert stall is not None and no_load is not None
+
+                def one(t: float, q: float, w: float) -> float:
+                    return stall * (1.0 - w / no_load)  # motor_torque's line, without the call
+            else:
+                def one(t: float, q: float, w: float) -> float:
+                    return motor_torque(motor, w)
+
+            by_motor.one = one  # type: ignore[attr-defined]
         return by_motor, "motor"
     if isinstance(spec, str):
         if spec != "free":
@@ -103,4 +117,11 @@ def _constant(values: Sequence[float]) -> Drive:
     def constant(t: float, q: Sequence[float], qd: Sequence[float]) -> Sequence[float]:
         return fixed
 
+    if len(fixed) == 1:
+        value = fixed[0]
+
+        def one(t: float, q: float, w: float) -> float:
+            return value
+
+        constant.one = one  # type: ignore[attr-defined]
     return constant

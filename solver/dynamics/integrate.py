@@ -49,6 +49,8 @@ class Equation:
         #: whether the two work integrals are integrated (False: their rates are 0, no pass for the
         #: other loads with several inputs)
         self.works = works
+        #: one input: (compiled unit, its size, the efforts' start, other loads?, the drive's ``one``)
+        self._layout: tuple[Any, int, int, bool, Any] | None = None
 
     def accelerations(
         self, t: float, q: Sequence[float], qd: Sequence[float]
@@ -89,31 +91,35 @@ class Equation:
         cannot be assembled (kept in ``fault`` with the state's coordinates, and counted, as
         :meth:`__call__` does), NaN where it is not finite (a trial stage of a step that overflowed).
         Keeps the state's conditioning in ``last_conditioning``."""
-        try:
-            return self._rates(t, y)
-        except AssemblyError as exc:
-            self.fault = (exc.group, exc.reason, list(y[:self.k]))
-            self.faults += 1
-            raise
-
-    def _rates(self, t: float, y: list[float]) -> list[float]:
-        """:meth:`rates` itself. Keeps the state's conditioning in ``last_conditioning``. One input:
-        the stacked compiled pass read in place (ReducedModel.state's layout), no layer between."""
         k = self.k
         if not all(map(math.isfinite, y[:2 * k])):  # a trial stage beyond an overflowing one: rejected too
             return [math.nan] * len(y)
-        if k == 1:
-            unit = self.model._stacked_unit  # (its ``function`` is replaced on the first call: read it each time)
-            flat = unit.function(y[0], y[1], 0.0)
-            size = unit.size
-            start = size + len(unit.conditioning)
+        try:
+            if k != 1:
+                return self._several(t, y, k)
+            # one input: the stacked compiled pass read in place (ReducedModel.state's layout), inline
+            layout = self._layout
+            if layout is None:
+                unit = self.model._stacked_unit
+                size = unit.size
+                layout = self._layout = (unit, size, size + len(unit.conditioning), self.model.other is not None,
+                                         getattr(self.drive, "one", None))
+            unit, size, start, has_other, one = layout
+            phi, w = y[0], y[1]
+            flat = unit.function(phi, w, 0.0)  # (its ``function`` is replaced on the first call: read it each time)
             self.last_conditioning = min(flat[size:start]) if start > size else 1.0
-            w = y[1]
-            effort = self.drive(t, y[:1], y[1:2])[0]
+            effort = one(t, phi, w) if one is not None else self.drive(t, y[:1], y[1:2])[0]
             accel = (effort - flat[start]) / flat[start + 1]
             if not self.works:
                 return [w, accel, 0.0, 0.0]
-            return [w, accel, effort * w, (-flat[start + 2] * w) if self.model.other is not None else 0.0]
+            return [w, accel, effort * w, (-flat[start + 2] * w) if has_other else 0.0]
+        except AssemblyError as exc:
+            self.fault = (exc.group, exc.reason, list(y[:k]))
+            self.faults += 1
+            raise
+
+    def _several(self, t: float, y: list[float], k: int) -> list[float]:
+        """:meth:`rates` with k > 1 inputs, at a finite state."""
         q, qd = y[:k], y[k:2 * k]
         qdd, qdrive, other, self.last_conditioning = self._solve(t, q, qd)
         if not self.works:
@@ -275,6 +281,7 @@ def _stroke_events(scene: Any) -> list[Any]:
             return _stroke_end(lo, hi, name, open_end=abs(y[i] - hi) < abs(y[i] - lo))
 
         end.terminal = True  # type: ignore[attr-defined]
+        end.plain = True  # type: ignore[attr-defined]  # takes y as a list (the own step loop's)
         end.direction = -1  # type: ignore[attr-defined]  # leaving the stroke (a run may start at an end)
         end.message = message  # type: ignore[attr-defined]
         out.append(end)
@@ -377,6 +384,7 @@ def simulate(
                   max_step=max_step, events=[(ev, int(getattr(ev, "direction", 0))) for ev in all_events],
                   t_eval=t_eval)
         ts, ys, sol_status, hit, dense, nfev = out.t, out.y, out.status, out.hit, out.sol, out.nfev
+        known = out.rates
         if out.fault is not None and eq.fault is None:  # (the trial state's own, where a stage could not be assembled)
             eq.fault = out.fault
         last = dense.t_max
@@ -385,6 +393,7 @@ def simulate(
                         events=all_events, t_eval=t_eval, max_step=max_step)
         ts, ys, sol_status, dense, nfev = sol.t, sol.y, sol.status, sol.sol, sol.nfev
         hit = None
+        known = None
         if sol.status == 1:  # an event
             hit = next(i for i, te in enumerate(sol.t_events) if len(te))
             te, ye = sol.t_events[hit][0], sol.y_events[hit][0]
@@ -412,8 +421,9 @@ def simulate(
         message = _limit_message(scene, eq.fault, "the step size fell below the spacing of floats")
         if ts.size and last > ts[-1]:  # the last accepted step, past the last requested sample
             ts, ys = np.append(ts, last), np.column_stack([ys, dense(last)])
+            known = None
     traj = _trajectory(scene, eq, ts, ys, dense, status=status, message=message, kind=kind, method=method,
-                       rtol=rtol, atol=atol, nfev=nfev)
+                       rtol=rtol, atol=atol, nfev=nfev, known=known)
     if status in ("toggle", "assembly", "runaway", "steps"):
         at = _where(scene, ys[:, -1])
         if status in ("runaway", "steps"):
@@ -428,15 +438,22 @@ def simulate(
 
 def _trajectory(
     scene: Any, eq: Equation, ts: np.ndarray, ys: np.ndarray, dense: Any, *, status: str, message: str, kind: str,
-    method: str, rtol: float, atol: float, nfev: int,
+    method: str, rtol: float, atol: float, nfev: int, known: Sequence[Any] | None = None,
 ) -> Trajectory:
+    """The run's samples; ``known``: per sample, y' where the integrator evaluated it (q̈ read
+    from it, the drive's effort alone evaluated anew), or None."""
     k = eq.k
     n = ts.size
     eps = np.empty((n, k))
     eff = np.empty((n, k))
+    known = known if known is not None and len(known) == n else [None] * n
     for i in range(n):
         q = [float(v) for v in ys[:k, i]]
         qd = [float(v) for v in ys[k:2 * k, i]]
+        rates = known[i]
+        if rates is not None and all(map(math.isfinite, rates[k:2 * k])):
+            eps[i], eff[i] = rates[k:2 * k], list(eq.drive(float(ts[i]), q, qd))
+            continue
         try:
             qdd, qdrive, _ = eq.accelerations(float(ts[i]), q, qd)
         except AssemblyError:

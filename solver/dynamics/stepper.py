@@ -102,6 +102,8 @@ class Stepper:
     def _restart(self) -> None:
         self._integ = self._integrator(self.method, self.t, self.y.tolist())
         self._dense: Dense | None = None
+        #: y' at the last state returned, where the integrator evaluated it there (else None)
+        self._fy: list[float] | None = self._integ.fy
 
     def _last_conditioning(self) -> float:
         return float(self.eq.last_conditioning)
@@ -147,11 +149,14 @@ class Stepper:
         integ = self._integ
         if integ.t == t or self._dense is None:
             y = np.array(integ.y)
+            self._fy = integ.fy if integ.t == t else None
         else:
             y = np.array(self._dense(t))
+            self._fy = None
         if self.method == "RK4" and integ.method == "DOP853" and self.eq.last_conditioning >= ADAPTIVE_BELOW:
             self._integ = self._integrator("RK4", t, y.tolist())
             self._dense = None
+            self._fy = self._integ.fy
         self.t, self.y = t, y
         return y
 
@@ -170,7 +175,11 @@ class Stepper:
         """(q̈, Q_drive) at the last state returned."""
         k = self.k
         state = self.y.tolist()
-        qdd, qdrive, _ = self.eq.accelerations(self.t, state[:k], state[k:2 * k])
+        q, qd = state[:k], state[k:2 * k]
+        fy = self._fy
+        if fy is not None and all(map(math.isfinite, fy[k:2 * k])):  # the step's own last evaluation
+            return list(fy[k:2 * k]), list(self.eq.drive(self.t, q, qd))
+        qdd, qdrive, _ = self.eq.accelerations(self.t, q, qd)
         return qdd, qdrive
 
 

@@ -131,3 +131,16 @@ def test_a_toggle_holds_the_last_state_with_one_event_until_omega_is_set() -> No
     assert rt.command_efforts([0.01, -0.01], START_NS + round(0.7 * NS)) is None
     assert law.segment_at(0.7).tag == "dynamics" and law.efforts == (0.01, -0.01)
     assert law.state(0.7)[1] == (0.0, 0.0)
+
+
+def test_diagnostics_carry_the_fixed_step_and_its_error_in_units_of_the_tolerance() -> None:
+    rt = runtime(scene="four_bar_loaded", phi0=0.3, omega=0.0)
+    run(rt, 0.01)
+    law = rt.engine.motion
+    frame = rt.last_frame
+    assert frame is not None
+    built = dict(rt.builder.build(frame, START_NS + round(0.01 * NS), include_paths=False))
+    values = {kv.key: kv.value for kv in built["diagnostics"].status[0].values}
+    assert float(values["fixed_step"]) == pytest.approx(law.step, rel=1e-5)
+    assert float(values["step_error"]) == pytest.approx(law.step_error, rel=1e-2)
+    assert 0.0 < law.step <= 1e-3 and law.step_error >= 0.0
