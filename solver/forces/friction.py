@@ -46,7 +46,7 @@ from .friction_spec import FrictionSpec
 from .state import ForcePass
 from .structure import GROUND, Structure
 
-__all__ = ["FrictionModel", "breakaway", "cycle_efficiency", "locked_intervals", "locking_message",
+__all__ = ["FrictionModel", "breakaway", "solve_magnitudes", "cycle_efficiency", "locked_intervals", "locking_message",
            "NEWTON_STEPS", "CONVERGED", "TENDENCY"]
 
 
@@ -157,6 +157,26 @@ class FrictionModel:
         v2 = (np.conj(r) * r2).real / rho + (r1.real ** 2 + r1.imag ** 2) / rho - c1 * c1 / rho ** 3
         return r / rho, v1, v2
 
+    def element_kinematics(self, values: Any, xp: Backend) -> list[tuple[Any, Any, Any, Callable[[ForcePass], None]]]:
+        """Per element (in :attr:`elements` order): the analogs (dv/dφ, d²v/dφ²) of its relative
+        velocity (pin: ωᵢ − ωⱼ; slide: the block along its guide), as arrays; the slide's unit
+        direction (None for a pin); and its unit load on a route-2 pass (a unit couple on i and
+        its opposite on j; a unit push along the guide on the block at its pin)."""
+        rates: dict[str, tuple[Any, Any]] = {}
+        out: list[tuple[Any, Any, Any, Callable[[ForcePass], None]]] = []
+        for e in self.elements:
+            if e.kind == "pin":
+                for link in (e.body, e.other):
+                    if link not in rates:
+                        rates[link] = self._rate(link, values)
+                (a1, a2), (b1, b2) = rates[e.body], rates[e.other]
+                out.append((_arr(a1) - _arr(b1), _arr(a2) - _arr(b2), None, _couples(e.body, e.other)))
+            else:
+                unit, v1, v2 = self._slide(e, values)
+                out.append((v1, v2, unit, _pushes(e.body, e.other, e.point,
+                                                  unit if xp.vectorised else complex(np.ravel(unit)[0]))))
+        return out
+
     # -- the solve --------------------------------------------------------------------------------
     def apply(self, model: _Responses, values: Any, xp: Backend, omega: Any, epsilon: Any,
               out: list[Any]) -> list[Any]:
@@ -168,24 +188,9 @@ class FrictionModel:
         base = [_full(v, n) for v in out]
         q0 = base[index["effort", self.inputs[0]]]
         tendency = -np.sign(q0)
-        rates: dict[str, tuple[Any, Any]] = {}
-        for e in self.elements:
-            if e.kind == "pin":
-                for link in (e.body, e.other):
-                    if link not in rates:
-                        rates[link] = self._rate(link, values)
         dirs, speeds, responses, carriers, units = [], [], [], [], []
-        for e in self.elements:
-            if e.kind == "pin":
-                (a1, a2), (b1, b2) = rates[e.body], rates[e.other]
-                v1, v2 = _arr(a1) - _arr(b1), _arr(a2) - _arr(b2)
-                unit: Any = None
-                load = _couples(e.body, e.other)
-                carriers.append(index["pin", e.index])
-            else:
-                unit, v1, v2 = self._slide(e, values)
-                load = _pushes(e.body, e.other, e.point, unit if xp.vectorised else complex(np.ravel(unit)[0]))
-                carriers.append(index["slide", e.index])
+        for e, (v1, v2, unit, load) in zip(self.elements, self.element_kinematics(values, xp)):
+            carriers.append(index[("pin" if e.kind == "pin" else "slide"), e.index])
             dirs.append(_direction(v1 * w, v2 * w * w + v1 * eps, v1 * tendency))
             speeds.append(np.abs(v1 * w))
             units.append(unit)
@@ -385,6 +390,11 @@ def _newton(r0c: list[np.ndarray], responses: list[list[np.ndarray]], dirs: list
     solved = done & finite & (residual <= STAGNANT * np.maximum(np.abs(x).max(axis=1), 1e-300))
     locked = ~solved & np.isfinite(r0).all(axis=1)
     return x, locked
+
+
+#: x = c·|R₀ + B·x| per sample (the solve :meth:`FrictionModel.apply` uses; forward dynamics
+#: calls it on the reduced system of a free input, solver.dynamics._friction)
+solve_magnitudes = _solve
 
 
 # -- read-outs -----------------------------------------------------------------------------------
