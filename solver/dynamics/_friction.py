@@ -36,16 +36,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 
-from .._backend import SCALAR
 from ..errors import DynamicsError
-from ..forces.friction import solve_magnitudes
-from ..groups import Context
+from ..forces.friction import CONVERGED, FIXED_STEPS, solve_magnitudes
 
-__all__ = ["FrictionDynamics", "FrictionState"]
+__all__ = ["FrictionDynamics", "FrictionLayer", "FrictionState"]
 
 
 @dataclass(frozen=True)
@@ -63,63 +62,98 @@ def _sign(v: float) -> float:
     return 1.0 if v > 0.0 else -1.0 if v < 0.0 else 0.0
 
 
+class FrictionLayer:
+    """The force layer of the compiled instant of a scene with friction, in forward dynamics:
+    every pass the friction's equations need, on the jets of one plan run — the frictionless
+    effort and carriers at (q̇, ε = 0) (h, R⁰), the bodies' inertia alone at (0, 1) (M, A), the
+    other loads' effort, each element's unit load (uⱼ, B_jk) and its analogs (v′ⱼ, v″ⱼ). It names
+    no friction of its own, so it is compiled (solver._codegen); the scalar path evaluates the same
+    source where a guard trips."""
+
+    #: as a force layer's: solved here, not by the kinetostatics' friction
+    friction = None
+
+    def __init__(self, rubbing: Any, inertia: Any, other: Any) -> None:
+        self.rubbing, self.inertia, self.other = rubbing, inertia, other
+        self.targets = rubbing.targets
+        self.inputs = rubbing.inputs
+        index = rubbing.base_index
+        self.elements = rubbing.friction.elements
+        self.carriers = [index[("pin" if e.kind == "pin" else "slide"), e.index] for e in self.elements]
+        m = len(self.carriers)
+        parts = [("h", False), ("M", False), ("other", False)]
+        parts += [(f"R0.{k}", True) for k in range(m)] + [(f"A.{k}", True) for k in range(m)]
+        for j in range(m):
+            parts += [(f"u.{j}", False), *((f"B.{j}.{k}", True) for k in range(m)), (f"v1.{j}", False),
+                      (f"v2.{j}", False)]
+        self.layout = tuple(("friction", key, cplx) for key, cplx in parts)
+        self.index = {(kind, key): i for i, (kind, key, _) in enumerate(self.layout)}
+
+    def evaluate(self, values: Any, xp: Any, conditioning: Any, omega: Any, epsilon: Any) -> tuple:
+        rub, inertia, other = self.rubbing, self.inertia, self.other
+        base = rub.respond(values, xp, lambda s: rub._apply_loads(s, omega, 0.0))
+        inert = inertia.respond(values, xp, lambda s: inertia._apply_loads(s, 0.0, 1.0))
+        q_other = 0.0 if other is None else other.respond(values, xp, lambda s: other._apply_loads(s, omega, 0.0))[0]
+        out = [base[0], inert[0], q_other, *(base[k] for k in self.carriers), *(inert[k] for k in self.carriers)]
+        for v1, v2, _, load in rub.friction.element_kinematics(values, xp):
+            unit = rub.respond(values, xp, load)
+            out += [unit[0], *(unit[k] for k in self.carriers), v1, v2]
+        return tuple(out)
+
+
 class FrictionDynamics:
     """The friction-coupled equation of motion of a one-input scene with ``friction:``.
 
-    ``scene``: the scene's force layer with its friction (its plan reads every point the elements
-    need); ``inertia``, ``other``: the reduced model's frictionless variants (the bodies alone;
-    the loads other than gravity and springs on massless bodies, or None)."""
+    ``scene``: a scene whose force layer is a :class:`FrictionLayer` (its plan reads every point
+    the elements need); its compiled instant gives every pass at a state in one call."""
 
-    def __init__(self, scene: Any, inertia: Any, other: Any) -> None:
-        forces = scene.forces
-        self.scene, self.forces, self.friction = scene, forces, forces.friction
-        self.inertia = inertia.forces
-        self.other = None if other is None else other.forces
+    def __init__(self, scene: Any, rubbing: Any) -> None:
+        layer: FrictionLayer = scene.forces
+        self.scene, self.layer = scene, layer
         self.name = scene.name
         self.input = scene.inputs[0]
-        index = forces.base_index
-        self.elements = self.friction.elements
-        self.carriers = [index[("pin" if e.kind == "pin" else "slide"), e.index] for e in self.elements]
+        self.elements = layer.elements
         self.c = np.array([e.coefficient for e in self.elements], float)
+        self.c_list = [float(v) for v in self.c]
         #: the seal force (N) of a cylinder on the input's own stroke (a seal elsewhere moves no effort)
-        self.seal = sum(s.force for s in self.friction.spec.seals if s.joint == self.input)
-        self._memo: tuple[float, Any] | None = None  # (q, the passes at q)
+        self.seal = sum(s.force for s in rubbing.friction.spec.seals if s.joint == self.input)
+        self._memo: tuple[Any, Any, Any] = (None, None, None)
 
-    # -- one state -------------------------------------------------------------------------------
-    def _kinematics(self, q: float) -> Any:
-        """The plan run at ``q`` and the passes that do not depend on q̇: the inertia's, each
-        element's unit load's, the elements' analogs, the conditioning (kept for the last q)."""
+    @cached_property
+    def _unit(self) -> Any:
+        return self.scene.compiled()
+
+    def _passes(self, q: float, w: float) -> tuple[Any, ...]:
+        """(h, M, Q_other, R⁰, A, u, B, analogs, conditioning) at (q, q̇): one compiled call (the
+        last one kept: the reversal events ask each element's analogs at the same q in turn)."""
         memo = self._memo
-        if memo is not None and memo[0] == q:
-            return memo[1]
-        ctx = Context(phi=q, xp=SCALAR, mask=False, scene=self.name, owner=self.scene)
-        self.scene.plan.run(ctx)
-        values = ctx.values
-        cond = min(ctx.conditioning.values()) if ctx.conditioning else 1.0
-        inertia = self.inertia
-        inert = inertia.respond(values, SCALAR, lambda s: inertia._apply_loads(s, 0.0, 1.0))
-        kin = self.friction.element_kinematics(values, SCALAR)
-        units = [self.forces.respond(values, SCALAR, load) for _, _, _, load in kin]
-        rates = [(float(np.ravel(v1)[0]), float(np.ravel(v2)[0])) for v1, v2, _, _ in kin]
-        out = (values, inert, units, rates, cond)
-        self._memo = (q, out)
+        if memo[0] == q and memo[1] == w:
+            return memo[2]  # type: ignore[no-any-return]
+        unit = self._unit
+        flat = unit.function(q, w, 0.0)
+        size = unit.size
+        start = size + len(unit.conditioning)
+        cond = min(flat[size:start]) if start > size else 1.0
+        m = len(self.elements)
+        h, mass, other = flat[start], flat[start + 1], -flat[start + 2]
+        i = start + 3
+        r0 = list(flat[i:i + m])
+        a = list(flat[i + m:i + 2 * m])
+        i += 2 * m
+        u, b, rates = [], [], []
+        for _ in range(m):
+            u.append(flat[i])
+            b.append(list(flat[i + 1:i + 1 + m]))
+            rates.append((flat[i + 1 + m], flat[i + 2 + m]))
+            i += m + 3
+        out = (h, mass, other, r0, a, u, b, rates, cond)
+        self._memo = (q, w, out)
         return out
 
-    def _passes(self, q: float, w: float) -> Any:
-        """:meth:`_kinematics` and the frictionless pass at (q, q̇, ε = 0), with the other loads'
-        generalised force."""
-        values, inert, units, rates, cond = self._kinematics(q)
-        forces = self.forces
-        base = forces.respond(values, SCALAR, lambda s: forces._apply_loads(s, w, 0.0))
-        other = 0.0
-        if self.other is not None:
-            o = self.other
-            other = -float(o.respond(values, SCALAR, lambda s: o._apply_loads(s, w, 0.0))[0])
-        return base, inert, units, rates, other, cond
-
-    def rates(self, q: float) -> list[float]:
-        """Each element's relative-velocity analog dv/dφ at ``q`` (its zeros: where it reverses)."""
-        return [v1 for v1, _ in self._kinematics(q)[3]]
+    def analogs(self, q: float) -> list[tuple[float, float]]:
+        """Each element's (v′, v″): the analogs of its relative velocity at ``q`` (v′'s zeros: where
+        it reverses while the input moves)."""
+        return list(self._passes(q, 0.0)[7])
 
     def _directions(self, rates: list[tuple[float, float]], w: float, slip: float,
                     override: dict[int, float] | None) -> list[float]:
@@ -136,49 +170,62 @@ class FrictionDynamics:
             out.append(d)
         return out
 
-    def _magnitudes(self, r0: list[complex], b: list[list[complex]], dirs: list[float], where: str) -> np.ndarray:
-        m = len(self.carriers)
+    def _magnitudes(self, r0: list[complex], b: list[list[complex]], dirs: list[float], where: str) -> list[float]:
+        """x = c·|R⁰ + Σⱼ xⱼ·dⱼ·B_j| at one state: Gauss–Seidel sweeps on plain Python numbers (the
+        kinetostatics' fixed point, solver.forces.friction, for one sample: a few µs a sweep),
+        handed to its vectorised solve (sweeps, then Newton) where they do not settle."""
+        m = len(r0)
+        c = self.c_list
+        terms = [[(j, b[j][k] * dirs[j]) for j in range(m) if b[j][k] != 0.0 and dirs[j] != 0.0] for k in range(m)]
+        x = [c[k] * abs(r0[k]) for k in range(m)]
+        for _ in range(FIXED_STEPS):
+            change = size = 0.0
+            for k in range(m):
+                r = r0[k]
+                for j, bjk in terms[k]:
+                    r += x[j] * bjk
+                new = c[k] * abs(r)
+                change, size = max(change, abs(new - x[k])), max(size, new)
+                x[k] = new
+            if change <= CONVERGED * size:
+                return x
         base = [np.array([r0[k]], complex) for k in range(m)]
         responses = [[np.array([b[j][k]], complex) for k in range(m)] for j in range(m)]
-        x, locked = solve_magnitudes(base, responses, [np.array([d]) for d in dirs], list(range(m)), self.c, 1)
+        xs, locked = solve_magnitudes(base, responses, [np.array([d]) for d in dirs], list(range(m)), self.c, 1)
         if locked[0]:
             raise DynamicsError(f"the friction equations have no solution at {where}: the friction locks the "
                                 "mechanism against its own motion (no acceleration satisfies them)", scene=self.name)
-        return x[0]
+        return [float(v) for v in xs[0]]
 
     def solve(self, q: float, w: float, drive: float, *, slip: float = 0.0,
               override: dict[int, float] | None = None) -> FrictionState:
         """ε and the dissipated power at (q, q̇) under the input's effort ``drive``; ``slip``: the
         direction the input starts in where q̇ = 0; ``override``: element → d where its relative
         velocity is zero (a restart at its reversal)."""
-        base, inert, units, rates, other, cond = self._passes(q, w)
-        mass, h = float(inert[0]), float(base[0])
+        h, mass, other, r0, a, u, b, rates, cond = self._passes(q, w)
         s = _sign(w) or slip
         rest = (drive - h - self.seal * s) / mass
         dirs = self._directions(rates, w, slip, override)
-        r0 = [complex(base[k]) + complex(inert[k]) * rest for k in self.carriers]
-        b = [[complex(units[j][k]) - complex(inert[k]) * float(units[j][0]) / mass for k in self.carriers]
-             for j in range(len(self.carriers))]
-        x = self._magnitudes(r0, b, dirs, f"{self.input} = {q:.6g}")
-        eps = rest - sum(x[j] * dirs[j] * float(units[j][0]) for j in range(len(dirs))) / mass
-        loss = sum(x[j] * abs(rates[j][0] * w) for j in range(len(dirs))) + self.seal * abs(w)
-        return FrictionState(eps, float(loss), other, cond)
+        m = len(dirs)
+        rt = [r0[k] + a[k] * rest for k in range(m)]
+        bt = [[b[j][k] - a[k] * (u[j] / mass) for k in range(m)] for j in range(m)]
+        x = self._magnitudes(rt, bt, dirs, f"{self.input} = {q:.6g}")
+        eps = rest - sum(x[j] * dirs[j] * u[j] for j in range(m)) / mass
+        loss = sum(x[j] * abs(rates[j][0] * w) for j in range(m)) + self.seal * abs(w)
+        return FrictionState(eps, loss, other, cond)
 
     def holding(self, q: float) -> tuple[float, float]:
         """The breakaway interval (Q₋, Q₊) at rest at ``q``: the efforts of the input that hold the
         mechanism (the kinetostatic effort at q̇ = ε = 0 with the friction against a start toward −q
         and toward +q)."""
-        base, _, units, rates, _, _ = self._passes(q, 0.0)
-        h = float(base[0])
+        h, _, _, r0, _, u, b, rates, _ = self._passes(q, 0.0)
         edges = []
         for s in (-1.0, 1.0):
             dirs = self._directions(rates, 0.0, s, None)
-            r0 = [complex(base[k]) for k in self.carriers]
-            b = [[complex(units[j][k]) for k in self.carriers] for j in range(len(self.carriers))]
             try:
                 x = self._magnitudes(r0, b, dirs, "rest")
             except DynamicsError:  # that start self-locks: every effort beyond holds it
                 edges.append(s * math.inf)
                 continue
-            edges.append(h + sum(x[j] * dirs[j] * float(units[j][0]) for j in range(len(dirs))) + self.seal * s)
+            edges.append(h + sum(x[j] * dirs[j] * u[j] for j in range(len(dirs))) + self.seal * s)
         return edges[0], edges[1]

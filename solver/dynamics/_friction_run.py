@@ -240,7 +240,7 @@ def run_with_friction(
         seg_events.append((turning, omega_direction))
         for j in range(m):
             def reverses(t: float, yy: Any, j: int = j) -> float:
-                return fd.rates(float(yy[0]))[j]
+                return fd.analogs(float(yy[0]))[j][0]
 
             seg_events.append((reverses, directions.get(j, 0)))
         local_eval = None if t_eval is None else t_eval[t_eval > t0] - t0
@@ -265,7 +265,7 @@ def run_with_friction(
             directions = {}
             continue
         j = out.hit - n_user - 1  # element j's relative velocity reverses
-        v2 = fd._kinematics(y[0])[3][j][1]
+        v2 = fd.analogs(y[0])[j][1]
         eq.override = {j: -_sign(v2)}  # the friction after the reversal: against v″·q̇²
         directions[j] = -int(_sign(v2 * y[1]))  # v′ moves with sign(v″·q̇): its next zero the other way
         slip = 0.0

@@ -35,7 +35,7 @@ from ..forces.spec import Body, Damper, ForceSpec, Spring
 from ..groups import Context
 from ..jet import Jet
 from ..scene import CHUNK, Scene
-from ._friction import FrictionDynamics
+from ._friction import FrictionDynamics, FrictionLayer
 
 __all__ = ["ReducedModel", "reduced_model"]
 
@@ -112,8 +112,11 @@ class ReducedModel:
             _variant(scene, replace(spec, bodies=_massless(spec.bodies), gravity=0j, loads=other)) if other else None
         )
         self.motors = dict(spec.motors)
-        if model.friction is not None:
-            self.friction = FrictionDynamics(_variant(scene, rubs), self.inertia, self.other)
+        if model.friction is not None:  # one compiled pass of every response the friction needs
+            rubbing = _variant(scene, rubs)
+            rubbing.forces = FrictionLayer(  # type: ignore[assignment]
+                rubbing.forces, self.inertia.forces, None if self.other is None else self.other.forces)
+            self.friction = FrictionDynamics(rubbing, model)
         #: one input: the scene whose compiled instant gives (h, M, Q_other) in one pass
         self.stacked: Scene | None = None
         if self.k == 1:
