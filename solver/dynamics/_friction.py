@@ -159,11 +159,12 @@ class FrictionDynamics:
                     override: dict[int, float] | None) -> list[float]:
         out = []
         for j, (v1, v2) in enumerate(rates):
+            if override is not None and j in override:  # at its reversal (v′ is 0 there, to rounding)
+                out.append(override[j])
+                continue
             d = -_sign(v1 * w)
             if d == 0.0:
-                if override is not None and j in override:
-                    d = override[j]
-                elif w != 0.0:
+                if w != 0.0:
                     d = -_sign(v2)  # a crossing of v′ = 0: the relative acceleration is v″·q̇²
                 else:
                     d = -_sign(v1 * slip)  # at rest: the relative acceleration is v′·ε, sign ε = s

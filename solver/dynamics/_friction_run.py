@@ -183,7 +183,12 @@ def run_with_friction(
         prev = grid[0]
         for t in grid[1:]:
             if outside(float(t)) > 0.0:
-                return float(brentq(outside, float(prev), float(t), xtol=1e-15, rtol=4 * np.finfo(float).eps))
+                r = float(brentq(outside, float(prev), float(t), xtol=1e-15, rtol=4 * np.finfo(float).eps))
+                for _ in range(64):  # the first float at which it is outside (the slip's own test)
+                    if outside(r) > 0.0:
+                        break
+                    r = math.nextafter(r, math.inf)
+                return min(max(r, float(prev)), float(t))
             prev = t
         return t_end
 
@@ -261,6 +266,8 @@ def run_with_friction(
         directions = {j: d for j, d in directions.items()}
         if out.hit == n_user:  # the input's rate reaches 0: a turning point
             y[1] = 0.0
+            if ts and ts[-1] == t0:  # (the event's sample: at rest, exactly)
+                ys[-1][1] = 0.0
             slip = stick_test(t0, y)
             directions = {}
             continue

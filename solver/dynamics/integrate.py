@@ -68,6 +68,9 @@ class Trajectory:
     work_friction: np.ndarray | None = None
     #: one line per event of the run that did not end it: each stick and slip of a scene with friction
     messages: list[str] = field(default_factory=list)
+    #: with friction: each stick and slip as (``"stick"`` / ``"slip"``, t (s), q) — the input's
+    #: coordinates where it happened (in the order of ``messages``)
+    switches: list[tuple[str, float, float]] = field(default_factory=list)
     _dense: Callable[[Any], np.ndarray] | None = field(default=None, repr=False)
 
     def at(self, t: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -285,6 +288,7 @@ def simulate(
         if t_eval.size > 1 and t_eval[-2] >= t_end:
             t_eval = t_eval[:-1]
     messages: list[str] = []
+    switches: list[tuple[str, float, float]] = []
     if method in OWN_METHODS:
         own_events = [(ev, int(getattr(ev, "direction", 0))) for ev in all_events]
         out: Outcome
@@ -292,7 +296,7 @@ def simulate(
             out = run_with_friction(eq, float(t_end), y0.tolist(), method=method, rtol=rtol, atol=atol, step=step,
                                     max_step=max_step, events=own_events, t_eval=t_eval,
                                     time_dependent=kind == "function")
-            messages = out.messages
+            messages, switches = out.messages, out.switches
         else:
             out = run(eq, float(t_end), y0.tolist(), method=method, rtol=rtol, atol=atol, step=step,
                       max_step=max_step, events=own_events, t_eval=t_eval)
@@ -334,7 +338,7 @@ def simulate(
             ts, ys = np.append(ts, last), np.column_stack([ys, dense(last)])
     traj = _trajectory(scene, eq, ts, ys, dense, status=status, message=message, kind=kind, method=method,
                        rtol=rtol, atol=atol, nfev=nfev)
-    traj.messages = messages
+    traj.messages, traj.switches = messages, switches
     if status in ("toggle", "assembly", "runaway", "steps"):
         at = _where(scene, ys[:, -1])
         if status in ("runaway", "steps"):

@@ -15,8 +15,8 @@ drive) released from rest. This module never imports the solver. At ``mp.dps = 5
   x = μ·r·|R|, so it is solved (LU, once) for the frictionless right-hand side and for each pin's
   unit couple; the magnitudes then solve x = μ·r·|R₀ + Σ x·d·R_unit| by fixed point to 1e-45;
 * **the run**: the friction's directions d are a *mode*, fixed within a segment; y = (φ, ω) is
-  integrated by the 4-stage Gauss–Legendre collocation method (order 8, implicit, the stages by
-  simplified Newton to 1e-24) at a fixed step ``STEP``; a segment ends where ω = 0 (a turning point)
+  integrated by the 8-stage Gauss–Legendre collocation method (order 16, implicit, the stages
+  by simplified Newton to 1e-22) at a fixed step ``STEP``; a segment ends where ω = 0 (a turning point)
   or where a pin's relative rotation rate ωᵢ − ωⱼ = 0 (a reversal: that pin's d flips), located
   by Brent-like bracketing (Illinois) on the step length of the step that crosses it;
 * **stick–slip** at a turning point (and at the release): for a start toward +φ and toward −φ
@@ -38,10 +38,12 @@ from pathlib import Path
 from typing import Any
 
 import yaml
-from mpmath import matrix, mp, mpf
+from mpmath import mp, mpf
 
 DPS = 50
 STEP = "0.02"  # s
+STAGES = 8  # Gauss–Legendre: order 16 (h·√|∂ε/∂φ| ≈ 0.2 per step: a truncation of ~1e-12 per unit time)
+TOL = "1e-22"  # the stages' simplified Newton
 ROOT = Path(__file__).resolve().parents[2]
 SCENE = ROOT / "tests/dynamics/scenes/friction_four_bar_pendulum.yaml"
 DATA = ROOT / "tests/data/friction_ref_four_bar_pendulum.json"
@@ -249,31 +251,20 @@ def _solve_many(a: list[list[Any]], cols: list[list[Any]]) -> list[list[Any]]:
 
 # -- the run ----------------------------------------------------------------------------------------
 def _gauss() -> tuple[list[Any], list[list[Any]], list[Any]]:
-    """The 4-stage Gauss–Legendre collocation method (nodes c, matrix A, weights b) at mp precision."""
-    x1 = mp.sqrt((3 - 2 * mp.sqrt(mpf(6) / 5)) / 7)
-    x2 = mp.sqrt((3 + 2 * mp.sqrt(mpf(6) / 5)) / 7)
-    c = sorted([(1 - x2) / 2, (1 - x1) / 2, (1 + x1) / 2, (1 + x2) / 2])
-
-    def integral(j: int, upper: Any) -> Any:
-        # ∫₀^upper l_j(τ) dτ, l_j the Lagrange basis on c (a cubic: Gauss quadrature with 4 nodes is exact)
-        def lj(tau: Any) -> Any:
-            out = mpf(1)
-            for m_, cm in enumerate(c):
-                if m_ != j:
-                    out *= (tau - cm) / (c[j] - cm)
-            return out
-        return sum(wk * upper * lj(upper * ck) for ck, wk in zip(c, _weights(c)))
-
-    w = _weights(c)
-    a = [[integral(j, ci) for j in range(4)] for ci in c]
-    return c, a, w
-
-
-def _weights(c: list[Any]) -> list[Any]:
-    """Gauss weights on [0, 1] for the nodes c (∫ of each Lagrange basis polynomial)."""
-    # solve Σ w_j c_j^k = 1/(k+1), k = 0..3
-    v = matrix([[cj ** k for cj in c] for k in range(4)])
-    return list(mp.lu_solve(v, matrix([mpf(1) / (k + 1) for k in range(4)])))
+    """The Gauss–Legendre collocation method of STAGES stages (order 2·STAGES): nodes c (the roots
+    of the shifted Legendre polynomial, by the secant method from the classical guesses), A_ij = ∫₀^{c_i} l_j
+    and b_j = ∫₀¹ l_j (l_j the Lagrange basis on c), from the moment conditions at mp precision."""
+    s = STAGES
+    roots = []
+    for i in range(1, s // 2 + 1):  # the positive roots (P_s is even: the others are their mirrors)
+        x0 = mp.cos(mp.pi * (i - mpf(1) / 4) / (s + mpf(1) / 2))
+        roots.append(mp.findroot(lambda x: mp.legendre(s, x), x0, tol=mpf(10) ** (-(DPS - 5))))
+    assert s % 2 == 0 and len(set(roots)) == s // 2
+    c = sorted([(1 + x) / 2 for x in roots] + [(1 - x) / 2 for x in roots])
+    v = [[cj ** k for cj in c] for k in range(s)]
+    b = _solve_many(v, [[mpf(1) / (k + 1) for k in range(s)]])[0]
+    cols = _solve_many(v, [[ci ** (k + 1) / (k + 1) for k in range(s)] for ci in c])
+    return c, cols, b
 
 
 class Run:
@@ -289,31 +280,30 @@ class Run:
 
     def step(self, y: list[Any], h: Any, mode: list[int], guess: Any = None) -> tuple[list[Any], Any]:
         """One collocation step: the stage increments Z_i = h·Σⱼ a_ij·f(y + Z_j) by simplified
-        Newton (the 8 × 8 matrix I − h·A⊗J, J = ∂f/∂y at y by central differences), to 1e-24 (far
-        below the method's truncation error)."""
+        Newton (the matrix I − h·A⊗J, J = ∂f/∂y at y by central differences), to TOL (far below the
+        method's truncation error)."""
+        s = STAGES
         f0 = self.f(y, mode)
         delta = mpf(10) ** (-20)
         jac = [[(self.f([y[0] + delta * (c == 0), y[1] + delta * (c == 1)], mode)[r]
                  - self.f([y[0] - delta * (c == 0), y[1] - delta * (c == 1)], mode)[r]) / (2 * delta)
                 for c in range(2)] for r in range(2)]
-        n = 8
-        mat = [[(1 if i == j and r == c else 0) - h * self.a[i // 2 + 0][j // 2] * jac[i % 2][j % 2]
-                for j in range(n) for (r, c) in [(i % 2, j % 2)]] for i in range(n)]
-        z = [h * sum(self.a[i][j] for j in range(4)) * f0[d] for i in range(4) for d in range(2)] if guess is None \
-            else guess
-        tol = mpf(10) ** (-24)
+        n = 2 * s
+        mat = [[(1 if i == j else 0) - h * self.a[i // 2][j // 2] * jac[i % 2][j % 2] for j in range(n)]
+               for i in range(n)]
+        z = [h * self.c[i] * f0[d] for i in range(s) for d in range(2)]
         for _ in range(100):
-            fs = [self.f([y[0] + z[2 * i], y[1] + z[2 * i + 1]], mode) for i in range(4)]
-            res = [z[2 * i + d] - h * sum(self.a[i][j] * fs[j][d] for j in range(4))
-                   for i in range(4) for d in range(2)]
+            fs = [self.f([y[0] + z[2 * i], y[1] + z[2 * i + 1]], mode) for i in range(s)]
+            res = [z[2 * i + d] - h * sum(self.a[i][j] * fs[j][d] for j in range(s))
+                   for i in range(s) for d in range(2)]
             dz = _solve_many(mat, [res])[0]
             z = [z[i] - dz[i] for i in range(n)]
-            if max(abs(v) for v in dz) < tol * (abs(y[0]) + abs(y[1]) + 1) * h:
+            if max(abs(v) for v in dz) < mpf(TOL) * (abs(y[0]) + abs(y[1]) + 1) * h:
                 break
         else:
             raise RuntimeError("the collocation stages did not converge")
-        fs = [self.f([y[0] + z[2 * i], y[1] + z[2 * i + 1]], mode) for i in range(4)]
-        return [y[d] + h * sum(self.b[j] * fs[j][d] for j in range(4)) for d in range(2)], None
+        fs = [self.f([y[0] + z[2 * i], y[1] + z[2 * i + 1]], mode) for i in range(s)]
+        return [y[d] + h * sum(self.b[j] * fs[j][d] for j in range(s)) for d in range(2)], None
 
     def events(self, y: list[Any]) -> list[Any]:
         th = self.p.angles(y[0])
@@ -351,7 +341,7 @@ class Run:
             for i in crossed:
                 def g(hh: Any, i: int = i, y: list[Any] = y, mode: list[int] = mode) -> Any:
                     return self.events(self.step(y, hh, mode)[0])[i]
-                hs = mp.findroot(g, (self.h * mpf("1e-6"), self.h), solver="illinois", tol=mpf(10) ** (-40),
+                hs = mp.findroot(g, (self.h * mpf("1e-6"), self.h), solver="illinois", tol=mpf(10) ** (-30),
                                  maxsteps=200)
                 if first is None or hs < first[0]:
                     first = (hs, i)
@@ -380,6 +370,12 @@ class Run:
         raise RuntimeError(f"no stick before {T_MAX} s")
 
 
+def _go(step: str, log: bool) -> dict[str, Any]:
+    mp.dps = DPS
+    pend = Pendulum(yaml.safe_load(SCENE.read_text(encoding="utf-8")))
+    return Run(pend, _n(step)).go(_n(PHI0), log=print if log else (lambda *_: None))
+
+
 def main() -> None:
     mp.dps = DPS
     data = yaml.safe_load(SCENE.read_text(encoding="utf-8"))
@@ -393,16 +389,19 @@ def main() -> None:
               [float(pend.C[0] + pend.l3 * mp.cos(th[2])), float(pend.C[1] + pend.l3 * mp.sin(th[2]))])
         return
     started = time.time()
-    fine = Run(pend, _n(STEP)).go(_n(PHI0))
-    coarse = Run(pend, 2 * _n(STEP)).go(_n(PHI0), log=lambda *_: None)
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(2) as pool:  # the run at STEP and at twice STEP (the truncation estimate)
+        fine_f, coarse_f = pool.submit(_go, STEP, True), pool.submit(_go, str(2 * _n(STEP)), False)
+        fine, coarse = fine_f.result(), coarse_f.result()
     diff = {key: mp.nstr(abs(_n(fine[key]) - _n(coarse[key])), 3) for key in ("t_stick", "phi_stick")}
     out = {
         "provenance": ("tests/reference/friction_dynamics_mp.py (mpmath, mp.dps=50, 30 digits written): the scene "
                        "tests/dynamics/scenes/friction_four_bar_pendulum.yaml read with PyYAML; closed-form "
                        "positions, Newton-Euler in absolute coordinates (17 unknowns: centre and angular "
                        "accelerations, four pin forces) with friction couples mu*r*|R| against each pin's "
-                       "relative rotation solved by fixed point to 1e-45; the run by 4-stage Gauss-Legendre "
-                       f"collocation (order 8) at a fixed step of {STEP} s, switches located on the step length; "
+                       "relative rotation solved by fixed point to 1e-45; the run by 8-stage Gauss-Legendre "
+                       f"collocation (order 16) at a fixed step of {STEP} s, switches located on the step length; "
                        "stick where neither start (toward +phi, -phi) is consistent. Never the solver."),
         "scene_file": "tests/dynamics/scenes/friction_four_bar_pendulum.yaml",
         "input": {"phi0": PHI0, "omega0": "0", "drive": "free"},
