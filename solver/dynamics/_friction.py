@@ -178,15 +178,21 @@ class FrictionDynamics:
         m = len(r0)
         c = self.c_list
         terms = [[(j, b[j][k] * dirs[j]) for j in range(m) if b[j][k] != 0.0 and dirs[j] != 0.0] for k in range(m)]
-        x = [c[k] * abs(r0[k]) for k in range(m)]
+        rows = list(zip(range(m), r0, c, terms))
+        x = [ck * abs(r) for r, ck in zip(r0, c)]
         for _ in range(FIXED_STEPS):
             change = size = 0.0
-            for k in range(m):
-                r = r0[k]
-                for j, bjk in terms[k]:
+            for k, r, ck, tk in rows:  # Gauss–Seidel: each x_k from the latest others
+                for j, bjk in tk:
                     r += x[j] * bjk
-                new = c[k] * abs(r)
-                change, size = max(change, abs(new - x[k])), max(size, new)
+                new = ck * abs(r)
+                d = new - x[k]
+                if d < 0.0:
+                    d = -d
+                if d > change:
+                    change = d
+                if new > size:
+                    size = new
                 x[k] = new
             if change <= CONVERGED * size:
                 return x
