@@ -54,8 +54,8 @@ class RunData:
     """Each actuator as ``(name, base A, eye C, closed length m)``: drawn as barrel and rod."""
     energy: dict[str, Array] = field(default_factory=dict)
     """A dynamic run (``linkage-run --dynamics``, issue 22): per tick (J) ``kinetic``, ``gravity``,
-    ``springs``, ``work_drive``, ``work_other`` and ``balance`` (the energy balance's error,
-    :meth:`solver.dynamics.Trajectory.energy`); empty for a kinematic run."""
+    ``springs``, ``work_drive``, ``work_other`` (with friction ``work_friction``) and ``balance``
+    (the energy balance's error, :meth:`solver.dynamics.Trajectory.energy`); empty for a kinematic run."""
 
     @property
     def n(self) -> int:

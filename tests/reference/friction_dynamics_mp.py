@@ -16,9 +16,12 @@ drive) released from rest. This module never imports the solver. At ``mp.dps = 5
   unit couple; the magnitudes then solve x = μ·r·|R₀ + Σ x·d·R_unit| by fixed point to 1e-45;
 * **the run**: the friction's directions d are a *mode*, fixed within a segment; y = (φ, ω) is
   integrated by the 8-stage Gauss–Legendre collocation method (order 16, implicit, the stages
-  by simplified Newton to 1e-22) at a fixed step ``STEP``; a segment ends where ω = 0 (a turning point)
-  or where a pin's relative rotation rate ωᵢ − ωⱼ = 0 (a reversal: that pin's d flips), located
-  by Brent-like bracketing (Illinois) on the step length of the step that crosses it;
+  by simplified Newton) with steps of at most ``STEP``, each checked by step doubling (one step
+  against two of half its length, halved until they agree to LOCAL = 1e-13: where a pin's force
+  passes near zero its |R| is nearly a kink, which a fixed step does not resolve); a segment ends
+  where ω = 0 (a turning point) or where a pin's relative rotation rate ωᵢ − ωⱼ = 0 (a reversal:
+  that pin's d flips), located on the step's collocation polynomial, then by the secant method on
+  the length of the step that crosses it;
 * **stick–slip** at a turning point (and at the release): for a start toward +φ and toward −φ
   the free equations are solved with the friction against that start; where neither start is
   consistent (its ε has the other sign) the pendulum sticks: the reference's answer is that time
@@ -43,7 +46,8 @@ from mpmath import mp, mpf
 DPS = 50
 STEP = "0.02"  # s
 STAGES = 8  # Gauss–Legendre: order 16 (h·√|∂ε/∂φ| ≈ 0.2 per step: a truncation of ~1e-12 per unit time)
-TOL = "1e-22"  # the stages' simplified Newton
+TOL = "1e-20"  # the stages' simplified Newton
+LOCAL = mpf("1e-13")  # step doubling: a step's |y(h) − y(h/2, h/2)| (rad, rad/s) accepted
 #: the truncation at STEP, measured without ``--check`` (which reruns everything at 2·STEP)
 CHECKED = ("from rest at phi0 over 0.08 s (4 steps): |phi(h=0.02) - phi(h=0.01)| = 1.4e-16 rad, |omega| 6.8e-15 rad/s "
            "(2026-11-27)")
@@ -276,6 +280,7 @@ class Run:
         self.h = step
         self.c, self.a, self.b = _gauss()
         self.evals = 0
+        self.steps: list[float] = []  # the accepted step lengths (s)
 
     def f(self, y: list[Any], mode: list[int]) -> list[Any]:
         self.evals += 1
@@ -354,15 +359,27 @@ class Run:
         s = self.start(y)
         assert s != 0, "released from rest it must move"
         mode = self.p.mode_of(y[0], mpf(0), s)
-        guess = None
+        h = self.h
         while t < T_MAX:
             g_old = self.events(y)
-            y_new, poly = self.step(y, self.h, mode, guess)
+            # step doubling: one step of h against two of h/2, h halved until they agree to LOCAL
+            # (a pin force passing near zero makes |R| nearly a kink: the fixed step cannot see it)
+            while True:
+                y_full, poly = self.step(y, h, mode)
+                y_mid, poly_mid = self.step(y, h / 2, mode, self.predict(poly, mpf(0), mpf(1) / 2))
+                y_new, _ = self.step(y_mid, h / 2, mode, self.predict(poly, mpf(1) / 2, mpf(1) / 2))
+                err = max(abs(y_full[0] - y_new[0]), abs(y_full[1] - y_new[1]))
+                if err <= LOCAL:
+                    break
+                h = h / 2
             g_new = self.events(y_new)
             crossed = [i for i in range(len(g_old))  # (not the switch just made: its event is ~0 at the start)
                        if _sign(g_old[i]) != _sign(g_new[i]) and abs(g_old[i]) > mpf(10) ** -30]
             if not crossed:
-                y, t, guess = y_new, t + self.h, self.predict(poly, mpf(1), mpf(1))
+                y, t = y_new, t + h
+                self.steps.append(float(h))
+                if err <= LOCAL / 1000:
+                    h = min(2 * h, self.h)
                 continue
             # the first crossing within the step: its θ on the collocation polynomial, then the step
             # length where the event of the step itself is 0 (secant from there)
@@ -372,17 +389,17 @@ class Run:
                                     (g_old[i] / (g_old[i] - g_new[i]), g_old[i] / (g_old[i] - g_new[i]) * mpf("1.01")),
                                     solver="secant", tol=mpf(10) ** (-30))
 
-                def g(hh: Any, i: int = i, y: list[Any] = y, mode: list[int] = mode, poly: Any = poly) -> Any:
-                    return self.events(self.step(y, hh, mode, self.predict(poly, mpf(0), hh / self.h))[0])[i]
-                hs = mp.findroot(g, (theta * self.h, theta * self.h * (1 + mpf(10) ** -6)), solver="secant",
+                def g(hh: Any, i: int = i, y: list[Any] = y, mode: list[int] = mode, poly: Any = poly,
+                      h: Any = h) -> Any:
+                    return self.events(self.step(y, hh, mode, self.predict(poly, mpf(0), hh / h))[0])[i]
+                hs = mp.findroot(g, (theta * h, theta * h * (1 + mpf(10) ** -6)), solver="secant",
                                  tol=mpf(10) ** (-40), maxsteps=50)
                 if first is None or hs < first[0]:
                     first = (hs, i)
             assert first is not None
             hs, i = first
-            y, _ = self.step(y, hs, mode, self.predict(poly, mpf(0), hs / self.h))
+            y, _ = self.step(y, hs, mode, self.predict(poly, mpf(0), hs / h))
             t += hs
-            guess = None
             if i == 0:  # a turning point
                 y[1] = mpf(0)
                 s = self.start(y)
@@ -392,7 +409,8 @@ class Run:
                 if s == 0:
                     e = self.p.energy(y[0], y[1])
                     return {"t_stick": mp.nstr(t, 30), "phi_stick": mp.nstr(y[0], 30), "energy0": mp.nstr(e0, 30),
-                            "energy_stick": mp.nstr(e, 30), "switches": switches, "evaluations": self.evals}
+                            "energy_stick": mp.nstr(e, 30), "switches": switches, "evaluations": self.evals,
+                            "smallest_step": min(self.steps), "steps": len(self.steps)}
                 mode = self.p.mode_of(y[0], mpf(0), s)
             else:  # pin i − 1 reverses its relative rotation
                 mode = list(mode)
