@@ -12,7 +12,7 @@ drive) released from rest. This module never imports the solver. At ``mp.dps = 5
   equations of motion and the pins' eight acceleration constraints (a_P equal on both bodies,
   zero on the ground). Friction: at a pin joining bodies i and j (reaction R), a couple
   −μ·r·|R|·sign(ωᵢ − ωⱼ) on i and the opposite on j. The system is linear in the four magnitudes
-  x = μ·r·|R|, so it is solved (LU, once) for the frictionless right-hand side and for each pin's
+  x = μ·r·|R|, so it is solved (one elimination) for the frictionless right-hand side and each pin's
   unit couple; the magnitudes then solve x = μ·r·|R₀ + Σ x·d·R_unit| by fixed point to 1e-45;
 * **the run**: the friction's directions d are a *mode*, fixed within a segment; y = (φ, ω) is
   integrated by the 8-stage Gauss–Legendre collocation method (order 16, implicit, the stages
@@ -27,9 +27,10 @@ drive) released from rest. This module never imports the solver. At ``mp.dps = 5
   consistent (its ε has the other sign) the pendulum sticks: the reference's answer is that time
   and angle, with the mechanical energy E = T + V there (the friction's work is E − E₀).
 
-The truncation error is estimated by the same run at twice the step (its difference is written
-with the data). Run ``python tests/reference/friction_dynamics_mp.py`` to (re)write
-tests/data/friction_ref_four_bar_pendulum.json.
+Each accepted step's two halves agree with the whole step to 1e-13 (its own error is then about
+1e-13/2¹⁶); ``--check`` reruns everything at twice STEP in parallel and writes the difference.
+Run ``python tests/reference/friction_dynamics_mp.py`` to (re)write
+tests/data/friction_ref_four_bar_pendulum.json (about an hour on the shared 2-core VM).
 """
 
 from __future__ import annotations
@@ -456,7 +457,8 @@ def main() -> None:
                        "positions, Newton-Euler in absolute coordinates (17 unknowns: centre and angular "
                        "accelerations, four pin forces) with friction couples mu*r*|R| against each pin's "
                        "relative rotation solved by fixed point to 1e-45; the run by 8-stage Gauss-Legendre "
-                       f"collocation (order 16) at a fixed step of {STEP} s, switches located on the step length; "
+                       f"collocation (order 16), steps of at most {STEP} s each checked by step doubling to 1e-13, "
+                       "switches located on the step length; "
                        "stick where neither start (toward +phi, -phi) is consistent. Never the solver."),
         "scene_file": "tests/dynamics/scenes/friction_four_bar_pendulum.yaml",
         "input": {"phi0": PHI0, "omega0": "0", "drive": "free"},
