@@ -195,3 +195,13 @@ def test_a_cylinders_seal_and_pin_friction_on_a_stroke_input() -> None:
     assert np.max(np.abs(e["balance"])) <= 1e-9 * e["work_drive"][-1]
     seal_work = 300.0 * (run.phi[-1] - 1.0)
     assert -e["work_friction"][-1] > seal_work  # the seal's, and the pin's on top
+
+
+def test_the_nodes_dynamic_mode_refuses_friction_in_one_line(pendulum: Any) -> None:
+    """The node's fixed-step path (solver.dynamics.Stepper) does not model friction: its dynamic
+    law says so in one line (the node reports it as the reason it cannot run the mode)."""
+    from linkage_ros.dynamic import dynamic_law
+
+    with pytest.raises(solver.DynamicsError, match=r"^friction_four_bar_pendulum: names friction: the fixed-step "
+                                                   r"Stepper \(the node's dynamic mode\) does not model Coulomb"):
+        dynamic_law(pendulum, {}, phi0=0.3, omega=0.0, t0=0.0)
