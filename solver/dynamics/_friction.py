@@ -204,21 +204,30 @@ class FrictionDynamics:
                                 "mechanism against its own motion (no acceleration satisfies them)", scene=self.name)
         return [float(v) for v in xs[0]]
 
+    def mode(self, q: float, w: float, *, slip: float = 0.0,
+             override: dict[int, float] | None = None) -> tuple[list[float], float]:
+        """The friction's directions at (q, q̇) by the branch rule (module docstring), and the
+        sign of the input's motion (a seal's): what a segment of the run holds fixed."""
+        return self._directions(self._passes(q, w)[7], w, slip, override), _sign(w) or slip
+
     def solve(self, q: float, w: float, drive: float, *, slip: float = 0.0,
-              override: dict[int, float] | None = None) -> FrictionState:
+              override: dict[int, float] | None = None,
+              mode: tuple[list[float], float] | None = None) -> FrictionState:
         """ε and the dissipated power at (q, q̇) under the input's effort ``drive``; ``slip``: the
         direction the input starts in where q̇ = 0; ``override``: element → d where its relative
-        velocity is zero (a restart at its reversal)."""
+        velocity is zero (a restart at its reversal); ``mode``: the directions and the motion's
+        sign held fixed (a segment's: the equation stays smooth past a switch, which the
+        segment's events then locate), else they follow (q, q̇)."""
         h, mass, other, r0, a, u, b, rates, cond = self._passes(q, w)
-        s = _sign(w) or slip
+        dirs, s = mode if mode is not None else (self._directions(rates, w, slip, override), _sign(w) or slip)
         rest = (drive - h - self.seal * s) / mass
-        dirs = self._directions(rates, w, slip, override)
         m = len(dirs)
         rt = [r0[k] + a[k] * rest for k in range(m)]
         bt = [[b[j][k] - a[k] * (u[j] / mass) for k in range(m)] for j in range(m)]
         x = self._magnitudes(rt, bt, dirs, f"{self.input} = {q:.6g}")
         eps = rest - sum(x[j] * dirs[j] * u[j] for j in range(m)) / mass
-        loss = sum(x[j] * abs(rates[j][0] * w) for j in range(m)) + self.seal * abs(w)
+        # the power of the friction against the motion, −Σ x·d·v′·q̇ (= Σ x·|v′·q̇| in its own mode)
+        loss = -sum(x[j] * dirs[j] * rates[j][0] for j in range(m)) * w + self.seal * s * w
         return FrictionState(eps, loss, other, cond)
 
     def holding(self, q: float) -> tuple[float, float]:

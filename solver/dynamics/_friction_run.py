@@ -57,11 +57,13 @@ class FrictionEquation(Equation):
         self.t0 = 0.0
         self.slip = 0.0  # where q̇ = 0: the direction the input slips in
         self.override: dict[int, float] | None = None  # at the segment's start: element → d
+        #: the segment's friction directions and motion's sign, held until its first switch
+        self.mode: tuple[list[float], float] | None = None
 
     def _state(self, t: float, q: float, w: float) -> tuple[float, float, Any]:
         """(ε, Q_drive, the solved state) at the segment's local time ``t``."""
         effort = float(self.drive(self.t0 + t, [q], [w])[0])
-        st = self.friction.solve(q, w, effort, slip=self.slip, override=self.override if t == 0.0 else None)
+        st = self.friction.solve(q, w, effort, mode=self.mode)
         return st.epsilon, effort, st
 
     def _rates(self, t: float, y: list[float]) -> list[float]:
@@ -232,6 +234,7 @@ def run_with_friction(
             if slip == 0.0:  # (the drive touched the edge and came back: rounding) held on
                 continue
         eq.t0, eq.slip = t0, slip
+        eq.mode = fd.mode(y[0], y[1], slip=slip, override=eq.override)
         omega_direction = -int(_sign(y[1]) or slip)
 
         def shifted(g: Callable[[float, Any], float], t0: float = t0) -> Callable[[float, Any], float]:
@@ -252,7 +255,7 @@ def run_with_friction(
         out = run(eq, t_end - t0, y, method=method, rtol=rtol, atol=atol, step=step, max_step=max_step,
                   events=seg_events, t_eval=local_eval)
         nfev += out.nfev
-        eq.override = None
+        eq.override, eq.mode = None, None
         start = 1 if t_eval is None else 0
         for i in range(start, out.t.size):
             emit(t0 + float(out.t[i]), [float(v) for v in out.y[:, i]])
