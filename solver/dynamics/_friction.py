@@ -25,11 +25,12 @@ relative velocity (FrictionModel.element_kinematics); nothing is differentiated 
 Branch rule (the friction's direction). Where an element's relative velocity v = v′·q̇ ≠ 0,
 d = −sign v. Where it is 0 the sign of its relative acceleration v″·q̇² + v′·ε decides: at a
 crossing of v′ = 0 with q̇ ≠ 0 that is sign v″ (the run restarts there, solver.dynamics.
-_friction_run, with that sign for the step's first stage); at rest (q̇ = 0) it is sign(v′·s), s
-the direction the input slips in. **Stick–slip**: at rest the holding efforts are the interval
-[Q₋, Q₊] (each edge the kinetostatic effort at ε = 0 with the friction against a start toward −q
-and +q, as solver.forces.friction.breakaway); the input sticks while Q_drive stays inside it and
-slips toward +q where Q_drive > Q₊, toward −q where Q_drive < Q₋.
+_friction_run, and holds the directions so found until the next switch: FrictionDynamics.mode);
+at rest (q̇ = 0) it is sign(v′·s), s the direction the input slips in. **Stick–slip**: at rest
+the holding efforts are the interval [Q₋, Q₊] (each edge the kinetostatic effort at ε = 0 with
+the friction against a start toward −q and +q, as solver.forces.friction.breakaway); the input
+sticks while Q_drive stays inside it and slips toward +q where Q_drive > Q₊, toward −q where
+Q_drive < Q₋.
 """
 
 from __future__ import annotations

@@ -11,10 +11,13 @@ cut into **segments** on the own step loop (solver.dynamics._run), each ended by
   toward −q below Q₋ (one line in the run's ``messages`` each);
 * an element's relative-velocity analog v′(q) = 0 (a pin whose relative rotation reverses while
   the input moves): the next segment starts there with that element's friction set by the sign
-  of its relative acceleration v″·q̇² for its first stage.
+  of its relative acceleration v″·q̇².
 
-Each segment's events carry their direction, so the switch just made is not found again at the
-next segment's start. The state is (q, q̇, W_drive, W_other, W_friction), W_friction = −∫ P_loss dt
+Within a segment the friction's directions and the motion's sign are held fixed (its *mode*,
+``FrictionEquation.mode``), so the equation is smooth across the switch that ends it: the step
+that crosses it is an ordinary step, and the event is located on its dense output. Each
+segment's events carry their direction, so the switch just made is not found again at the next
+segment's start. The state is (q, q̇, W_drive, W_other, W_friction), W_friction = −∫ P_loss dt
 the friction's work (≤ 0), so that T + V − W_drive − W_other − W_friction is constant.
 """
 
