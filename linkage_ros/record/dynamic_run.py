@@ -220,6 +220,7 @@ def dynamics_lines(scene: Any, trajectory: Any, *, phi0: Any, run_up: bool = Tru
              f"{tr.evaluations} evaluations"]
     if tr.status not in ("done", "until"):
         lines.append(f"  stopped: {tr.message}")
+    lines += [f"  {line}" for line in getattr(tr, "messages", ())]  # (friction: each stick and slip)
     span = scene.input_ranges[0] if k == 1 else None
     if run_up and tr.drive == "motor" and k == 1 and span is not None:
         lines.append(f"  run-up: does not apply ('{scene.inputs[0]}' is an actuator's stroke [{span[0]:g}, "
@@ -269,5 +270,10 @@ def dynamics_lines(scene: Any, trajectory: Any, *, phi0: Any, run_up: bool = Tru
     kinetic_swing = float(np.ptp(energy["kinetic"]))
     worst = float(np.max(np.abs(energy["balance"])))
     relative = f" ({worst / kinetic_swing:.2g} of the kinetic energy's swing)" if kinetic_swing > 0 else ""
-    lines.append(f"  energy balance: |T + V − W_drive − W_other − its start| ≤ {worst:.3g} J{relative}")
+    if "work_friction" in energy:
+        lines.append(f"  friction: {-float(energy['work_friction'][-1]):.6g} J dissipated")
+        lines.append(f"  energy balance: |T + V − W_drive − W_other − W_friction − its start| ≤ {worst:.3g} J"
+                     f"{relative}")
+    else:
+        lines.append(f"  energy balance: |T + V − W_drive − W_other − its start| ≤ {worst:.3g} J{relative}")
     return lines

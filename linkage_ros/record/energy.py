@@ -9,7 +9,7 @@ lays them out with :func:`energy_views` (one column of two plots); a kinematic r
 
 Entity layout (beside :mod:`.rerun`'s)::
 
-    plots/energy/<kind>      Scalars (J): kinetic, gravity, springs, work_drive, work_other
+    plots/energy/<kind>      Scalars (J): kinetic, gravity, springs, work_drive, work_other, work_friction
                              (those that are not zero over the whole run; kinetic always)
     plots/energy_balance     Scalars (J): the balance's error (zero to the integrator's tolerance)
 """
@@ -34,6 +34,7 @@ ENERGY_SERIES = {
     "springs": "potential (springs)",
     "work_drive": "work of the drive",
     "work_other": "work of the other loads",
+    "work_friction": "work of the friction",
 }
 
 

@@ -58,8 +58,8 @@ class RunData:
     actuator's seal); empty without friction."""
     energy: dict[str, Array] = field(default_factory=dict)
     """A dynamic run (``linkage-run --dynamics``, issue 22): per tick (J) ``kinetic``, ``gravity``,
-    ``springs``, ``work_drive``, ``work_other`` and ``balance`` (the energy balance's error,
-    :meth:`solver.dynamics.Trajectory.energy`); empty for a kinematic run."""
+    ``springs``, ``work_drive``, ``work_other`` (with friction ``work_friction``) and ``balance``
+    (the energy balance's error, :meth:`solver.dynamics.Trajectory.energy`); empty for a kinematic run."""
 
     @property
     def n(self) -> int:

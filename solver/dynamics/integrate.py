@@ -24,10 +24,12 @@ from scipy.integrate import DOP853, RK45, Radau, solve_ivp
 from .._arguments import Arguments
 from ..errors import AssemblyError, DynamicsArgumentError, DynamicsError
 from ..tolerances import DYNAMICS_TOGGLE
+from ._equation import Equation
+from ._friction_run import FrictionEquation, run_with_friction
 from ._guard import MAX_RATE, MAX_STEPS, RunGuard, rates_text
-from ._run import run
-from .drive import Drive, make_drive
-from .reduced import ReducedModel, reduced_model
+from ._run import Outcome, run
+from .drive import make_drive
+from .reduced import reduced_model
 
 __all__ = ["Equation", "Trajectory", "simulate"]
 
@@ -35,115 +37,6 @@ __all__ = ["Equation", "Trajectory", "simulate"]
 #: step loop (solver.dynamics._stepping: breakpoint to breakpoint, no per-step numpy overhead)
 _METHODS = {"DOP853": DOP853, "RK45": RK45, "Radau": Radau}
 OWN_METHODS = ("DOP853", "RK4")
-
-
-class Equation:
-    """The right-hand side of the first-order system y = (q, q̇, W_drive, W_other), per instant."""
-
-    def __init__(self, model: ReducedModel, drive: Drive, *, works: bool = True) -> None:
-        self.model, self.drive, self.k = model, drive, model.k
-        #: (group, reason, q) of the last call that could not be assembled
-        self.fault: tuple[str, str, list[float]] | None = None
-        self.faults = 0  # how many calls were unassemblable (trial stages beyond an assembly limit)
-        self.last_conditioning = 1.0  # of the last state :meth:`rates` was called at
-        #: whether the two work integrals are integrated (False: their rates are 0, no pass for the
-        #: other loads with several inputs)
-        self.works = works
-        #: one input: (compiled unit, its size, the efforts' start, other loads?, the drive's ``one``)
-        self._layout: tuple[Any, int, int, bool, Any] | None = None
-
-    def accelerations(
-        self, t: float, q: Sequence[float], qd: Sequence[float]
-    ) -> tuple[list[float], list[float], float]:
-        """(q̈, Q_drive, conditioning) at one state; raises AssemblyError where it cannot be assembled."""
-        qdd, qdrive, _, cond = self._solve(t, q, qd)
-        return qdd, qdrive, cond
-
-    def _solve(self, t: float, q: Sequence[float], qd: Sequence[float]) -> tuple[list, list, list, float]:
-        m, h, other, cond = self.model.state(q, qd, other=self.works)
-        qdrive = list(self.drive(t, q, qd))
-        if self.k == 1:
-            return [(qdrive[0] - h[0]) / m], qdrive, other, cond
-        rhs = np.subtract(qdrive, h)
-        return list(np.linalg.solve(np.asarray(m), rhs)), qdrive, other, cond
-
-    def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
-        k = self.k
-        state = y.tolist()  # Python floats (one call, not one float() per entry)
-        q, qd = state[:k], state[k:2 * k]
-        if not all(map(math.isfinite, state)):  # a trial stage after a rejected one: rejected too
-            return np.full(y.shape, math.nan)
-        try:
-            qdd, qdrive, other, _ = self._solve(float(t), q, qd)
-        except AssemblyError as exc:  # a trial step beyond an assembly limit: rejected (NaN)
-            self.fault = (exc.group, exc.reason, q)
-            self.faults += 1
-            return np.full(y.shape, math.nan)
-        if not self.works:
-            return np.array([*qd, *qdd, 0.0, 0.0])
-        if k == 1:
-            w = qd[0]
-            return np.array((w, qdd[0], qdrive[0] * w, other[0] * w))
-        return np.array([*qd, *qdd, sum(a * b for a, b in zip(qdrive, qd)), sum(a * b for a, b in zip(other, qd))])
-
-    def rates(self, t: float, y: list[float]) -> list[float]:
-        """y' at (t, y) on plain lists (solver.dynamics._stepping); AssemblyError where the state
-        cannot be assembled (kept in ``fault`` with the state's coordinates, and counted, as
-        :meth:`__call__` does), NaN where it is not finite (a trial stage of a step that overflowed).
-        Keeps the state's conditioning in ``last_conditioning``."""
-        k = self.k
-        if not all(map(math.isfinite, y[:2 * k])):  # a trial stage beyond an overflowing one: rejected too
-            return [math.nan] * len(y)
-        try:
-            if k != 1:
-                return self._several(t, y, k)
-            # one input: the stacked compiled pass read in place (ReducedModel.state's layout), inline
-            layout = self._layout
-            if layout is None:
-                unit = self.model._stacked_unit
-                size = unit.size
-                layout = self._layout = (unit, size, size + len(unit.conditioning), self.model.other is not None,
-                                         getattr(self.drive, "one", None))
-            unit, size, start, has_other, one = layout
-            phi, w = y[0], y[1]
-            flat = unit.function(phi, w, 0.0)  # (its ``function`` is replaced on the first call: read it each time)
-            self.last_conditioning = min(flat[size:start]) if start > size else 1.0
-            effort = one(t, phi, w) if one is not None else self.drive(t, y[:1], y[1:2])[0]
-            accel = (effort - flat[start]) / flat[start + 1]
-            if not self.works:
-                return [w, accel, 0.0, 0.0]
-            return [w, accel, effort * w, (-flat[start + 2] * w) if has_other else 0.0]
-        except AssemblyError as exc:
-            self.fault = (exc.group, exc.reason, list(y[:k]))
-            self.faults += 1
-            raise
-
-    def _several(self, t: float, y: list[float], k: int) -> list[float]:
-        """:meth:`rates` with k > 1 inputs, at a finite state."""
-        q, qd = y[:k], y[k:2 * k]
-        qdd, qdrive, other, self.last_conditioning = self._solve(t, q, qd)
-        if not self.works:
-            return [*qd, *qdd, 0.0, 0.0]
-        return [*qd, *qdd, sum(a * b for a, b in zip(qdrive, qd)), sum(a * b for a, b in zip(other, qd))]
-
-    def conditioning(self, t: float, y: np.ndarray) -> float:
-        k = self.k
-        state = y.tolist()
-        try:
-            return self.model.instant(state[:k], state[k:2 * k])[2]
-        except AssemblyError:
-            return 0.0
-
-    def worst_group(self, y: np.ndarray) -> str:
-        """The group with the worst conditioning at state ``y`` (for the message)."""
-        scene = self.model.full
-        k = self.k
-        q = float(y[0]) if k == 1 else tuple(float(v) for v in y[:k])
-        try:
-            cond = scene.solve(q).conditioning
-        except AssemblyError as exc:
-            return exc.group
-        return min(cond, key=lambda g: float(np.min(cond[g]))) if cond else "?"
 
 
 @dataclass
@@ -171,6 +64,13 @@ class Trajectory:
     rtol: float = 0.0
     atol: float = 0.0
     evaluations: int = 0
+    #: the friction's work since the start (J, ≤ 0; None without friction: docs/dynamics.md#friction)
+    work_friction: np.ndarray | None = None
+    #: one line per event of the run that did not end it: each stick and slip of a scene with friction
+    messages: list[str] = field(default_factory=list)
+    #: with friction: each stick and slip as (``"stick"`` / ``"slip"``, t (s), q) — the input's
+    #: coordinates where it happened (in the order of ``messages``)
+    switches: list[tuple[str, float, float]] = field(default_factory=list)
     _dense: Callable[[Any], np.ndarray] | None = field(default=None, repr=False)
 
     def at(self, t: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -189,20 +89,25 @@ class Trajectory:
 
     def energy(self) -> dict[str, np.ndarray]:
         """Per sample (J): ``kinetic`` ½q̇ᵀMq̇, ``gravity`` and ``springs`` potentials, ``work_drive``
-        and ``work_other`` done since the start, and ``balance`` = T + V − W_drive − W_other minus its
-        value at the start: zero up to the integrator's tolerance."""
+        and ``work_other`` done since the start (with friction ``work_friction`` too, ≤ 0), and
+        ``balance`` = T + V − W_drive − W_other (− W_friction) minus its value at the start: zero up
+        to the integrator's tolerance."""
         model = reduced_model(self.scene)
         kinetic = model.kinetic(self.phi, self.omega)
         pot = model.potential(self.phi)
         total = kinetic + pot["gravity"] + pot["springs"] - self.work_drive - self.work_other
-        return {
+        out = {
             "kinetic": kinetic,
             "gravity": pot["gravity"],
             "springs": pot["springs"],
             "work_drive": self.work_drive,
             "work_other": self.work_other,
-            "balance": total - total[0],
         }
+        if self.work_friction is not None:
+            total = total - self.work_friction
+            out["work_friction"] = self.work_friction
+        out["balance"] = total - total[0]
+        return out
 
 
 def _start(scene: Any) -> list[float]:
@@ -338,8 +243,12 @@ def simulate(
     q0 = _start(scene) if phi0 is None else _initial(args, phi0, k, "phi0")
     w0 = _initial(args, omega0, k, "omega0")
     fn, kind = make_drive(drive, scene.inputs, model.motors, scene=name)
-    eq = Equation(model, fn)
-    y0 = np.array([*q0, *w0, 0.0, 0.0])
+    friction = model.friction is not None
+    if friction and method not in OWN_METHODS:
+        args.fail("method", method, "must be 'DOP853' or 'RK4' for a scene with friction (its switches are segment "
+                  "ends of the own step loop)")
+    eq = FrictionEquation(model, fn) if friction else Equation(model, fn)
+    y0 = np.array([*q0, *w0, 0.0, 0.0, *((0.0,) if friction else ())])
     try:
         eq.accelerations(0.0, q0, w0)
     except AssemblyError as exc:
@@ -379,10 +288,19 @@ def simulate(
         t_eval = np.append(np.arange(0.0, t_end, dt), t_end)
         if t_eval.size > 1 and t_eval[-2] >= t_end:
             t_eval = t_eval[:-1]
+    messages: list[str] = []
+    switches: list[tuple[str, float, float]] = []
     if method in OWN_METHODS:
-        out = run(eq, float(t_end), y0.tolist(), method=method, rtol=rtol, atol=atol, step=step,
-                  max_step=max_step, events=[(ev, int(getattr(ev, "direction", 0))) for ev in all_events],
-                  t_eval=t_eval)
+        own_events = [(ev, int(getattr(ev, "direction", 0))) for ev in all_events]
+        out: Outcome
+        if isinstance(eq, FrictionEquation):
+            out = run_with_friction(eq, float(t_end), y0.tolist(), method=method, rtol=rtol, atol=atol, step=step,
+                                    max_step=max_step, events=own_events, t_eval=t_eval,
+                                    time_dependent=kind == "function")
+            messages, switches = out.messages, out.switches
+        else:
+            out = run(eq, float(t_end), y0.tolist(), method=method, rtol=rtol, atol=atol, step=step,
+                      max_step=max_step, events=own_events, t_eval=t_eval)
         ts, ys, sol_status, hit, dense, nfev = out.t, out.y, out.status, out.hit, out.sol, out.nfev
         known = out.rates
         if out.fault is not None and eq.fault is None:  # (the trial state's own, where a stage could not be assembled)
@@ -424,6 +342,7 @@ def simulate(
             known = None
     traj = _trajectory(scene, eq, ts, ys, dense, status=status, message=message, kind=kind, method=method,
                        rtol=rtol, atol=atol, nfev=nfev, known=known)
+    traj.messages, traj.switches = messages, switches
     if status in ("toggle", "assembly", "runaway", "steps"):
         at = _where(scene, ys[:, -1])
         if status in ("runaway", "steps"):
@@ -465,6 +384,7 @@ def _trajectory(
 
     return Trajectory(
         scene=scene, t=ts, phi=shape(ys[:k].T), omega=shape(ys[k:2 * k].T), epsilon=shape(eps), effort=shape(eff),
-        work_drive=ys[2 * k].copy(), work_other=ys[2 * k + 1].copy(), status=status, message=message, drive=kind,
-        method=method, rtol=rtol, atol=atol, evaluations=nfev, _dense=dense,
+        work_drive=ys[2 * k].copy(), work_other=ys[2 * k + 1].copy(),
+        work_friction=ys[2 * k + 2].copy() if ys.shape[0] > 2 * k + 2 else None, status=status, message=message,
+        drive=kind, method=method, rtol=rtol, atol=atol, evaluations=nfev, _dense=dense,
     )

@@ -88,6 +88,10 @@ class RunUp:
 def _one_input(scene: Any, function: str) -> ReducedModel:
     """The model of a machine of one input crank; one line where machine dynamics does not apply."""
     model: ReducedModel = reduced_model(scene)
+    if model.friction is not None:
+        raise DynamicsError(f"{function}: names friction: machine dynamics (steady state, flywheel, run-up) does not "
+                            "model Coulomb friction; run it with simulate (docs/dynamics.md#friction)",
+                            scene=scene.name)
     if model.k != 1:
         raise DynamicsError(f"{function}: machine dynamics is for one input; this scene has {model.k} "
                             f"({', '.join(scene.inputs)})", scene=scene.name)

@@ -35,6 +35,7 @@ from ..forces.spec import Body, Damper, ForceSpec, Spring
 from ..groups import Context
 from ..jet import Jet
 from ..scene import CHUNK, Scene
+from ._friction import FrictionDynamics, FrictionLayer
 
 __all__ = ["ReducedModel", "reduced_model"]
 
@@ -86,16 +87,21 @@ class ReducedModel:
         if model is None:
             raise DynamicsError("names no bodies, gravity or loads: nothing gives it inertia (docs/dynamics.md)",
                                 scene=scene.name)
+        #: the scene's Coulomb friction (solver.dynamics._friction), None without any; M, h and
+        #: the loads' forces below are the frictionless mechanism's (friction is solved per state)
+        self.friction: FrictionDynamics | None = None
         spec = model.spec
-        if model.friction is not None:  # issue 29: friction is solved in the kinetostatics only, so far
-            raise DynamicsError("names friction: Coulomb friction is in the kinetostatics (k.effort, k.reaction) "
-                                "but not yet in the dynamics; simulate the scene without its friction: key "
-                                "(docs/forces.md#friction)", scene=scene.name)
+        if model.friction is not None and len(scene.inputs) != 1:
+            raise DynamicsError(f"names friction and has {len(scene.inputs)} inputs ({', '.join(scene.inputs)}): "
+                                "forward dynamics with Coulomb friction is for one input (docs/dynamics.md#friction)",
+                                scene=scene.name)
         if all(b.inert for b in spec.bodies):
             raise DynamicsError("every link is massless (no mass, inertia or flywheel): the reduced inertia is "
                                 "zero, so the motion under given efforts is not defined", scene=scene.name)
         self.scene = scene
         self.spec = spec
+        rubs = spec
+        spec = replace(spec, friction=None)
         self.inputs: tuple[str, ...] = scene.inputs
         self.k = len(self.inputs)
         self.full = _variant(scene, spec)
@@ -106,6 +112,11 @@ class ReducedModel:
             _variant(scene, replace(spec, bodies=_massless(spec.bodies), gravity=0j, loads=other)) if other else None
         )
         self.motors = dict(spec.motors)
+        if model.friction is not None:  # one compiled pass of every response the friction needs
+            rubbing = _variant(scene, rubs)
+            rubbing.forces = FrictionLayer(  # type: ignore[assignment]
+                rubbing.forces, self.inertia.forces, None if self.other is None else self.other.forces)
+            self.friction = FrictionDynamics(rubbing, model)
         #: one input: the scene whose compiled instant gives (h, M, Q_other) in one pass
         self.stacked: Scene | None = None
         if self.k == 1:
@@ -251,7 +262,7 @@ class ReducedModel:
     def _load_variants(self) -> tuple[tuple[str, Scene, bool], ...]:
         """(name, scene, moving?) per generalised force: gravity on the bodies alone, then each
         load alone on massless bodies (built once: each is a Scene with its own plan)."""
-        spec = self.spec
+        spec = replace(self.spec, friction=None)  # (each load's own force: friction is not one of them)
         out: list[tuple[str, Scene, bool]] = []
         if spec.gravity != 0:
             out.append(("gravity", _variant(self.scene, replace(spec, loads=())), False))

@@ -68,6 +68,9 @@ class Stepper:
             args.fail("step", step, "must be given with method 'RK4': the fixed step, a positive number of seconds")
         self.scene = scene
         self.model = reduced_model(scene)
+        if self.model.friction is not None:
+            raise DynamicsError("names friction: the fixed-step Stepper (the node's dynamic mode) does not model "
+                                "Coulomb friction; scene.simulate does (docs/dynamics.md#friction)", scene=scene.name)
         k = self.k = self.model.k
         q0 = _start(scene) if phi0 is None else _initial(args, phi0, k, "phi0")
         w0 = _initial(args, omega0, k, "omega0")

@@ -49,7 +49,8 @@ from .friction_spec import FrictionSpec
 from .state import ForcePass
 from .structure import GROUND, Structure
 
-__all__ = ["FrictionModel", "breakaway", "cycle_efficiency", "efficiency", "locked_intervals", "locking_message",
+__all__ = ["FrictionModel", "breakaway", "solve_magnitudes", "cycle_efficiency", "efficiency", "locked_intervals",
+           "locking_message",
            "NEWTON_STEPS", "CONVERGED", "TENDENCY"]
 
 
@@ -134,33 +135,64 @@ class FrictionModel:
         return ln.points[:2]
 
     # -- kinematics of the elements -------------------------------------------------------------
-    def _rate(self, link: str, values: Any) -> tuple[Any, Any]:
-        """(dθ/dφ, d²θ/dφ²) of ``link`` (0 for the ground and a block on a fixed guide)."""
+    def _rate(self, link: str, values: Any, xp: Backend) -> tuple[Any, Any]:
+        """(dθ/dφ, d²θ/dφ²) of ``link`` (0 for the ground and a block on a fixed guide). Operators
+        only (one source for numpy, the scalar path and the tracer of the compiled instant)."""
         frame = self._frame(link)
         if not frame:
             return 0.0, 0.0
         p, q = values[frame[0]], values[frame[1]]
-        r, r1, r2 = _arr(q.value - p.value), _arr(q.d1 - p.d1), _arr(q.d2 - p.d2)
-        rr = (r.real * r.real + r.imag * r.imag)
-        c1 = np.conj(r) * r1
-        return c1.imag / rr, (np.conj(r) * r2).imag / rr - 2.0 * c1.real * c1.imag / (rr * rr)
+        r, r1, r2 = _lift(q.value - p.value, xp), _lift(q.d1 - p.d1, xp), _lift(q.d2 - p.d2, xp)
+        rr = r.real * r.real + r.imag * r.imag
+        rc = r.conjugate()
+        c1 = rc * r1
+        return c1.imag / rr, (rc * r2).imag / rr - 2.0 * c1.real * c1.imag / (rr * rr)
 
-    def _slide(self, e: _Element, values: Any) -> tuple[Any, Any, Any, Any]:
-        """The block's unit direction along its guide, (dv/dφ, d²v/dφ²) of its sliding, and the
-        scale of dv/dφ's rounding (the block's and its guide point's |dB/dφ|)."""
+    def _slide(self, e: _Element, values: Any, xp: Backend) -> tuple[Any, Any, Any]:
+        """The block's unit direction along its guide, and (dv/dφ, d²v/dφ²) of its sliding."""
         ln = self.links[e.body]
         b = values[e.point]
         if ln.along is None:  # a fixed guide
             u = complex(ln.guide if ln.guide is not None else 1.0)
-            b1 = _arr(b.d1)
-            return u, _arr((np.conj(u) * b1).real), _arr((np.conj(u) * _arr(b.d2)).real), np.abs(b1)
+            uc = u.conjugate()
+            return u, (uc * _lift(b.d1, xp)).real, (uc * _lift(b.d2, xp)).real
         a = values[ln.along[0]]
-        r, r1, r2 = _arr(b.value - a.value), _arr(b.d1 - a.d1), _arr(b.d2 - a.d2)
-        rho = np.abs(r)
-        c1 = (np.conj(r) * r1).real
+        r, r1, r2 = _lift(b.value - a.value, xp), _lift(b.d1 - a.d1, xp), _lift(b.d2 - a.d2, xp)
+        rho = xp.sqrt(r.real * r.real + r.imag * r.imag)
+        rc = r.conjugate()
+        c1 = (rc * r1).real
         v1 = c1 / rho
-        v2 = (np.conj(r) * r2).real / rho + (r1.real ** 2 + r1.imag ** 2) / rho - c1 * c1 / rho ** 3
-        return r / rho, v1, v2, np.abs(_arr(b.d1)) + np.abs(_arr(a.d1))
+        v2 = (rc * r2).real / rho + (r1.real * r1.real + r1.imag * r1.imag) / rho - c1 * c1 / (rho * rho * rho)
+        return r / rho, v1, v2
+
+    def element_kinematics(self, values: Any, xp: Backend, *, scales: list[Any] | None = None
+                           ) -> list[tuple[Any, Any, Any, Callable[[ForcePass], None]]]:
+        """Per element (in :attr:`elements` order): the analogs (dv/dφ, d²v/dφ²) of its relative
+        velocity (pin: ωᵢ − ωⱼ; slide: the block along its guide: arrays on numpy, numbers on the
+        scalar path and tracers when compiled); the slide's unit
+        direction (None for a pin); and its unit load on a route-2 pass (a unit couple on i and
+        its opposite on j; a unit push along the guide on the block at its pin). ``scales`` (numpy
+        path only): a list given is filled, per element, with the scale of dv/dφ's rounding (a pin:
+        |dθᵢ/dφ| + |dθⱼ/dφ|; a slide: the block's and its guide point's |dB/dφ|)."""
+        rates: dict[str, tuple[Any, Any]] = {}
+        out: list[tuple[Any, Any, Any, Callable[[ForcePass], None]]] = []
+        for e in self.elements:
+            if e.kind == "pin":
+                for link in (e.body, e.other):
+                    if link not in rates:
+                        rates[link] = self._rate(link, values, xp)
+                (a1, a2), (b1, b2) = rates[e.body], rates[e.other]
+                out.append((a1 - b1, a2 - b2, None, _couples(e.body, e.other)))
+                if scales is not None:
+                    scales.append(np.abs(_arr(a1)) + np.abs(_arr(b1)))
+            else:
+                unit, v1, v2 = self._slide(e, values, xp)
+                out.append((v1, v2, unit, _pushes(e.body, e.other, e.point, unit)))
+                if scales is not None:
+                    ln = self.links[e.body]
+                    guide = 0.0 if ln.along is None else np.abs(_arr(values[ln.along[0]].d1))
+                    scales.append(np.abs(_arr(values[e.point].d1)) + guide)
+        return out
 
     # -- the solve --------------------------------------------------------------------------------
     def apply(self, model: _Responses, values: Any, xp: Backend, omega: Any, epsilon: Any,
@@ -185,27 +217,14 @@ class FrictionModel:
         base = [flat(v) for v in out]
         q0 = base[index["effort", self.inputs[0]]]
         tendency = -np.sign(q0)
-        rates: dict[str, tuple[Any, Any]] = {}
-        for e in self.elements:
-            if e.kind == "pin":
-                for link in (e.body, e.other):
-                    if link not in rates:
-                        rates[link] = self._rate(link, values)
         dirs, speeds, responses, carriers, units = [], [], [], [], []
-        for e in self.elements:
-            if e.kind == "pin":
-                (a1, a2), (b1, b2) = rates[e.body], rates[e.other]
-                v1, v2 = flat(_arr(a1) - _arr(b1)), flat(_arr(a2) - _arr(b2))
-                scale = flat(np.abs(_arr(a1)) + np.abs(_arr(b1)))
-                unit: Any = None
-                load = _couples(e.body, e.other)
-                carriers.append(index["pin", e.index])
-            else:
-                unit, v1, v2, scale = self._slide(e, values)
-                load = _pushes(e.body, e.other, e.point, unit if xp.vectorised else complex(np.ravel(unit)[0]))
-                carriers.append(index["slide", e.index])
-                v1, v2, scale = flat(v1), flat(v2), flat(scale)
+        scales: list[Any] = []
+        kinematics = self.element_kinematics(values, xp, scales=scales)
+        for e, (v1, v2, unit, load), scale in zip(self.elements, kinematics, scales):
+            v1, v2, scale = flat(v1), flat(v2), flat(scale)
+            if unit is not None:
                 unit = unit if np.ndim(unit) == 0 else flat(unit)
+            carriers.append(index[("pin" if e.kind == "pin" else "slide"), e.index])
             at_rest = np.abs(v1) <= RELATIVE_REST * scale  # a zero rounded (tolerances.RELATIVE_REST)
             dirs.append(_direction(np.where(at_rest, 0.0, v1) * w, v2 * w * w + v1 * eps, v1 * tendency))
             speeds.append(np.abs(v1 * w))
@@ -232,12 +251,17 @@ class FrictionModel:
         power = sum(final[index["effort", j]] * r for j, r in zip(self.inputs, rate))
         power0 = sum(base[index["effort", j]] * r for j, r in zip(self.inputs, rate))
         extra = [base[index["effort", j]] for j in self.inputs] + losses + [power, power0, locked.astype(float)]
-        result = final + extra
+        result: list[Any] = final + extra
         if locked.any():
             result = [np.where(locked, _nan_like(v), v) for v in result[:-1]] + [result[-1]]
         if xp.vectorised:
             return result if len(shape) == 1 else [v.reshape(shape) for v in result]
         return [complex(v[0]) if np.iscomplexobj(v) else float(v[0]) for v in result]
+
+
+def _lift(x: Any, xp: Backend) -> Any:
+    """``x`` as an array on the numpy path (a Python number stays one on the others)."""
+    return np.atleast_1d(np.asarray(x)) if xp.vectorised else x
 
 
 def _arr(x: Any) -> np.ndarray:
@@ -402,6 +426,11 @@ def _newton(r0c: list[np.ndarray], responses: list[list[np.ndarray]], dirs: list
     solved = done & finite & (residual <= STAGNANT * np.maximum(np.abs(x).max(axis=1), 1e-300))
     locked = ~solved & np.isfinite(r0).all(axis=1)
     return x, locked
+
+
+#: x = c·|R₀ + B·x| per sample (the solve :meth:`FrictionModel.apply` uses; forward dynamics
+#: calls it on the reduced system of a free input, solver.dynamics._friction)
+solve_magnitudes = _solve
 
 
 # -- read-outs -----------------------------------------------------------------------------------

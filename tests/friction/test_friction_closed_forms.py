@@ -152,12 +152,19 @@ def test_cycle_efficiency_of_a_steady_turn() -> None:
     assert 0.0 < eta < 1.0
 
 
-def test_dynamics_with_friction_is_refused_in_one_line() -> None:
-    """Not yet built (issue 29 item 3): a clear DynamicsError, never a frictionless run."""
+def test_the_paths_without_friction_in_the_dynamics_refuse_it_in_one_line() -> None:
+    """scene.simulate runs friction on its own step loop (tests/dynamics/test_dynamics_friction.py);
+    scipy's methods, the node's fixed-step Stepper and machine dynamics say in one line that they do not."""
     import solver
+    from solver.dynamics import Stepper, steady_state
 
-    with pytest.raises(solver.DynamicsError, match=r"pendulum.*names friction: .*not yet in the dynamics"):
-        _pendulum(0.2, 0.02).simulate(1.0)
+    scene = _pendulum(0.2, 0.02)
+    with pytest.raises(solver.DynamicsError, match=r"pendulum.*method.*'DOP853' or 'RK4' for a scene with friction"):
+        scene.simulate(1.0, method="Radau")
+    with pytest.raises(solver.DynamicsError, match=r"pendulum: names friction: the fixed-step Stepper"):
+        Stepper(scene)
+    with pytest.raises(solver.DynamicsError, match=r"pendulum: steady_state: names friction"):
+        steady_state(scene)
 
 
 def test_a_scene_with_friction_is_not_compiled() -> None:
