@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import brentq
 
-from ..errors import DynamicsError
+from ..errors import AssemblyError, DynamicsError
 from ._equation import Equation
 from ._run import Outcome, run
 from .drive import Drive
@@ -69,11 +69,17 @@ class FrictionEquation(Equation):
         st = self.friction.solve(q, w, effort, mode=self.mode)
         return st.epsilon, effort, st
 
-    def _rates(self, t: float, y: list[float]) -> list[float]:
+    def rates(self, t: float, y: list[float]) -> list[float]:
+        """y' at (t, y) on plain lists, as :meth:`Equation.rates` (faults kept and counted)."""
         if not all(map(math.isfinite, y[:2])):
             return [math.nan] * len(y)
         q, w = y[0], y[1]
-        eps, effort, st = self._state(t, q, w)
+        try:
+            eps, effort, st = self._state(t, q, w)
+        except AssemblyError as exc:
+            self.fault = (exc.group, exc.reason, [q])
+            self.faults += 1
+            raise
         self.last_conditioning = st.conditioning
         return [w, eps, effort * w, st.other * w, -st.loss]
 

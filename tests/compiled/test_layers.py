@@ -166,6 +166,7 @@ ROS_LAYERS: dict[str, int] = {
     "linkage_ros.urdf.writer": 2,
     "linkage_ros.record.forces": 2,
     "linkage_ros.record.energy": 2,  # the energy plots of a dynamic run
+    "linkage_ros.record.friction": 2,  # the friction losses and efficiency plots
     # topic tables, the tree of a group scene, the rerun view, replay
     "linkage_ros": 3,
     "linkage_ros.topics": 3,
