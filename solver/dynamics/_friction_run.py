@@ -23,7 +23,6 @@ the friction's work (≤ 0), so that T + V − W_drive − W_other − W_frictio
 
 from __future__ import annotations
 
-import bisect
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -34,7 +33,7 @@ from scipy.optimize import brentq
 
 from ..errors import AssemblyError, DynamicsError
 from ._equation import Equation
-from ._run import Outcome, run
+from ._run import Outcome, Solution, run
 from .drive import Drive
 from .reduced import ReducedModel
 
@@ -111,28 +110,16 @@ class _Piece:
     sol: Any = None
     y: list[float] = field(default_factory=list)
 
+    @property
+    def t_old(self) -> float:  # (a step's names: the run's dense output is a Solution of pieces)
+        return self.t0
+
+    @property
+    def t(self) -> float:
+        return self.t1
+
     def __call__(self, t: float) -> list[float]:
         return list(self.y) if self.sol is None else list(self.sol(t - self.t0))
-
-
-class Pieces:
-    """The dense output of a run made of segments and held states."""
-
-    def __init__(self, pieces: list[_Piece]) -> None:
-        self.pieces = pieces
-        self.starts = [p.t0 for p in pieces]
-        self.t_min = pieces[0].t0 if pieces else 0.0
-        self.t_max = pieces[-1].t1 if pieces else 0.0
-
-    def _one(self, t: float) -> list[float]:
-        i = max(0, min(bisect.bisect_right(self.starts, t) - 1, len(self.pieces) - 1))
-        return self.pieces[i](t)
-
-    def __call__(self, t: Any) -> np.ndarray:
-        arr = np.asarray(t, float)
-        if arr.ndim == 0:
-            return np.array(self._one(float(arr)))
-        return np.array([self._one(float(v)) for v in arr.ravel()]).T.reshape(-1, *arr.shape)
 
 
 @dataclass
@@ -292,7 +279,7 @@ def run_with_friction(
         raise DynamicsError(f"{_where(eq, t0, y[0])}: {MAX_SWITCHES} switches of the friction's direction in one run "
                             "(a chatter that would not end)", scene=eq.friction.name)
     y_arr = np.array(ys, float).T if ys else np.empty((len(y0), 0))
-    return FrictionOutcome(np.array(ts, float), y_arr, status, hit, fault, nfev, Pieces(pieces),  # type: ignore[arg-type]
+    return FrictionOutcome(np.array(ts, float), y_arr, status, hit, fault, nfev, Solution(pieces),  # type: ignore[arg-type]
                            messages=messages, switches=switches)
 
 

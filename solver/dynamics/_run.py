@@ -28,7 +28,7 @@ __all__ = ["Outcome", "Solution", "run"]
 
 class Solution:
     """The run's dense output: y(t) (n,) for a time, (n, N) for N times, from the interpolant of
-    the step that holds each time."""
+    the step that holds each time (or of the piece: a friction run's segments and held states)."""
 
     def __init__(self, steps: Sequence[Dense]) -> None:
         self.steps = list(steps)
