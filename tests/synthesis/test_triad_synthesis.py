@@ -1,0 +1,155 @@
+"""Synthesis varies a triad's free values: its binary links' lengths, its ternary link's sides or
+shape, the fixed pivots (docs/synthesis.md § Triads).
+
+A population of triad designs is solved design by design, each row the same sweep as its own
+loaded scene (compared to the bit); the shipped triad_press is recovered exactly from its output
+angle function with its three lengths and a pivot free; a design that cannot be assembled over the
+range is rejected with the reason; faults are one line."""
+
+from __future__ import annotations
+
+import copy
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import yaml
+
+import solver
+from solver.errors import SceneError
+from solver.synthesis.api import make_goal
+from solver.synthesis.population import INFEASIBLE, evaluate, objective, run
+from solver.synthesis.result import meets_constraints
+from solver.synthesis.template import load_template
+from solver.tolerances import EXACT_MISS
+
+TEMPLATES = Path(__file__).parent / "templates"
+FUNCTION = TEMPLATES / "triad_press_function.yaml"
+PATH = TEMPLATES / "triad_press_path.yaml"
+#: triad_press's own values in the function template's order: C x, C y, |AD|, |BE|, |CF| (m)
+PRESS = np.array([0.23, 0.05, 0.24515301344262527, 0.6174139616173253, 0.6082762530298219])
+
+
+def _data(path: Path) -> Any:
+    return yaml.safe_load(path.read_text(encoding="utf-8"))
+
+
+def _sides_template() -> Any:
+    """The function template with the ternary link given by its sides, all three free."""
+    data = _data(FUNCTION)
+    group = data["groups"][1]
+    del group["shape"]
+    group["sides"] = [{"free": [0.3, 0.7]}, {"free": [0.1, 0.9]}, {"free": [0.3, 0.8]}]
+    group["M"] = 1
+    return load_template(data)
+
+
+@pytest.mark.parametrize("which", ["function", "path", "sides"])
+def test_a_population_of_triads_solves_as_each_design_s_own_scene(which: str) -> None:
+    """16 random designs × a sweep, and × scattered phases: every point, the ternary link's angle
+    and their analogs equal the design's own loaded scene's solve to the bit (each design follows
+    its own mode from θ₀), and the invalid samples are the same."""
+    tpl = _sides_template() if which == "sides" else load_template(FUNCTION if which == "function" else PATH)
+    rng = np.random.default_rng(7)
+    x = tpl.lo + (tpl.hi - tpl.lo) * rng.random((16, len(tpl.lo)))
+    for phi in (np.linspace(0.0, 2.0 * math.pi, 90, endpoint=False), np.radians([10.0, 80.0, 150.0, 230.0, 300.0])):
+        ctx = run(tpl, x, np.broadcast_to(phi, (16, phi.size)), ("D", "F", "ternary"))
+        invalid = np.broadcast_to(ctx.invalid, (16, phi.size))
+        assert invalid.any(axis=1).sum() < 16  # most designs assemble: the comparison means something
+        for i in range(16):
+            try:
+                scene = tpl.scene(x[i])
+            except SceneError as exc:  # sides that make no triangle: the population's row is all invalid
+                assert "is no triangle" in str(exc) and invalid[i].all()
+                continue
+            k = scene.with_outputs(points=["D", "F"], joints=["ternary"], forces=False).solve(phi, mask=True)
+            np.testing.assert_array_equal(invalid[i], ~k.valid)
+            good = k.valid
+            for m, part in enumerate(("position", "velocity", "acceleration")):
+                q = getattr(k.joint("ternary"), part)[good]
+                np.testing.assert_array_equal(ctx.values["ternary"][m][i][good], q)
+                xy = getattr(k.point("F"), part)[good]
+                np.testing.assert_array_equal(ctx.values["F"][m][i][good], xy[:, 0] + 1j * xy[:, 1])
+
+
+def test_synthesis_recovers_the_triad_press_from_its_output_angle_function() -> None:
+    """triad_press's ternary-link angle at five crank angles; the template's |AD|, |BE|, |CF| and
+    the pivot C free (ranges around them, ±20 %): the search ends at triad_press itself, every
+    pair met to ≤ 1e-9 rad (measured on the design's own scene), its values within 1e-8 m."""
+    press = solver.load_scene("triad_press")
+    phi = np.radians([0.0, 60.0, 130.0, 200.0, 280.0])
+    q = press.with_outputs(joints=["ternary"], forces=False).solve(phi).joint("ternary").position
+    res = solver.synthesize(FUNCTION, joint="ternary", pairs=np.c_[phi, q], seed=0, time_limit=300)
+    assert res.error <= EXACT_MISS
+    assert np.abs(np.array(list(res.values.values())) - PRESS).max() <= 1e-8
+    # the design's whole output function is the press's, not only at the five pairs
+    check = np.linspace(0.0, 2.0 * math.pi, 73)
+    got = res.scene.with_outputs(joints=["ternary"], forces=False).solve(check).joint("ternary").position
+    want = press.with_outputs(joints=["ternary"], forces=False).solve(check).joint("ternary").position
+    assert np.abs(got - want).max() <= 1e-7
+    assert "triad A–D" in res.summary() and "C x" in res.summary()
+
+
+def _function_goal(tpl: Any) -> Any:
+    phi = np.radians([0.0, 90.0, 180.0])
+    return make_goal(tpl, point=None, through=None, at=None, joint="ternary", pairs=np.c_[phi, [2.3, 2.2, 2.0]],
+                     poses=None, input_range=None, min_transmission=math.radians(30.0), max_ratio=None, samples=180)
+
+
+def test_a_triad_that_cannot_be_assembled_over_the_range_is_rejected_with_the_reason() -> None:
+    """|AD| = 0.02 m: the triad has no real root over four intervals of the turn. The population
+    scores it infeasible (above every feasible figure, by the share of the turn it fails) and the
+    design's own check names the group and the interval; triad_press itself is feasible."""
+    tpl = load_template(FUNCTION)
+    goal = _function_goal(tpl)
+    bad = PRESS.copy()
+    bad[2] = 0.02
+    ev = evaluate(tpl, goal, np.array([PRESS, bad]))
+    figure = objective(goal, ev)
+    assert ev.invalid[0] == 0.0 and 0.3 < ev.invalid[1] < 0.9
+    assert figure[0] < INFEASIBLE <= figure[1]
+    assert meets_constraints(tpl.scene(PRESS), goal) is None
+    assert meets_constraints(tpl.scene(bad), goal) == "group 'triad' cannot be assembled for φ in (8.7°, 12.6°)"
+
+
+def test_sides_that_make_no_triangle_are_rejected_not_a_nan() -> None:
+    """In a population a design whose sides make no triangle is invalid at every sample (the row
+    is NaN-free in the figure: infeasible); loaded alone, it is the loader's one-line refusal."""
+    tpl = _sides_template()
+    goal = _function_goal(tpl)
+    x = np.array([[*PRESS, 0.5, 0.6, 0.7], [*PRESS, 0.3, 0.9, 0.4]])
+    ev = evaluate(tpl, goal, x)
+    assert ev.invalid[0] < 0.1 and ev.invalid[1] == 1.0
+    assert np.isfinite(objective(goal, ev)).all() and objective(goal, ev)[1] >= INFEASIBLE
+    with pytest.raises(SceneError, match=r"^groups\[1\]\.sides: \[0\.3, 0\.9, 0\.4\] is no triangle \(each side"):
+        tpl.scene(x[1])
+
+
+@pytest.mark.parametrize(("edit", "message"), [
+    (lambda g: g.__setitem__("angle", {"free": [120.0, 140.0]}),
+     r"^groups\[1\]\.angle: a free value in a place that cannot vary \(.*a triad's lengths, sides and shape\)$"),
+    (lambda g: g.__setitem__("at", {"free": [0.0, 10.0]}),
+     r"^groups\[1\]\.at: a free value in a place that cannot vary"),
+    (lambda g: g["shape"].__setitem__("F", [{"free": [0.4, 0.3]}, 0.65]),
+     r"^groups\[1\]\.shape\.F\[0\]: free range \[0\.4, 0\.3\] has lo > hi$"),
+    (lambda g: g["lengths"].__setitem__(1, {"free": [-0.1, 0.7]}),
+     r"^groups\[1\]\.lengths\[1\]: a length's free range must be positive, got \[-0\.1, 0\.7\]$"),
+    (lambda g: g["shape"].__setitem__("F", {"free": [0.3, 0.4]}),
+     r"^groups\[1\]\.shape\.F: a free value in a place that cannot vary"),
+])
+def test_triad_template_faults_are_one_line(edit: Any, message: str) -> None:
+    data = copy.deepcopy(_data(FUNCTION))
+    edit(data["groups"][1])
+    with pytest.raises(SceneError, match=message) as info:
+        load_template(data)
+    assert "\n" not in str(info.value)
+
+
+def test_free_values_of_a_triad_are_named_by_the_link_they_are() -> None:
+    tpl = _sides_template()
+    assert [tpl.label(f) for f in tpl.free] == ["C x", "C y", "triad A–D", "triad B–E", "triad C–F",
+                                                  "triad D–E", "triad E–F", "triad F–D"]
+    assert [tpl.label(f) for f in load_template(PATH).free][-2:] == ["triad F x (ternary link's frame)",
+                                                                     "triad F y (ternary link's frame)"]
