@@ -122,6 +122,8 @@ def test_sides_that_make_no_triangle_are_rejected_not_a_nan() -> None:
     x = np.array([[*PRESS, 0.5, 0.6, 0.7], [*PRESS, 0.3, 0.9, 0.4]])
     ev = evaluate(tpl, goal, x)
     assert ev.invalid[0] < 0.1 and ev.invalid[1] == 1.0
+    short = run(tpl, x, np.radians([[0.0, 90.0, 180.0]] * 2), ("ternary",))  # the batched rows (the polish's)
+    assert np.broadcast_to(short.invalid, (2, 3))[1].all() and np.isnan(short.values["ternary"].value[1]).all()
     assert np.isfinite(objective(goal, ev)).all() and objective(goal, ev)[1] >= INFEASIBLE
     with pytest.raises(SceneError, match=r"^groups\[1\]\.sides: \[0\.3, 0\.9, 0\.4\] is no triangle \(each side"):
         tpl.scene(x[1])
