@@ -74,6 +74,7 @@ def test_a_population_of_triads_solves_as_each_design_s_own_scene(which: str) ->
                 np.testing.assert_array_equal(ctx.values["F"][m][i][good], xy[:, 0] + 1j * xy[:, 1])
 
 
+@pytest.mark.slow
 def test_synthesis_recovers_the_triad_press_from_its_output_angle_function() -> None:
     """triad_press's ternary-link angle at five crank angles; the template's |AD|, |BE|, |CF| and
     the pivot C free (ranges around them, ±20 %): the search ends at triad_press itself, every
@@ -90,6 +91,21 @@ def test_synthesis_recovers_the_triad_press_from_its_output_angle_function() -> 
     want = press.with_outputs(joints=["ternary"], forces=False).solve(check).joint("ternary").position
     assert np.abs(got - want).max() <= 1e-7
     assert "triad A–D" in res.summary() and "C x" in res.summary()
+
+
+@pytest.mark.slow
+def test_synthesis_recovers_the_triad_press_from_a_timed_path_of_a_ternary_link_point() -> None:
+    """F's path of triad_press at five given crank angles; |AD|, |BE|, |CF| and F's place on the
+    ternary link free: the search ends at the press (F = (0.33, 0.65) in the drawn frame), every
+    target met to ≤ 1e-9 m on the design's own scene."""
+    press = solver.load_scene("triad_press")
+    phi = np.radians([10.0, 80.0, 150.0, 230.0, 300.0])
+    xy = press.with_outputs(points=["F"], forces=False).solve(phi).point("F").position
+    res = solver.synthesize(PATH, point="F", through=xy, at=phi, seed=0, samples=90, time_limit=300)
+    assert res.error <= EXACT_MISS
+    want = np.array([*PRESS[2:], 0.33, 0.65])
+    assert np.abs(np.array(list(res.values.values())) - want).max() <= 1e-8
+    np.testing.assert_allclose(res.phases, phi)
 
 
 def _function_goal(tpl: Any) -> Any:
