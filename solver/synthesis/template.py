@@ -3,9 +3,11 @@
 A free value stands where a number may stand and is named by its place in the file:
 ``fixed.O[0]`` (a fixed point's coordinate, one by one), ``groups[1].length`` (a crank),
 ``groups[1].lengths[0]`` (a dyad's link), ``groups[2].distance`` / ``groups[2].angle`` (an
-attached point), ``groups[3].guide.angle`` / ``groups[3].guide.offset`` (a slider's guide), in
-the scene's units. Everything else of the file is an ordinary scene, validated on load with every
-free value at the middle of its range.
+attached point), ``groups[3].guide.angle`` / ``groups[3].guide.offset`` (a slider's guide),
+``groups[4].lengths[2]``, ``groups[4].sides[0]``, ``groups[4].shape.F[1]`` (a triad's binary link,
+ternary link side, shape point coordinate; its mode θ₀ stays given), in the scene's units.
+Everything else of the file is an ordinary scene, validated on load with every free value at the
+middle of its range.
 
 Two evaluations of one file:
 
