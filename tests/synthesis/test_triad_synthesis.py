@@ -18,7 +18,7 @@ import pytest
 import yaml
 
 import solver
-from solver.errors import SceneError
+from solver.errors import SceneError, SynthesisError
 from solver.synthesis.api import make_goal
 from solver.synthesis.population import INFEASIBLE, evaluate, objective, run
 from solver.synthesis.result import meets_constraints
@@ -128,6 +128,18 @@ def test_a_triad_that_cannot_be_assembled_over_the_range_is_rejected_with_the_re
     assert figure[0] < INFEASIBLE <= figure[1]
     assert meets_constraints(tpl.scene(PRESS), goal) is None
     assert meets_constraints(tpl.scene(bad), goal) == "group 'triad' cannot be assembled for φ in (8.7°, 12.6°)"
+
+
+def test_a_search_whose_triads_never_assemble_says_so_in_one_line() -> None:
+    """|AD| ≤ 0.02 m: no design assembles over the turn; the search ends in one SynthesisError line
+    (no transmission angle named: the template has no dyad)."""
+    data = _data(FUNCTION)
+    data["groups"][1]["lengths"][0] = {"free": [0.01, 0.02]}
+    pairs = [(0.0, 2.3), (1.0, 2.2), (2.0, 2.0)]
+    with pytest.raises(SynthesisError, match=r"^template: no design found that assembles over the required input "
+                       r"range (before the time limit expired|in \d+ start\(s\)); ") as info:
+        solver.synthesize(data, joint="ternary", pairs=pairs, starts=1, maxiter=5, samples=60, time_limit=60)
+    assert "\n" not in str(info.value) and "transmission" not in str(info.value)
 
 
 def test_sides_that_make_no_triangle_are_rejected_not_a_nan() -> None:
