@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import copy
 import math
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -128,6 +129,24 @@ def test_a_triad_that_cannot_be_assembled_over_the_range_is_rejected_with_the_re
     assert figure[0] < INFEASIBLE <= figure[1]
     assert meets_constraints(tpl.scene(PRESS), goal) is None
     assert meets_constraints(tpl.scene(bad), goal) == "group 'triad' cannot be assembled for φ in (8.7°, 12.6°)"
+
+
+def test_force_terms_of_triad_designs_are_each_design_s_own() -> None:
+    """With bodies on the triad and the crank, the population's peak input effort over the sweep
+    (ω = 2 rad/s, gravity) is each design's own scene's, to 1e-12 relative: the triad's pin
+    reactions (route 2) evaluated on the population's arrays."""
+    data = _data(FUNCTION)
+    data["bodies"] = {"triad": {"points": ["D", "E", "F"], "mass": 1.0}, "crank": {"points": ["O", "A"], "mass": 0.5}}
+    data["gravity"] = [0.0, -9.81]
+    tpl = load_template(data)
+    goal = replace(_function_goal(tpl), effort_weight=1.0, pin_weight=0.1, speed=2.0)
+    x = np.array([PRESS, [0.2, 0.05, 0.25, 0.6, 0.6]])
+    ev = evaluate(tpl, goal, x)
+    assert ev.effort is not None and ev.pin_load is not None and np.isfinite(ev.pin_load).all()
+    for i in range(2):
+        k = tpl.scene(x[i]).solve(goal.sweep, omega=2.0)
+        want = np.abs(k.effort("crank")).max()
+        assert abs(ev.effort[i] - want) <= 1e-12 * want
 
 
 def test_a_search_whose_triads_never_assemble_says_so_in_one_line() -> None:
