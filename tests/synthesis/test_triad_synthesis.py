@@ -95,6 +95,27 @@ def test_synthesis_recovers_the_triad_press_from_its_output_angle_function() -> 
 
 
 @pytest.mark.slow
+def test_synthesis_recovers_the_ternary_link_s_sides_from_the_output_angle_function() -> None:
+    """triad_press written with its ternary link as sides [DE, EF, FD] (M = −1: D → E → F turns
+    clockwise), the three sides free: the search returns the drawn sides, every pair to ≤ 1e-9 rad."""
+    data = _data(FUNCTION)
+    group = data["groups"][1]
+    del group["shape"]
+    d, e, f = 0.34 - 0.05j, -0.06 + 0.38j, 0.33 + 0.65j
+    sides = [abs(e - d), abs(f - e), abs(d - f)]
+    group.update(M=-1, sides=[{"free": [0.5, 0.7]}, {"free": [0.4, 0.55]}, {"free": [0.6, 0.8]}],
+                 lengths=PRESS[2:].tolist())
+    data["fixed"]["C"] = PRESS[:2].tolist()
+    press = solver.load_scene("triad_press")
+    phi = np.radians([0.0, 60.0, 130.0, 200.0, 280.0])
+    q = press.with_outputs(joints=["ternary"], forces=False).solve(phi).joint("ternary").position
+    res = solver.synthesize(data, joint="ternary", pairs=np.c_[phi, q], seed=0, time_limit=300)
+    assert res.error <= EXACT_MISS
+    assert np.abs(np.array(list(res.values.values())) - sides).max() <= 1e-8
+    assert "triad E–F" in res.summary()
+
+
+@pytest.mark.slow
 def test_synthesis_recovers_the_triad_press_from_a_timed_path_of_a_ternary_link_point() -> None:
     """F's path of triad_press at five given crank angles; |AD|, |BE|, |CF| and F's place on the
     ternary link free: the search ends at the press (F = (0.33, 0.65) in the drawn frame), every
