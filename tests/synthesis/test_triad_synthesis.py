@@ -47,12 +47,20 @@ def _sides_template() -> Any:
     return load_template(data)
 
 
-@pytest.mark.parametrize("which", ["function", "path", "sides"])
+def _constant_triad_template() -> Any:
+    """triad_press with only the crank's length free: the triad's values are constants."""
+    data = _data(Path(solver.find_scene("triad_press")))
+    data["groups"][0]["length"] = {"free": [0.05, 0.12]}
+    return load_template(data)
+
+
+@pytest.mark.parametrize("which", ["function", "path", "sides", "constant"])
 def test_a_population_of_triads_solves_as_each_design_s_own_scene(which: str) -> None:
     """16 random designs × a sweep, and × scattered phases: every point, the ternary link's angle
     and their analogs equal the design's own loaded scene's solve to the bit (each design follows
     its own mode from θ₀), and the invalid samples are the same."""
-    tpl = _sides_template() if which == "sides" else load_template(FUNCTION if which == "function" else PATH)
+    tpl = {"sides": _sides_template, "constant": _constant_triad_template}.get(
+        which, lambda: load_template(FUNCTION if which == "function" else PATH))()
     rng = np.random.default_rng(7)
     x = tpl.lo + (tpl.hi - tpl.lo) * rng.random((16, len(tpl.lo)))
     for phi in (np.linspace(0.0, 2.0 * math.pi, 90, endpoint=False), np.radians([10.0, 80.0, 150.0, 230.0, 300.0])):
