@@ -65,6 +65,7 @@ from .._backend import NUMPY, Backend, abs2, cross, dot
 from .._fields import Entry, Units
 from ..jet import Jet
 from ..tolerances import EPS
+from . import _triad_population as _population
 from . import _triad_sweep as _sweep
 from . import _triad_tick as _tick
 from .base import Context, Group
@@ -291,6 +292,9 @@ class Triad(Group):
             if saved is not None:
                 self._last.clear()
                 self._last.update(saved)
+        elif ctx.seeds is None and np.ndim(phi) == 2:  # a population of designs (solver.synthesis)
+            _population.solve_population(self, ctx)
+            return
         else:
             # a block of a longer sweep (solver.scene solves in blocks of views into one array):
             # continue from where the previous block of the same array ended
@@ -451,6 +455,8 @@ class Triad(Group):
         sub = e.child("lengths", {"AD": raw[0], "BE": raw[1], "CF": raw[2]})
         lengths = (sub.length("AD", units), sub.length("BE", units), sub.length("CF", units))
         has_sides, has_shape = "sides" in e.data, "shape" in e.data
+        u: Any  # complex, or (C, 1) arrays in a population (solver.synthesis)
+        v: Any
         if has_sides == has_shape:
             raise e.error("give the ternary link as either sides: [DE, EF, FD] (with M) or shape: {D: [x, y], E, F}",
                           "sides")
@@ -461,25 +467,37 @@ class Triad(Group):
             ss = e.child("sides", {"DE": raw[0], "EF": raw[1], "FD": raw[2]})
             de, ef, fd = (ss.length(k, units) for k in ("DE", "EF", "FD"))
             cos_d = (de * de + fd * fd - ef * ef) / (2.0 * de * fd)
-            if not -1.0 < cos_d < 1.0:
-                raise e.error(f"[{de:.6g}, {ef:.6g}, {fd:.6g}] is no triangle (each side shorter than the other two)",
-                              "sides")
-            ang = e.mode() * math.acos(cos_d)
-            u, v = complex(de, 0.0), fd * complex(math.cos(ang), math.sin(ang))
+            if isinstance(cos_d, np.ndarray):  # a population (solver.synthesis): no triangle → NaN, rejected
+                with np.errstate(invalid="ignore"):
+                    ang = e.mode() * np.arccos(np.where((cos_d > -1.0) & (cos_d < 1.0), cos_d, np.nan))
+                u, v = de + 0j, fd * (np.cos(ang) + 1j * np.sin(ang))
+            else:
+                if not -1.0 < cos_d < 1.0:
+                    raise e.error(f"[{de:.6g}, {ef:.6g}, {fd:.6g}] is no triangle (each side shorter than the "
+                                  "other two)", "sides")
+                ang = e.mode() * math.acos(cos_d)
+                u, v = complex(de, 0.0), fd * complex(math.cos(ang), math.sin(ang))
         else:
             sh = e.child("shape", e.raw("shape"))
-            pts = []
+            pts: list[Any] = []
             for k in points:
                 xy = sh.raw(k)
                 if not isinstance(xy, (list, tuple)) or len(xy) != 2:
                     raise sh.error(f"must be [x, y], got {xy!r}", k)
-                pts.append(complex(sh.length_value(sh.as_number(xy[0], k), k, units, positive=False),
-                                   sh.length_value(sh.as_number(xy[1], k), k, units, positive=False)))
+                pts.append(sh.length_value(sh.as_number(xy[0], k), k, units, positive=False)
+                           + 1j * sh.length_value(sh.as_number(xy[1], k), k, units, positive=False))
             sh.done()
-            if abs(cross(pts[1] - pts[0], pts[2] - pts[0])) <= 1e-12 * abs(pts[1] - pts[0]) ** 2:
-                raise e.error("the ternary link's three points are on one line", "shape")
+            line = np.abs(cross(pts[1] - pts[0], pts[2] - pts[0])) <= 1e-12 * np.abs(pts[1] - pts[0]) ** 2
             u, v = pts[1] - pts[0], pts[2] - pts[0]
-            u, v = complex(abs(u), 0.0), v * u.conjugate() / abs(u)  # θ = arg(E − D) in both forms
+            if isinstance(line, np.ndarray):  # a population: three points on one line → NaN, rejected
+                u = np.where(line, np.nan, u)
+            elif line:
+                raise e.error("the ternary link's three points are on one line", "shape")
+            else:
+                u, v = complex(u), complex(v)
+            u, v = np.abs(u) + 0j, v * np.conj(u) / np.abs(u)  # θ = arg(E − D) in both forms
+            if not isinstance(u, np.ndarray):
+                u, v = complex(u), complex(v)
         at = e.raw("at", None)
         joint = e.raw("joint", None)
         return cls(

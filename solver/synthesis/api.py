@@ -137,8 +137,9 @@ def synthesize(
     # only designs that meet every constraint are returned, checked on their own scenes (result.py)
     designs = distinct([d for d in found if d.feasible][:MAX_DESIGNS], goal, key=rank)
     if not designs:
-        what = "assembles over the required input range with every transmission angle ≥ " \
-               f"{math.degrees(goal.min_transmission):g}°" + (f" and links within {max_ratio:g}:1" if max_ratio else "")
+        what = "assembles over the required input range" + (  # a transmission angle is a dyad's
+            f" with every transmission angle ≥ {math.degrees(goal.min_transmission):g}°" if goal.closures else "") \
+            + (f" and links within {max_ratio:g}:1" if max_ratio else "")
         more = " before the time limit expired" if expired else f" in {len(results)} start(s)"
         raise SynthesisError(f"{tpl.file or 'template'}: no design found that {what}{more}; "
                              + ("give it more time (time_limit), " if expired else "")

@@ -111,7 +111,7 @@ def solve(template: Template, x: np.ndarray, phi: np.ndarray, names: tuple[str, 
 def link_ratio(plan: Plan, c: int) -> np.ndarray:
     """Longest link over shortest: the cranks', dyads' and sliders' lengths and the distances
     between the fixed pivots they use."""
-    lengths = [np.broadcast_to(length, (c, 1)) for g in plan.groups if g.kind in ("crank", "rrr", "rrp")
+    lengths = [np.broadcast_to(length, (c, 1)) for g in plan.groups if g.kind in ("crank", "rrr", "rrp", "triad")
                for _, _, length in g.rigid_pairs()]
     pivots = [np.broadcast_to(v, (c, 1)) for v in plan.fixed.values() if np.iscomplexobj(v)]
     for i in range(len(pivots)):

@@ -29,7 +29,7 @@ from ..classify import grashof, transmission_range
 from ..errors import SolverError
 from ..scene import Scene
 from ..tolerances import EXACT_MISS
-from .population import Goal, evaluate, link_ratio, wrap
+from .population import Goal, evaluate, group_of, link_ratio, wrap
 from .template import Template
 
 __all__ = ["Design", "SynthesisResult", "check_design", "meets_constraints", "same_curve", "curve_of", "CHECK_SAMPLES"]
@@ -106,8 +106,10 @@ def check_design(template: Template, goal: Goal, x: np.ndarray, phases: np.ndarr
     curve, kc = curve_of(scene, goal, check)
     swept = scene.with_outputs(points=[p for p in goal.closures], joints=[], forces=False).solve(check, mask=True)
     feasible = valid and bool(np.all(swept.valid))
-    if feasible and swept.conditioning:
-        worst = min(float(np.min(c)) for c in swept.conditioning.values())
+    held = {group_of(template, p) for p in goal.closures}  # the dyads' (a triad's figure is no transmission angle)
+    figures = [c for name, c in swept.conditioning.items() if name in held]
+    if feasible and figures:
+        worst = min(float(np.min(c)) for c in figures)
         feasible = worst >= math.sin(goal.min_transmission) * (1.0 - 1e-9)
     feasible = feasible and meets_constraints(scene, goal) is None
     if not np.all(np.isfinite(misses)):

@@ -3,9 +3,11 @@
 A free value stands where a number may stand and is named by its place in the file:
 ``fixed.O[0]`` (a fixed point's coordinate, one by one), ``groups[1].length`` (a crank),
 ``groups[1].lengths[0]`` (a dyad's link), ``groups[2].distance`` / ``groups[2].angle`` (an
-attached point), ``groups[3].guide.angle`` / ``groups[3].guide.offset`` (a slider's guide), in
-the scene's units. Everything else of the file is an ordinary scene, validated on load with every
-free value at the middle of its range.
+attached point), ``groups[3].guide.angle`` / ``groups[3].guide.offset`` (a slider's guide),
+``groups[4].lengths[2]``, ``groups[4].sides[0]``, ``groups[4].shape.F[1]`` (a triad's binary link,
+ternary link side, shape point coordinate; its mode θ₀ stays given), in the scene's units.
+Everything else of the file is an ordinary scene, validated on load with every free value at the
+middle of its range.
 
 Two evaluations of one file:
 
@@ -46,6 +48,8 @@ FREE_PLACES: dict[str, dict[str, str]] = {
     "rrr": {"lengths[0]": "length", "lengths[1]": "length"},
     "attached": {"distance": "length", "angle": "angle"},
     "rrp": {"length": "length", "guide.angle": "angle", "guide.offset": "signed"},
+    "triad": {"lengths[0]": "length", "lengths[1]": "length", "lengths[2]": "length",
+              "sides[0]": "length", "sides[1]": "length", "sides[2]": "length"},
 }
 
 
@@ -95,6 +99,8 @@ def _kind_of(path: tuple[Any, ...], data: Mapping[str, Any]) -> str | None:
         groups = data.get("groups")
         group = groups[path[1]] if isinstance(groups, list) and path[1] < len(groups) else None
         kind = group.get("type") if isinstance(group, Mapping) else None
+        if kind == "triad" and len(path) == 5 and path[2] == "shape" and path[4] in (0, 1):
+            return "signed"  # groups[i].shape.D[0]: a ternary link's local point, x or y
         return FREE_PLACES.get(kind, {}).get(_place(path[2:])) if isinstance(kind, str) else None
     return None
 
@@ -166,11 +172,6 @@ class Template:
             raise SceneError("a template is a scene file: a mapping of sections (docs/scenes.md)", file=file)
         self.file = file
         self.data = data
-        for i, group in enumerate(data.get("groups") or []):
-            if isinstance(group, Mapping) and group.get("type") == "triad":
-                raise SceneError(f"triad '{group.get('name')}': synthesis does not vary a triad yet (its mode is a "
-                                 "followed root, not a sign); synthesize its dyads or fix its values",
-                                 file=file, entry=f"groups[{i}]")
         frees: list[Free] = []
         for path, container, key in _walk(data):
             place = _place(path)
@@ -181,7 +182,8 @@ class Template:
             if kind is None:
                 raise SceneError(
                     "a free value in a place that cannot vary (free values: fixed points' coordinates, "
-                    "lengths, an attached point's distance and angle, a guide's angle and offset)",
+                    "lengths, an attached point's distance and angle, a guide's angle and offset, a triad's "
+                    "lengths, sides and shape)",
                     file=file, entry=place, line=line,
                 )
             frees.append(replace(_read_free(container[key], place, kind, file, line), path=path))
@@ -221,6 +223,13 @@ class Template:
         name = str(group.get("name", f"groups[{path[1]}]"))
         point = group.get("point", "?")
         key = _place(path[2:])
+        if group.get("type") == "triad":
+            ends, pts = group.get("ends") or ["?"] * 3, group.get("points") or ["?"] * 3
+            if key.startswith("lengths["):
+                return f"{name} {ends[path[3]]}–{pts[path[3]]}"
+            if key.startswith("sides["):
+                return f"{name} {pts[path[3]]}–{pts[(path[3] + 1) % 3]}"
+            return f"{name} {path[3]} {'xy'[path[4]]} (ternary link's frame)"
         if key == "length" and group.get("type") == "crank":
             return f"{name} {group.get('center', '?')}–{point}"
         if key == "length":

@@ -366,9 +366,10 @@ def test_a_sweep_through_a_branch_point_says_it_would_jump_mode() -> None:
     assert refused == 2, refused
 
 
-def test_paths_without_the_triad_refuse_it_in_one_line() -> None:
-    """Synthesis does not vary a triad yet: it says so (forces, dynamics and the URDF tree take it:
-    tests/forces/test_triad_forces.py, tests/dynamics/test_dynamics_triad.py, tests/urdf)."""
+def test_every_path_takes_the_triad_and_its_mode_is_no_free_value() -> None:
+    """Every path takes the triad (forces, dynamics and the URDF tree: tests/forces/test_triad_forces.py,
+    tests/dynamics/test_dynamics_triad.py, tests/urdf; synthesis varies its lengths, sides, shape and
+    pivots: tests/synthesis/test_triad_synthesis.py); its mode θ₀ is no free value, said in one line."""
     import yaml
 
     import solver
@@ -380,7 +381,8 @@ def test_paths_without_the_triad_refuse_it_in_one_line() -> None:
     assert np.isfinite(k.effort("crank")).all()
     free = copy_of(data)
     free["fixed"]["B"] = [{"free": [0.45, 0.55]}, 0.64]
-    with pytest.raises(SceneError, match=r"groups\[1\]: triad 'triad': synthesis does not vary a triad yet"):
+    free["groups"][1]["angle"] = {"free": [120.0, 140.0]}
+    with pytest.raises(SceneError, match=r"^groups\[1\]\.angle: a free value in a place that cannot vary \("):
         solver.synthesize(free, point="E", through=[[-0.06, 0.38], [-0.08, 0.42], [-0.1, 0.45]])
     assert {"triad", "triad_AD", "triad_BE", "triad_CF"} <= set(build_model(solver.load_scene("triad_press")).bodies)
 
