@@ -16,10 +16,11 @@ def test_a_file_cut_inside_its_first_chunk_is_said_to_hold_no_message_yet(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     mcap = tmp_path / "run.mcap"
-    assert run_main(["four_bar", "--cycles", "0.2", "--mcap", str(mcap), "--no-rrd"]) == 0
+    # one chunk: 0.2 s of messages, and a wall-clock interval no loaded machine reaches
+    assert run_main(["four_bar", "--cycles", "0.2", "--chunk-interval", "600", "--mcap", str(mcap), "--no-rrd"]) == 0
     data = mcap.read_bytes()
     cut = tmp_path / "cut.mcap"
-    cut.write_bytes(data[: len(data) * 2 // 3])  # one chunk (0.2 s < chunk_interval_s): cut inside it
+    cut.write_bytes(data[: len(data) * 2 // 3])  # cut inside the one chunk
     capsys.readouterr()
     assert view_main([str(cut), "-o", str(tmp_path / "cut.rrd")]) == 2
     err = capsys.readouterr().err.strip()
