@@ -31,7 +31,7 @@ __all__ = ["synthesize", "SAMPLES"]
 #: Input angles per candidate in the global search (the sweep of the required range).
 SAMPLES = 180
 #: Most starts of the multi-start sweep by default (each start is short: it ends when it stalls).
-STARTS = 32
+STARTS = 64
 #: Designs compared for distinct curves (the best, feasible first): the comparison is pairwise.
 MAX_DESIGNS = 40
 #: Evaluations of the last polish of the best designs when none is exact.
@@ -59,7 +59,7 @@ def synthesize(
     starts: int = STARTS,
     samples: int = SAMPLES,
     popsize: int = 20,
-    maxiter: int = 300,
+    maxiter: int | None = None,
     progress: Callable[[int, int, float], None] | None = None,
 ) -> SynthesisResult:
     """The design(s) of ``template`` that meet the task (module docstring, docs/synthesis.md).
@@ -71,7 +71,8 @@ def synthesize(
     pin load over the range at ``speed`` (ω, rad/s) to the search's figure (the template needs
     bodies or loads, docs/forces.md); the polish still hits the targets. ``starts``: multi-start
     sweep length (stopped at the first start that gives an exact design); ``workers``: a
-    ``dask.distributed.Client`` that runs the starts (the result is the same). An expired
+    ``dask.distributed.Client`` that runs the starts (the result is the same); ``maxiter``:
+    generations of one start (default 35, 300 with force terms: search.py). An expired
     ``time_limit`` (s) returns the best design so far, marked (``res.expired``).
     """
     t0 = time.monotonic()
@@ -93,7 +94,8 @@ def synthesize(
                                                                        ("pin_weight", pin_weight)))
     speed = args.number("speed", speed, low=0.0)
     starts, samples = args.integer("starts", starts, low=1), args.integer("samples", samples, low=8)
-    popsize, maxiter = args.integer("popsize", popsize, low=1), args.integer("maxiter", maxiter, low=1)
+    popsize = args.integer("popsize", popsize, low=1)
+    maxiter = None if maxiter is None else args.integer("maxiter", maxiter, low=1)
     progress = args.function_("progress", progress)
     tpl = load_template(template)
     goal = make_goal(tpl, point=point, through=through, at=at, joint=joint, pairs=pairs, poses=poses,
