@@ -23,15 +23,16 @@ from ..tolerances import EXACT_MISS
 from .polish import polish
 from .population import Goal, evaluate, objective
 from .result import Design, SynthesisResult, check_design, distinct
-from .search import Options, StartResult, sweep
+from .search import Options, StartResult, short_starts, sweep
 from .template import Template, load_template
 
 __all__ = ["synthesize", "SAMPLES"]
 
 #: Input angles per candidate in the global search (the sweep of the required range).
 SAMPLES = 180
-#: Most starts of the multi-start sweep by default (each start is short: it ends when it stalls).
-STARTS = 64
+#: Most starts of the multi-start sweep by default (each start is short: it ends when it stalls);
+#: twice as many where the starts are short (search.short_starts: 35 generations).
+STARTS = 32
 #: Designs compared for distinct curves (the best, feasible first): the comparison is pairwise.
 MAX_DESIGNS = 40
 #: Evaluations of the last polish of the best designs when none is exact.
@@ -56,7 +57,7 @@ def synthesize(
     effort_weight: float = 0.0,
     pin_weight: float = 0.0,
     speed: float = 1.0,
-    starts: int = STARTS,
+    starts: int | None = None,
     samples: int = SAMPLES,
     popsize: int = 20,
     maxiter: int | None = None,
@@ -72,7 +73,9 @@ def synthesize(
     bodies or loads, docs/forces.md); the polish still hits the targets. ``starts``: multi-start
     sweep length (stopped at the first start that gives an exact design); ``workers``: a
     ``dask.distributed.Client`` that runs the starts (the result is the same); ``maxiter``:
-    generations of one start (default 35, 300 with force terms: search.py). An expired
+    generations of one start and ``starts`` the most starts (by default 35 and 64 where the task's
+    zeros form a family — unknowns ≥ equations — and there are no force terms, else 300 and 32:
+    search.short_starts). An expired
     ``time_limit`` (s) returns the best design so far, marked (``res.expired``).
     """
     t0 = time.monotonic()
@@ -93,7 +96,8 @@ def synthesize(
     effort_weight, pin_weight = (args.number(n, v, low=0.0) for n, v in (("effort_weight", effort_weight),
                                                                        ("pin_weight", pin_weight)))
     speed = args.number("speed", speed, low=0.0)
-    starts, samples = args.integer("starts", starts, low=1), args.integer("samples", samples, low=8)
+    starts = None if starts is None else args.integer("starts", starts, low=1)
+    samples = args.integer("samples", samples, low=8)
     popsize = args.integer("popsize", popsize, low=1)
     maxiter = None if maxiter is None else args.integer("maxiter", maxiter, low=1)
     progress = args.function_("progress", progress)
@@ -103,6 +107,8 @@ def synthesize(
                      samples=samples)
     if effort_weight or pin_weight:
         goal = _weighted(tpl, goal, effort_weight, pin_weight, speed)
+    if starts is None:
+        starts = 2 * STARTS if short_starts(tpl, goal) else STARTS
     options = Options(popsize=popsize, maxiter=maxiter, starts=starts)
     found: list[Design] = []
 
