@@ -75,7 +75,8 @@ def _parser() -> Parser:
                    "run)")
     p.add_argument("--time-limit", type=positive, metavar="S",
                    help="stop after S seconds with the best so far (default: no limit)")
-    p.add_argument("--starts", type=count, default=32, help="most starts of the multi-start sweep (default 32)")
+    p.add_argument("--starts", type=count, default=None,
+                   help="most starts of the multi-start sweep (default 64 short ones or 32: docs/synthesis.md)")
     p.add_argument("--min-transmission", type=within(0.0, 90.0, "degrees"), default=30.0, metavar="DEG",
                    help="smallest transmission angle of every dyad, degrees (default 30)")
     p.add_argument("--max-ratio", type=positive, help="longest link over the shortest at most this (default: no "

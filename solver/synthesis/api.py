@@ -23,14 +23,15 @@ from ..tolerances import EXACT_MISS
 from .polish import polish
 from .population import Goal, evaluate, objective
 from .result import Design, SynthesisResult, check_design, distinct
-from .search import Options, StartResult, sweep
+from .search import Options, StartResult, short_starts, sweep
 from .template import Template, load_template
 
 __all__ = ["synthesize", "SAMPLES"]
 
 #: Input angles per candidate in the global search (the sweep of the required range).
 SAMPLES = 180
-#: Most starts of the multi-start sweep by default (each start is short: it ends when it stalls).
+#: Most starts of the multi-start sweep by default (each start is short: it ends when it stalls);
+#: twice as many where the starts are short (search.short_starts: 35 generations).
 STARTS = 32
 #: Designs compared for distinct curves (the best, feasible first): the comparison is pairwise.
 MAX_DESIGNS = 40
@@ -57,10 +58,10 @@ def synthesize(
     pin_weight: float = 0.0,
     efficiency_weight: float = 0.0,
     speed: float = 1.0,
-    starts: int = STARTS,
+    starts: int | None = None,
     samples: int = SAMPLES,
     popsize: int = 20,
-    maxiter: int = 300,
+    maxiter: int | None = None,
     progress: Callable[[int, int, float], None] | None = None,
 ) -> SynthesisResult:
     """The design(s) of ``template`` that meet the task (module docstring, docs/synthesis.md).
@@ -74,7 +75,10 @@ def synthesize(
     instantaneous efficiency over the range at ``speed``) (the template needs ``friction:``,
     docs/forces.md#friction); the polish still hits the targets. ``starts``: multi-start
     sweep length (stopped at the first start that gives an exact design); ``workers``: a
-    ``dask.distributed.Client`` that runs the starts (the result is the same). An expired
+    ``dask.distributed.Client`` that runs the starts (the result is the same); ``maxiter``:
+    generations of one start and ``starts`` the most starts (by default 35 and 64 where the task's
+    zeros form a family — unknowns ≥ equations — and there are no force terms, else 300 and 32:
+    search.short_starts). An expired
     ``time_limit`` (s) returns the best design so far, marked (``res.expired``).
     """
     t0 = time.monotonic()
@@ -96,8 +100,10 @@ def synthesize(
         args.number(n, v, low=0.0) for n, v in (("effort_weight", effort_weight), ("pin_weight", pin_weight),
                                                 ("efficiency_weight", efficiency_weight)))
     speed = args.number("speed", speed, low=0.0)
-    starts, samples = args.integer("starts", starts, low=1), args.integer("samples", samples, low=8)
-    popsize, maxiter = args.integer("popsize", popsize, low=1), args.integer("maxiter", maxiter, low=1)
+    starts = None if starts is None else args.integer("starts", starts, low=1)
+    samples = args.integer("samples", samples, low=8)
+    popsize = args.integer("popsize", popsize, low=1)
+    maxiter = None if maxiter is None else args.integer("maxiter", maxiter, low=1)
     progress = args.function_("progress", progress)
     tpl = load_template(template)
     goal = make_goal(tpl, point=point, through=through, at=at, joint=joint, pairs=pairs, poses=poses,
@@ -105,6 +111,8 @@ def synthesize(
                      samples=samples)
     if effort_weight or pin_weight or efficiency_weight:
         goal = _weighted(tpl, goal, effort_weight, pin_weight, speed, efficiency=efficiency_weight)
+    if starts is None:
+        starts = 2 * STARTS if short_starts(tpl, goal) else STARTS
     options = Options(popsize=popsize, maxiter=maxiter, starts=starts)
     found: list[Design] = []
 

@@ -79,3 +79,20 @@ def test_seven_points_end_exact_whatever_the_seed(seed: int) -> None:
     got = _points(t, res.best.x, res.phases)
     assert np.abs(got - targets).max() <= EXACT_MISS and res.exact
     assert meets_constraints(res.scene, res.goal) is None
+
+
+@pytest.mark.parametrize(("count", "slack", "short"), [(5, 4, True), (7, 2, True), (9, 0, True), (10, -1, False)])
+def test_short_starts_where_the_zeros_form_a_family(count: int, slack: int, short: bool) -> None:
+    """Unknowns (9 dimensions + a phase per target) minus equations (2 per target): the
+    dimension of the family of zeros; a task with one (slack ≥ 0) and no force terms runs short
+    starts (35 generations, 64 of them by default: issue 32), an over-determined one long ones."""
+    from dataclasses import replace
+
+    from solver.synthesis.search import short_starts
+    from solver.synthesis.search import slack as slack_of
+
+    t = load_template(FOUR_BAR)
+    goal = _goal(t, _points(t, CRANK_ROCKER, np.linspace(0.3, 5.9, count)))
+    assert slack_of(t, goal) == slack
+    assert short_starts(t, goal) is short
+    assert short_starts(t, replace(goal, effort_weight=1.0)) is False  # force terms: long starts

@@ -47,14 +47,15 @@ def test_four_bar_coupler_curve_five_targets() -> None:
 def test_close_targets_one_start() -> None:
     """Two of five targets 0.4 mm apart (0.011 rad on the curve): the nearest zeros of most polishes
     lose the transmission angle; sliding along the family of zeros finds a feasible one in the
-    first start (bench.synthesis case 1: 3 starts and 8.8 s before)."""
+    first starts (bench.synthesis case 1: 3 starts and 8.8 s before; the second of the short starts
+    of issue 32, 35 generations each)."""
     t = load_template(FOUR_BAR)
     phi = np.sort(np.random.default_rng(1).uniform(0.0, 2 * math.pi, 5))
     targets = _points(t.scene(CRANK_ROCKER), "P", phi)
     assert np.hypot(*(targets[4] - targets[3])) < 5e-4
     res = solver.synthesize(t, point="P", through=targets, seed=1)
     _check_hits(res, "P", targets)
-    assert res.starts == 1 and all(d.feasible for d in res.solutions)
+    assert res.starts <= 2 and all(d.feasible for d in res.solutions)
 
 
 def test_feasible_polish_keeps_a_feasible_zero() -> None:
