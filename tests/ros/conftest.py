@@ -123,7 +123,6 @@ class Listener:
     def __init__(self) -> None:
         self.messages: list[tuple[str, bytes]] = []
         self.by_topic: dict[str, list[bytes]] = defaultdict(list)
-        self.subscriptions: dict[str, Any] = {}
 
     def callback(self, topic: str) -> Callable[[bytes], None]:
         def keep(data: bytes) -> None:
@@ -136,7 +135,7 @@ class Listener:
 class Client:
     """The test process's side of the DDS conversation."""
 
-    def __init__(self) -> None:
+    def __init__(self, name: str = "linkage_test_client") -> None:
         import rclpy
         from rclpy.context import Context
         from rclpy.executors import SingleThreadedExecutor
@@ -144,7 +143,7 @@ class Client:
 
         self.context = Context()
         rclpy.init(context=self.context, signal_handler_options=SignalHandlerOptions.NO)
-        self.node = rclpy.create_node("linkage_test_client", context=self.context)
+        self.node = rclpy.create_node(name, context=self.context)
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
 
@@ -198,27 +197,8 @@ class Client:
         classes = message_classes(sorted(set(topics.values())))
         qos = QoSProfile(depth=depth, reliability=ReliabilityPolicy.RELIABLE)
         for topic, typename in topics.items():
-            listener.subscriptions[topic] = self.node.create_subscription(
-                classes[typename], topic, listener.callback(topic), qos, raw=True)
+            self.node.create_subscription(classes[typename], topic, listener.callback(topic), qos, raw=True)
         return listener
-
-    @contextmanager
-    def only(self, listener: Listener, topics: set[str], *, wait: float = 20.0) -> Iterator[None]:
-        """Pause ``listener``'s subscriptions but ``topics`` for the block, then subscribe again and
-        wait until each is matched: a rate is counted at 1 kHz without this process reading (and
-        the node's reliable writers waiting on) topics the count does not use."""
-        paused = {t: s for t, s in listener.subscriptions.items() if t not in topics}
-        for topic in paused:
-            self.node.destroy_subscription(listener.subscriptions.pop(topic))
-        try:
-            yield
-        finally:
-            for topic, subscription in paused.items():
-                listener.subscriptions[topic] = self.node.create_subscription(
-                    subscription.msg_type, topic, listener.callback(topic), subscription.qos_profile, raw=True)
-            matched = [listener.subscriptions[t] for t in paused]
-            self.spin_until(lambda: all(s.get_publisher_count() >= 1 for s in matched), wait)
-            self.spin_for(0.3)  # the writers' side of the match
 
     def published_by(self, node_name: str, namespace: str) -> list[tuple[str, list[str]]]:
         """The topics ``node_name`` publishes, as far as discovery has got: none until the graph
@@ -256,6 +236,21 @@ class Client:
 
         response = self.call(GetParameters, f"{node}/get_parameters", GetParameters.Request(names=list(names)))
         return [(v.type, parameter_value_to_python(v)) for v in response.values]
+
+
+@contextmanager
+def solo_listener(topic: str, typename: str, *, depth: int = 5000) -> Iterator[tuple[Listener, Client]]:
+    """A client of its own (context, node, executor) subscribed to one topic only: a rate counted
+    at 1 kHz is not read through the session client's executor, whose wait set holds every
+    subscription of the session so far (rebuilt at each spin: too slow for 1000 messages a
+    second on 2 cores, so the node's keep-last writers drop what it has not read yet)."""
+    solo = Client("linkage_test_solo_listener")
+    try:
+        listener = solo.listen({topic: typename}, depth=depth)
+        assert solo.spin_until(lambda: bool(listener.by_topic[topic]), 20.0), f"no {topic} reached a new participant"
+        yield listener, solo
+    finally:
+        solo.close()
 
 
 @pytest.fixture(scope="session")
