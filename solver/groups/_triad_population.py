@@ -86,7 +86,7 @@ def _column(x: Any, rows: int) -> np.ndarray:
 def solve_population(group: Any, ctx: Context) -> None:
     """Solve the triad ``group`` (parameters (C, 1) arrays or constants) at ``ctx.phi`` (C, S),
     each design following its own mode (module docstring)."""
-    from .triad import triad_analogs, triad_roots
+    from ._triad_math import triad_analogs, triad_roots
 
     phi = np.asarray(ctx.phi, float)
     n_rows, n_samples = phi.shape

@@ -65,7 +65,7 @@ class Shortcut:
 
 def fast_sweep(group: Any, phi: Any, ja: Jet, jb: Jet, jc: Jet, carry: dict[str, Any] | None) -> Shortcut | None:
     """The sweep through anchors (module docstring), or None where the full path must decide."""
-    from .triad import triad_analogs, triad_polish, triad_roots
+    from ._triad_math import triad_analogs, triad_polish, triad_roots
 
     n = len(phi)
     ph = np.asarray(phi, float).reshape(n, -1)

@@ -146,7 +146,7 @@ def _store(st: dict[str, Any], step: float, a: complex, b: complex, c: complex, 
 def _full(group: Any, st: dict[str, Any], step: float, a: complex, b: complex, c: complex,
           ) -> tuple[float, complex, float, int] | None:
     """Every real root and the branch rule: (θ, D, gap, count), or None with the reason kept."""
-    from .triad import triad_roots
+    from ._triad_math import triad_roots
 
     theta, dd = triad_roots(a, b, c, group.lengths, *group.shape)
     real = np.flatnonzero(np.isfinite(theta))
