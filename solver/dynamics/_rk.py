@@ -64,16 +64,24 @@ def dop853_step_loop(f: Rhs, t: float, y: list[float], fy: list[float], h: float
                                                                                            list[float],
                                                                                            list[list[float]]]:
     """:func:`dop853_step` as loops over the tableau (the reference the unrolled step is tested against)."""
+    return _step_loop("dop853", f, t, y, fy, h)
+
+
+def _step_loop(method: str, f: Rhs, t: float, y: list[float], fy: list[float], h: float) -> tuple[
+        list[float], list[float], list[list[float]]]:
+    """One explicit step of ``method``'s tableau (:data:`_TABLEAUS`) as loops: the stages'
+    columns per component, the new state, its evaluation."""
+    stages, a, b, c = _TABLEAUS[method]
     n = len(y)
     cols = [[v] for v in fy]
     rng = range(n)
-    for s in range(1, _STAGES):
-        row = _A[s]
+    for s in range(1, stages):
+        row = a[s]
         stage = [y[j] + h * sum(map(mul, row, cols[j])) for j in rng]
-        ks = f(t + _C[s] * h, stage)
+        ks = f(t + c[s] * h, stage)
         for j in rng:
             cols[j].append(ks[j])
-    y_new = [y[j] + h * sum(map(mul, _B, cols[j])) for j in rng]
+    y_new = [y[j] + h * sum(map(mul, b, cols[j])) for j in rng]
     f_new = f(t + h, y_new)
     for j in rng:
         cols[j].append(f_new[j])
@@ -161,20 +169,7 @@ def dopri5_step_loop(f: Rhs, t: float, y: list[float], fy: list[float], h: float
                                                                                            list[float],
                                                                                            list[list[float]]]:
     """:func:`dopri5_step` as loops over the tableau (the reference of the unrolled step)."""
-    n = len(y)
-    cols = [[v] for v in fy]
-    rng = range(n)
-    for s in range(1, 6):
-        row = _A5[s]
-        stage = [y[j] + h * sum(map(mul, row, cols[j])) for j in rng]
-        ks = f(t + _C5[s] * h, stage)
-        for j in rng:
-            cols[j].append(ks[j])
-    y_new = [y[j] + h * sum(map(mul, _B5, cols[j])) for j in rng]
-    f_new = f(t + h, y_new)
-    for j in rng:
-        cols[j].append(f_new[j])
-    return y_new, f_new, cols
+    return _step_loop("dopri5", f, t, y, fy, h)
 
 
 def dopri5_error(cols: list[list[float]], h: float, y: Sequence[float], y_new: Sequence[float], rtol: float,
