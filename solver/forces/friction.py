@@ -9,15 +9,13 @@ the effort of its stroke grows by F·sign(ṡ) (the cylinder's push on the linka
 Linear system. Route 2 is linear in the loads, so every output is affine in the friction
 magnitudes x: out = out₀ + Σⱼ xⱼ·dⱼ·Uⱼ, where out₀ is the frictionless solve and Uⱼ the solve
 with only a unit load of friction element j (one more pass of the groups per element). The
-magnitudes solve x = c·|R₀ + B·x|, started from the frictionless x₀ = c·|R₀|, per sample and
-vectorised (a sweep's (n,) samples, or a synthesis population's (C, S) block solved as C·S
-samples and reshaped): Gauss–Seidel fixed-point sweeps on whole (n,) columns (real and imaginary parts
-apart, in place; a contraction of gain μ·r/arm ≈ 0.1 reaches round-off in about a dozen
-sweeps), to |Δx| ≤ CONVERGED·|x|; the samples not settled after FIXED_STEPS sweeps go to
-Newton (Jacobian I − diag(c)·Re(conj(R)/|R| · B), an m × m system per sample), which also stops
-at the rounding floor (steps that no longer halve: near self-locking 1/(1 − gain) amplifies
-the rounding). An element whose friction moves no reaction (an input crank's pivot against the
-ground) is solved once, after the others.
+magnitudes solve x = c·|R₀ + B·x| per sample, vectorised (a sweep's (n,) samples, or a synthesis
+population's (C, S) block solved as C·S samples and reshaped): Newton read as the reactions'
+directions held — (I − diag(c)·G)·x = c·Re(ū·R₀), G_kj = dⱼ·Re(ū_k·B_jk), u_k = R_k/|R_k| —
+on whole columns from the frictionless directions, two or three steps to round-off, checked by
+a fixed-point sweep to |Δx| ≤ CONVERGED·|x|; the samples left go to a pivoted Newton per sample
+(an m × m system each), which also stops at the rounding floor (steps that no longer halve:
+near self-locking 1/(1 − gain) amplifies the rounding): solver.forces._friction_solve.
 
 No solution. Where Newton does not converge in NEWTON_STEPS the equations have no solution with
 the friction against the motion: the mechanism **self-locks** there (no finite effort drives
@@ -45,6 +43,8 @@ import numpy as np
 from .._backend import Backend
 from ..errors import SolverError
 from ..tolerances import RELATIVE_REST
+from ._friction_solve import CONVERGED, NEWTON_STEPS
+from ._friction_solve import solve as _solve_columns
 from .friction_spec import FrictionSpec
 from .state import ForcePass
 from .structure import GROUND, Structure
@@ -64,16 +64,10 @@ class _Responses(Protocol):
     def respond(self, values: Any, xp: Backend, load: Callable[[ForcePass], None]) -> list[Any]: ...
 
 
-#: Newton steps before a sample is declared self-locking (it converges quadratically: 3–6 steps).
-NEWTON_STEPS = 60
-#: Fixed-point steps on whole columns before Newton takes the samples left (a contraction of
-#: gain g reaches round-off in about 16/log10(1/g) steps: 16 at g = 0.1).
+#: Fixed-point sweeps of the dynamics' one-sample solve (solver.dynamics._friction) before it hands
+#: a state to :func:`solve_magnitudes` (a contraction of gain g reaches round-off in about
+#: 16/log10(1/g) sweeps: 16 at g = 0.1).
 FIXED_STEPS = 24
-#: Converged when every |Δx| ≤ CONVERGED·max|x| (a few ulps).
-CONVERGED = 16 * np.finfo(float).eps
-#: A step this small relative to x that no longer halves is the rounding floor (converged); a
-#: fixed-point residual beyond it means no solution.
-STAGNANT = 1e-9
 #: The angular acceleration that only gives the friction its direction in :func:`breakaway`
 #: (its inertial loads, ~1e-200, vanish beside any load to round-off).
 TENDENCY = 1e-200
@@ -230,7 +224,7 @@ class FrictionModel:
             speeds.append(np.abs(v1 * w))
             units.append(unit)
             responses.append([flat(v) for v in model.respond(values, xp, load)])
-        x, locked = _solve(base, responses, dirs, carriers, np.array([e.coefficient for e in self.elements]), n)
+        x, locked = _solve_columns(base, responses, dirs, carriers, np.array([e.coefficient for e in self.elements]), n)
         final = list(base)
         for j in range(len(self.elements)):
             xd = x[:, j] * dirs[j]
@@ -308,129 +302,9 @@ def _pushes(block: str, guide: str, point: str, unit: Any) -> Callable[[ForcePas
     return load
 
 
-def _solve(base: list[np.ndarray], responses: list[list[np.ndarray]], dirs: list[np.ndarray],
-           carriers: list[int], c: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """x = c·|R₀ + B·x| per sample: Gauss–Seidel sweeps on whole (n,) columns while they contract
-    (the usual case: the gain μ·r/arm is small), then Newton on the samples left; (x (n, m),
-    self-locking mask (n,))."""
-    m = len(carriers)
-    if m == 0:
-        return np.zeros((n, 0)), np.zeros(n, bool)
-    # real and imaginary parts apart: a real x times a complex response would be a complex product
-    r0re = [np.ascontiguousarray(base[k].real) for k in carriers]
-    r0im = [np.ascontiguousarray(base[k].imag) for k in carriers]
-    # per carrier k, the elements j whose friction moves it (a couple on an input crank against
-    # the ground moves no reaction: its column is zero), as contiguous real and imaginary parts
-    terms: list[list[tuple[int, np.ndarray, np.ndarray]]] = [[] for _ in range(m)]
-    for j in range(m):
-        for k, out in enumerate(carriers):
-            resp = responses[j][out]
-            if _zero(resp):
-                continue
-            bjk = resp * dirs[j]
-            terms[k].append((j, np.ascontiguousarray(bjk.real), np.ascontiguousarray(bjk.imag)))
-    xs = [c[k] * np.hypot(r0re[k], r0im[k]) for k in range(m)]
-    # an element whose friction moves no reaction (an input crank's pivot) is iterated only once,
-    # after the others have settled
-    active = {j for k in range(m) for j, _, _ in terms[k]}
-    order = [k for k in range(m) if k in active]
-    passive = [k for k in range(m) if k not in active]
-    change, size = np.full(n, np.inf), np.zeros(n)
-    re, im, tmp = np.empty(n), np.empty(n), np.empty(n)
-    with np.errstate(invalid="ignore", over="ignore"):
-        for step in range(FIXED_STEPS):
-            test = step % 3 == 2 or step == FIXED_STEPS - 1  # (the test every third sweep)
-            if test:
-                change.fill(0.0)
-                size.fill(0.0)
-            for k in order if step < FIXED_STEPS - 1 else range(m):  # Gauss–Seidel: in place
-                np.copyto(re, r0re[k])
-                np.copyto(im, r0im[k])
-                for j, bre, bim in terms[k]:
-                    re += np.multiply(xs[j], bre, out=tmp)
-                    im += np.multiply(xs[j], bim, out=tmp)
-                re *= re
-                im *= im
-                re += im
-                np.sqrt(re, out=re)
-                re *= c[k]
-                if test:
-                    np.subtract(re, xs[k], out=tmp)
-                    np.maximum(change, np.abs(tmp, out=tmp), out=change)
-                    np.maximum(size, re, out=size)
-                xs[k], re = re, xs[k]  # (the old x_k's array is the next scratch)
-            if test and not np.any(change > CONVERGED * size):
-                for k in passive:  # from the settled others
-                    np.copyto(re, r0re[k])
-                    np.copyto(im, r0im[k])
-                    for j, bre, bim in terms[k]:
-                        re += np.multiply(xs[j], bre, out=tmp)
-                        im += np.multiply(xs[j], bim, out=tmp)
-                    xs[k] = c[k] * np.hypot(re, im)
-                return np.stack(xs, axis=1), np.zeros(n, bool)
-    x = np.stack(xs, axis=1)
-    left = np.flatnonzero(~(change <= CONVERGED * size))
-    x_left, locked_left = _newton([np.asarray(base[k])[left] for k in carriers],
-                                  [[np.asarray(responses[j][k])[left] for k in carriers] for j in range(m)],
-                                  [d[left] for d in dirs], c, left.size, x[left])
-    x[left] = x_left
-    locked = np.zeros(n, bool)
-    locked[left] = locked_left
-    return x, locked
-
-
-def _newton(r0c: list[np.ndarray], responses: list[list[np.ndarray]], dirs: list[np.ndarray],
-            c: np.ndarray, n: int, start: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Newton on x = c·|R₀ + B·x| (an m × m system per sample) from ``start``."""
-    m = len(r0c)
-    r0 = np.stack(r0c, axis=1)  # (n, m)
-    b = np.stack([np.stack(responses[j], axis=1) * dirs[j][:, None] for j in range(m)],
-                 axis=1)  # (n, j, k): the response of carrier k to element j's friction
-    x = start.copy()
-    finite = np.isfinite(r0).all(axis=1) & np.isfinite(b).all(axis=(1, 2))
-    done = ~finite
-    eye = np.eye(m)
-    last = np.full(n, np.inf)
-    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        for _ in range(NEWTON_STEPS):
-            live = ~done
-            if not live.any():
-                break
-            xl, bl = x[live], b[live]
-            r = r0[live] + np.einsum("nj,njk->nk", xl, bl)
-            a = np.abs(r)
-            f = xl - c * a
-            safe = np.where(a > 0.0, a, 1.0)[:, None, :]
-            g = np.where(a[:, None, :] > 0.0, (np.conj(r)[:, None, :] * bl).real / safe, 0.0)  # ∂|R_k|/∂x_j
-            jac = eye - np.swapaxes(g, 1, 2) * c[None, :, None]  # (n, k, j)
-            try:
-                dx = np.linalg.solve(jac, f[..., None])[..., 0]
-            except np.linalg.LinAlgError:
-                dx = np.full_like(xl, np.nan)
-            xn = xl - dx
-            ok = np.isfinite(xn).all(axis=1)
-            step, size = np.abs(dx).max(axis=1), np.maximum(np.abs(xn).max(axis=1), 1e-300)
-            # converged: a step of a few ulps, or steps at the rounding floor of an ill-conditioned
-            # sample (near self-locking 1/(1 − gain) amplifies the rounding) that no longer shrink
-            small = ok & ((step <= CONVERGED * size) | ((step <= STAGNANT * size) & (step >= 0.5 * last[live])))
-            last[live] = step
-            x[live] = np.where(ok[:, None], xn, x[live])
-            idx = np.flatnonzero(live)
-            done[idx[small]] = True
-            bad = idx[~ok]
-            done[bad] = True
-            finite[bad] = False
-    # the converged magnitudes are c·|R| (≥ 0) to round-off; anything else has no solution
-    r = r0 + np.einsum("nj,njk->nk", x, b)
-    residual = np.abs(x - c * np.abs(r)).max(axis=1)
-    solved = done & finite & (residual <= STAGNANT * np.maximum(np.abs(x).max(axis=1), 1e-300))
-    locked = ~solved & np.isfinite(r0).all(axis=1)
-    return x, locked
-
-
 #: x = c·|R₀ + B·x| per sample (the solve :meth:`FrictionModel.apply` uses; forward dynamics
 #: calls it on the reduced system of a free input, solver.dynamics._friction)
-solve_magnitudes = _solve
+solve_magnitudes = _solve_columns
 
 
 # -- read-outs -----------------------------------------------------------------------------------
