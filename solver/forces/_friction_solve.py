@@ -27,8 +27,8 @@ solution with the friction against the motion (**self-locking**): ``locked`` the
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Sequence
-from typing import Any
 
 import numpy as np
 
@@ -69,7 +69,7 @@ def solve(base: Sequence[np.ndarray], responses: Sequence[Sequence[np.ndarray]],
                 left = cols.sweep()
                 if not left.any():
                     break
-    x = np.stack(cols.xs, axis=1)
+    x = np.stack(cols.xs, axis=1)  # (a copy: the workspace is reused)
     if not left.any():
         return x, np.zeros(n, bool)
     idx = np.flatnonzero(left)
@@ -85,7 +85,9 @@ def solve(base: Sequence[np.ndarray], responses: Sequence[Sequence[np.ndarray]],
 class _Columns:
     """The magnitudes' equations on whole (n,) columns: the frictionless reactions R₀ (real and
     imaginary parts), per carrier the dⱼ·B_jk of the elements that move it, the magnitudes
-    ``xs`` (x = 0 to start) and scratch columns."""
+    ``xs`` (x = 0 to start). Every column it writes is a row of one workspace kept per thread
+    between calls (a block's temporaries, freshly allocated, cost more in page faults than in
+    arithmetic: a new 64 kB column is 16 pages for the kernel to map and zero)."""
 
     def __init__(self, base: Sequence[np.ndarray], responses: Sequence[Sequence[np.ndarray]],
                  dirs: Sequence[np.ndarray], carriers: Sequence[int], c: np.ndarray, n: int) -> None:
@@ -93,99 +95,121 @@ class _Columns:
         self.c, self.n, self.m = c, n, m
         self.r0 = [np.broadcast_to(base[k], (n,)) for k in carriers]
         self.r0re, self.r0im = [r.real for r in self.r0], [r.imag for r in self.r0]
+        moved = [[k for k, out in enumerate(carriers) if not _zero(responses[j][out])] for j in range(m)]
+        self.active = [j for j in range(m) if moved[j]]
+        a = len(self.active)
+        count = sum(len(v) for v in moved)
+        rows = iter(_workspace(2 * count + 2 * m + a * a + 2 * a + 8, n))
         # per carrier k, the elements j whose friction moves it (a couple on an input crank
         # against the ground moves no reaction), with dⱼ·B_jk's real and imaginary parts
         self.terms: list[list[tuple[int, np.ndarray, np.ndarray]]] = [[] for _ in range(m)]
         for j in range(m):
-            for k, out in enumerate(carriers):
-                resp = responses[j][out]
-                if not _zero(resp):
-                    self.terms[k].append((j, resp.real * dirs[j], resp.imag * dirs[j]))
-        self.active = sorted({j for k in range(m) for j, _, _ in self.terms[k]})
-        self.xs: list[np.ndarray] = [np.zeros(n)] * m
-        self.re, self.im, self.tmp, self.tmp2 = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+            for k in moved[j]:
+                resp = responses[j][carriers[k]]
+                bre, bim = next(rows), next(rows)
+                np.multiply(resp.real, dirs[j], out=bre)
+                np.multiply(resp.imag, dirs[j], out=bim)
+                self.terms[k].append((j, bre, bim))
+        self.xs = [next(rows) for _ in range(m)]
+        self.spare = [next(rows) for _ in range(m)]
+        for x in self.xs:
+            x.fill(0.0)
+        self.zero = True  # x = 0 (the start): R = R₀
+        self.matrix = [[next(rows) for _ in range(a)] for _ in range(a)]
+        self.rhs = [next(rows) for _ in range(a)]
+        self.solution = [next(rows) for _ in range(a)]
+        self.re, self.im, self.tmp, self.change, self.size, self.s, self.cu_re, self.cu_im = (
+            next(rows) for _ in range(8))
 
     def reaction(self, k: int) -> None:
         """re, im ← R_k at the current magnitudes."""
         re, im, tmp, xs = self.re, self.im, self.tmp, self.xs
         np.copyto(re, self.r0re[k])
         np.copyto(im, self.r0im[k])
-        for j, bre, bim in self.terms[k]:
+        for j, bre, bim in () if self.zero else self.terms[k]:
             re += np.multiply(xs[j], bre, out=tmp)
             im += np.multiply(xs[j], bim, out=tmp)
+
+    def modulus(self, out: np.ndarray) -> np.ndarray:
+        """out ← |R| = √(re² + im²) (np.hypot's care for overflow costs 15 times more)."""
+        np.multiply(self.re, self.re, out=out)
+        out += np.multiply(self.im, self.im, out=self.tmp)
+        return np.sqrt(out, out=out)
 
     def sweep(self) -> np.ndarray:
         """One Gauss–Seidel sweep x_k ← c_k·|R_k| over every element: the samples where an
         active element's x moved by more than CONVERGED·max|x| (a few ulps)."""
-        n, c, tmp = self.n, self.c, self.tmp
-        change, size = np.zeros(n), np.zeros(n)
+        c, tmp, change, size = self.c, self.tmp, self.change, self.size
+        change.fill(0.0)
+        size.fill(0.0)
         for k in range(self.m):
             self.reaction(k)
-            new = _modulus(self.re, self.im, tmp)
+            new = self.modulus(self.spare[k])
             new *= c[k]
             if k in self.active:
                 np.maximum(change, np.abs(np.subtract(new, self.xs[k], out=tmp), out=tmp), out=change)
             np.maximum(size, new, out=size)
-            self.xs[k] = new
-        return ~(change <= CONVERGED * size)  # type: ignore[no-any-return]
+            self.xs[k], self.spare[k] = new, self.xs[k]
+        size *= CONVERGED
+        return ~(change <= size)  # type: ignore[no-any-return]
 
     def newton_step(self) -> None:
         """One step of the directions' Newton (module docstring) on the active elements."""
-        active, c, re, im = self.active, self.c, self.re, self.im
+        active, c, s, cu_re, cu_im, tmp = self.active, self.c, self.s, self.cu_re, self.cu_im, self.tmp
         where = {j: i for i, j in enumerate(active)}
-        rows: list[list[Any]] = []
-        rhs: list[np.ndarray] = []
-        for k in active:
+        for i, k in enumerate(active):
+            row = self.matrix[i]
             self.reaction(k)
-            s = _modulus(re, im, self.tmp)
+            self.modulus(s)
             np.divide(c[k], s, out=s)
-            cu_re, cu_im = re * s, im * s  # c·u
-            b = np.multiply(cu_re, self.r0re[k])
-            b += np.multiply(cu_im, self.r0im[k], out=s)
-            rhs.append(b)
-            row: list[Any] = [0.0] * len(active)
-            row[where[k]] = 1.0
+            np.multiply(self.re, s, out=cu_re)  # c·u
+            np.multiply(self.im, s, out=cu_im)
+            b = np.multiply(cu_re, self.r0re[k], out=self.rhs[i])
+            b += np.multiply(cu_im, self.r0im[k], out=tmp)
+            for g in row:
+                g.fill(0.0)
+            row[i].fill(1.0)
             for j, bre, bim in self.terms[k]:  # −c·dⱼ·Re(ū·B_jk) (+1 on the diagonal)
-                g = np.multiply(cu_re, bre)
-                g += np.multiply(cu_im, bim, out=s)
-                np.subtract(row[where[j]], g, out=g)
-                row[where[j]] = g
-            rows.append(row)
-        for j, v in zip(active, _eliminate(rows, rhs)):
-            self.xs[j] = v
+                g = row[where[j]]
+                g -= np.multiply(cu_re, bre, out=tmp)
+                g -= np.multiply(cu_im, bim, out=tmp)
+        _eliminate(self.matrix, self.rhs, self.solution, tmp)
+        for i, j in enumerate(active):
+            self.xs[j], self.solution[i] = self.solution[i], self.xs[j]
+        self.zero = False
 
 
-def _modulus(re: np.ndarray, im: np.ndarray, tmp: np.ndarray) -> np.ndarray:
-    """√(re² + im²) in a new array (np.hypot's care for overflow costs 15 times more)."""
-    out = np.multiply(re, re)
-    out += np.multiply(im, im, out=tmp)
-    return np.sqrt(out, out=out)
+def _workspace(rows: int, n: int) -> list[np.ndarray]:
+    """``rows`` scratch columns of n samples: rows of this thread's workspace (grown as needed)."""
+    work: np.ndarray | None = getattr(_LOCAL, "work", None)
+    if work is None or work.shape[0] < rows or work.shape[1] < n:
+        shape = (rows, n) if work is None else (max(rows, work.shape[0]), max(n, work.shape[1]))
+        work = _LOCAL.work = np.empty(shape)
+    return [work[i, :n] for i in range(rows)]
 
 
-def _eliminate(rows: list[list[object]], rhs: list[np.ndarray]) -> list[np.ndarray]:
-    """The a × a system ``rows``·x = ``rhs`` per sample (entries (n,) columns or numbers), by
-    Gaussian elimination without pivoting (diagonally dominant); ``rows``/``rhs`` overwritten."""
+_LOCAL = threading.local()
+
+
+def _eliminate(rows: list[list[np.ndarray]], rhs: list[np.ndarray], x: list[np.ndarray], tmp: np.ndarray) -> None:
+    """x ← the solution of the a × a system ``rows``·x = ``rhs`` per sample ((n,) columns), by
+    Gaussian elimination without pivoting (diagonally dominant); ``rows`` and ``rhs`` overwritten."""
     a = len(rows)
     for p in range(a):
-        inv = 1.0 / rows[p][p]  # type: ignore[operator]
+        pivot = rows[p][p]
+        np.divide(1.0, pivot, out=pivot)  # (the pivot's column is not read again)
+        for q in range(p + 1, a):
+            rows[p][q] *= pivot
+        rhs[p] *= pivot
         for i in range(p + 1, a):
             f = rows[i][p]
-            if isinstance(f, float) and f == 0.0:
-                continue
-            f = f * inv  # type: ignore[operator]
             for q in range(p + 1, a):
-                rows[i][q] = rows[i][q] - f * rows[p][q]  # type: ignore[operator]
-            rhs[i] = rhs[i] - f * rhs[p]
-        rhs[p] = rhs[p] * inv
-        for q in range(p + 1, a):
-            rows[p][q] = rows[p][q] * inv  # type: ignore[operator]
-    x: list[np.ndarray] = [rhs[0]] * a
+                rows[i][q] -= np.multiply(f, rows[p][q], out=tmp)
+            rhs[i] -= np.multiply(f, rhs[p], out=tmp)
     for p in range(a - 1, -1, -1):
-        v = rhs[p]
+        np.copyto(x[p], rhs[p])
         for q in range(p + 1, a):
-            v = v - rows[p][q] * x[q]  # type: ignore[operator]
-        x[p] = np.broadcast_to(v, rhs[0].shape) if np.ndim(v) == 0 else v
-    return x
+            x[p] -= np.multiply(rows[p][q], x[q], out=tmp)
 
 
 def newton(r0c: list[np.ndarray], responses: list[list[np.ndarray]], dirs: list[np.ndarray],

@@ -225,10 +225,24 @@ class FrictionModel:
             units.append(unit)
             responses.append([flat(v) for v in model.respond(values, xp, load)])
         x, locked = _solve_columns(base, responses, dirs, carriers, np.array([e.coefficient for e in self.elements]), n)
+        # out = out₀ + Σⱼ xⱼ·dⱼ·Uⱼ, summed in place (each output copied once, one scratch per kind)
         final = list(base)
+        fresh = [False] * len(final)
+        scratch: dict[str, np.ndarray] = {}
         for j in range(len(self.elements)):
             xd = x[:, j] * dirs[j]
-            final = [f if _zero(r) else f + xd * r for f, r in zip(final, responses[j])]
+            for o, r in enumerate(responses[j]):
+                if _zero(r):
+                    continue
+                kind = np.result_type(final[o], r, xd)
+                if not fresh[o]:
+                    final[o], fresh[o] = np.array(np.broadcast_to(final[o], (n,)), dtype=kind), True
+                elif final[o].dtype != kind:
+                    final[o] = final[o].astype(kind)
+                tmp = scratch.get(kind.char)
+                if tmp is None:
+                    tmp = scratch[kind.char] = np.empty(n, kind)
+                final[o] += np.multiply(xd, r, out=tmp)
             if units[j] is not None:
                 k = index["slide", self.elements[j].index]
                 final[k] = final[k] + xd * units[j]
