@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import DynamicsError
-from ..forces.friction import CONVERGED, FIXED_STEPS, solve_magnitudes
+from ..forces.friction import solve_magnitudes, solve_one
 
 __all__ = ["FrictionDynamics", "FrictionLayer", "FrictionState"]
 
@@ -173,30 +173,13 @@ class FrictionDynamics:
         return out
 
     def _magnitudes(self, r0: list[complex], b: list[list[complex]], dirs: list[float], where: str) -> list[float]:
-        """x = c·|R⁰ + Σⱼ xⱼ·dⱼ·B_j| at one state: Gauss–Seidel sweeps on plain Python numbers (the
-        kinetostatics' fixed point, solver.forces.friction, for one sample: a few µs a sweep),
-        handed to its vectorised solve (sweeps, then Newton) where they do not settle."""
+        """x = c·|R⁰ + Σⱼ xⱼ·dⱼ·B_j| at one state: the kinetostatics' one-sample sweeps
+        (solver.forces.friction.solve_one: straight-line code on plain numbers), handed to its
+        vectorised solve (Newton) where they do not settle."""
+        x = solve_one(r0, b, dirs, self.c_list)
+        if x is not None:
+            return x
         m = len(r0)
-        c = self.c_list
-        terms = [[(j, b[j][k] * dirs[j]) for j in range(m) if b[j][k] != 0.0 and dirs[j] != 0.0] for k in range(m)]
-        rows = list(zip(range(m), r0, c, terms))
-        x = [ck * abs(r) for r, ck in zip(r0, c)]
-        for _ in range(FIXED_STEPS):
-            change = size = 0.0
-            for k, r, ck, tk in rows:  # Gauss–Seidel: each x_k from the latest others
-                for j, bjk in tk:
-                    r += x[j] * bjk
-                new = ck * abs(r)
-                d = new - x[k]
-                if d < 0.0:
-                    d = -d
-                if d > change:
-                    change = d
-                if new > size:
-                    size = new
-                x[k] = new
-            if change <= CONVERGED * size:
-                return x
         base = [np.array([r0[k]], complex) for k in range(m)]
         responses = [[np.array([b[j][k]], complex) for k in range(m)] for j in range(m)]
         xs, locked = solve_magnitudes(base, responses, [np.array([d]) for d in dirs], list(range(m)), self.c, 1)

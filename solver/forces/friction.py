@@ -43,14 +43,14 @@ import numpy as np
 from .._backend import Backend
 from ..errors import SolverError
 from ..tolerances import RELATIVE_REST
-from ._friction_solve import CONVERGED, NEWTON_STEPS
+from ._friction_solve import CONVERGED, NEWTON_STEPS, solve_one
 from ._friction_solve import solve as _solve_columns
 from .friction_spec import FrictionSpec
 from .state import ForcePass
 from .structure import GROUND, Structure
 
-__all__ = ["FrictionModel", "breakaway", "solve_magnitudes", "cycle_efficiency", "efficiency", "locked_intervals",
-           "locking_message",
+__all__ = ["FrictionModel", "breakaway", "solve_magnitudes", "solve_one", "cycle_efficiency", "efficiency",
+           "locked_intervals", "locking_message",
            "NEWTON_STEPS", "CONVERGED", "TENDENCY"]
 
 
@@ -64,10 +64,6 @@ class _Responses(Protocol):
     def respond(self, values: Any, xp: Backend, load: Callable[[ForcePass], None]) -> list[Any]: ...
 
 
-#: Fixed-point sweeps of the dynamics' one-sample solve (solver.dynamics._friction) before it hands
-#: a state to :func:`solve_magnitudes` (a contraction of gain g reaches round-off in about
-#: 16/log10(1/g) sweeps: 16 at g = 0.1).
-FIXED_STEPS = 24
 #: The angular acceleration that only gives the friction its direction in :func:`breakaway`
 #: (its inertial loads, ~1e-200, vanish beside any load to round-off).
 TENDENCY = 1e-200
