@@ -220,7 +220,7 @@ class FrictionModel:
             speeds.append(np.abs(v1 * w))
             units.append(unit)
             responses.append([flat(v) for v in model.respond(values, xp, load)])
-        x, locked = _solve_columns(base, responses, dirs, carriers, np.array([e.coefficient for e in self.elements]), n)
+        x, locked = _magnitudes(base, responses, dirs, carriers, np.array([e.coefficient for e in self.elements]), n)
         # out = out₀ + Σⱼ xⱼ·dⱼ·Uⱼ, summed in place (each output copied once, one scratch per kind)
         final = list(base)
         fresh = [False] * len(final)
@@ -261,6 +261,19 @@ class FrictionModel:
         if xp.vectorised:
             return result if len(shape) == 1 else [v.reshape(shape) for v in result]
         return [complex(v[0]) if np.iscomplexobj(v) else float(v[0]) for v in result]
+
+
+def _magnitudes(base: list[np.ndarray], responses: list[list[np.ndarray]], dirs: list[np.ndarray],
+                carriers: list[int], c: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The magnitudes' solve (solver.forces._friction_solve): one sample (an instant) on Python
+    numbers by :func:`solve_one`, else — or where it does not settle — on whole columns."""
+    if n == 1:
+        x = solve_one([complex(base[k][0]) for k in carriers],
+                      [[complex(r[k][0]) for k in carriers] for r in responses],
+                      [float(d[0]) for d in dirs], [float(v) for v in c])
+        if x is not None:
+            return np.array([x]), np.zeros(1, bool)
+    return _solve_columns(base, responses, dirs, carriers, c, n)
 
 
 def _lift(x: Any, xp: Backend) -> Any:
