@@ -45,7 +45,7 @@ import numpy as np
 from ..errors import DynamicsError
 from ..forces.friction import solve_magnitudes, solve_one
 
-__all__ = ["FrictionDynamics", "FrictionLayer", "FrictionState"]
+__all__ = ["FrictionDynamics", "FrictionLayer", "FrictionState", "magnitudes"]
 
 
 @dataclass(frozen=True)
@@ -61,6 +61,26 @@ class FrictionState:
 
 def _sign(v: float) -> float:
     return 1.0 if v > 0.0 else -1.0 if v < 0.0 else 0.0
+
+
+def magnitudes(r0: list[complex], b: list[list[complex]], dirs: list[float], c: list[float], *, where: str,
+               scene: str) -> list[float]:
+    """x = c·|R⁰ + Σⱼ xⱼ·dⱼ·B_j| at one state: the kinetostatics' one-sample sweeps
+    (solver.forces.friction.solve_one: straight-line code on plain numbers), handed to its
+    vectorised solve (Newton) where they do not settle; DynamicsError naming ``where`` where the
+    equations have no solution (the friction locks the motion)."""
+    x = solve_one(r0, b, dirs, c)
+    if x is not None:
+        return x
+    m = len(r0)
+    base = [np.array([r0[k]], complex) for k in range(m)]
+    responses = [[np.array([b[j][k]], complex) for k in range(m)] for j in range(m)]
+    xs, locked = solve_magnitudes(base, responses, [np.array([d]) for d in dirs], list(range(m)),
+                                  np.asarray(c, float), 1)
+    if locked[0]:
+        raise DynamicsError(f"the friction equations have no solution at {where}: the friction locks the "
+                            "mechanism against its own motion (no acceleration satisfies them)", scene=scene)
+    return [float(v) for v in xs[0]]
 
 
 class FrictionLayer:
@@ -173,20 +193,8 @@ class FrictionDynamics:
         return out
 
     def _magnitudes(self, r0: list[complex], b: list[list[complex]], dirs: list[float], where: str) -> list[float]:
-        """x = c·|R⁰ + Σⱼ xⱼ·dⱼ·B_j| at one state: the kinetostatics' one-sample sweeps
-        (solver.forces.friction.solve_one: straight-line code on plain numbers), handed to its
-        vectorised solve (Newton) where they do not settle."""
-        x = solve_one(r0, b, dirs, self.c_list)
-        if x is not None:
-            return x
-        m = len(r0)
-        base = [np.array([r0[k]], complex) for k in range(m)]
-        responses = [[np.array([b[j][k]], complex) for k in range(m)] for j in range(m)]
-        xs, locked = solve_magnitudes(base, responses, [np.array([d]) for d in dirs], list(range(m)), self.c, 1)
-        if locked[0]:
-            raise DynamicsError(f"the friction equations have no solution at {where}: the friction locks the "
-                                "mechanism against its own motion (no acceleration satisfies them)", scene=self.name)
-        return [float(v) for v in xs[0]]
+        """x = c·|R⁰ + Σⱼ xⱼ·dⱼ·B_j| at one state (:func:`magnitudes`)."""
+        return magnitudes(r0, b, dirs, self.c_list, where=where, scene=self.name)
 
     def mode(self, q: float, w: float, *, slip: float = 0.0,
              override: dict[int, float] | None = None) -> tuple[list[float], float]:
