@@ -267,44 +267,70 @@ def newton(r0c: list[np.ndarray], responses: list[list[np.ndarray]], dirs: list[
 
 
 
+
 def solve_one(r0: Sequence[complex], b: Sequence[Sequence[complex]], dirs: Sequence[float],
               c: Sequence[float]) -> list[float] | None:
-    """x = c·|R₀ + Σⱼ xⱼ·dⱼ·B_j| at one sample on Python numbers (the dynamics' right-hand side):
-    Gauss–Seidel sweeps x_k ← c_k·|R_k| from x = c·|R₀| to |Δx| ≤ CONVERGED·max x, in straight-line
-    code for this m (:func:`_unrolled`: on plain numbers Newton's elimination costs more than the
-    sweeps it saves); None where ONE_SAMPLE_STEPS sweeps do not settle (the caller hands the
-    sample to :func:`solve`, whose per-sample Newton also tells self-locking)."""
+    """x = c·|R₀ + Σⱼ xⱼ·dⱼ·B_j| at one sample on Python numbers (the dynamics' right-hand side,
+    one instant): from x = c·|R₀| one Gauss–Seidel sweep, then the directions' Newton of
+    :func:`solve` (the m × m system eliminated without pivoting: I − c·G is diagonally dominant
+    while the gain is below 1), each step checked by the evaluation x ← c·|R(x)| to
+    CONVERGED·max x — two steps at the usual gains; in straight-line code generated for this m
+    (:func:`_unrolled`: a loop over the elements costs Python three times the arithmetic).
+    None where ONE_SAMPLE_STEPS steps do not settle or a pivot vanishes (the caller hands the
+    sample to :func:`solve`, whose pivoted per-sample Newton also tells self-locking)."""
     return _unrolled(len(r0))(r0, b, dirs, c) if r0 else []  # type: ignore[no-any-return]
 
 
-#: Sweeps of :func:`solve_one` (a contraction of gain g reaches round-off in about 16/log10(1/g)
-#: sweeps: 16 at g = 0.1).
-ONE_SAMPLE_STEPS = 24
+#: Newton steps of :func:`solve_one` before it gives up (two at the usual gains).
+ONE_SAMPLE_STEPS = 6
 
 
 @functools.cache
 def _unrolled(m: int) -> Any:
-    """The sweeps of :func:`solve_one` for m elements as one generated function: the loop over
-    the elements and their terms unrolled onto local variables (three times faster than the loop)."""
+    """:func:`solve_one` for m elements as one generated function on local variables (x_k, the
+    reactions R_k, the system a_k_j·x_j = h_k of the Newton step)."""
     rng = range(m)
+
+    def reaction(k: int) -> str:
+        return f"r{k}" + "".join(f" + x{j} * b{j}_{k}" for j in rng)
+
     lines = [
-        "def sweeps(r0, b, d, c):",
+        "def solve_one(r0, b, d, c):",
         f"    {''.join(f'r{k}, ' for k in rng)}= r0",
         *(f"    {''.join(f'b{j}_{k}, ' for k in rng)}= b[{j}]" for j in rng),
         f"    {''.join(f'd{j}, ' for j in rng)}= d",
         f"    {''.join(f'c{k}, ' for k in rng)}= c",
-        *(f"    x{k} = c{k} * abs(r{k}); y{k} = x{k} * d{k}" for k in rng),
-        f"    for _ in range({ONE_SAMPLE_STEPS}):",
+        *(f"    b{j}_{k} *= d{j}" for j in rng for k in rng),  # dⱼ·B_jk
+        *(f"    x{k} = c{k} * abs(r{k})" for k in rng),
+        *(f"    x{k} = c{k} * abs({reaction(k)})" for k in rng),  # one Gauss–Seidel sweep
+        *(f"    R{k} = {reaction(k)}" for k in rng),
+        "    try:",
+        f"        for _ in range({ONE_SAMPLE_STEPS}):",
     ]
-    for k in rng:
-        terms = "".join(f" + y{j} * b{j}_{k}" for j in rng)
-        lines += [f"        n = c{k} * abs(r{k}{terms})",
-                  f"        e{k} = abs(n - x{k}); x{k} = n; y{k} = n * d{k}"]
-    xs = ", ".join(f"x{k}" for k in rng)
-    lines += [f"        t = {float(CONVERGED)!r} * max({xs}, 0.0)",
-              f"        if {' and '.join(f'e{k} <= t' for k in rng)}:",
-              f"            return [{xs}]",
+    ind = " " * 12
+    for k in rng:  # the row of element k: (1 − c_k·dⱼ·Re(ū_k·B_jk))·xⱼ … = c_k·Re(ū_k·R₀_k)
+        lines.append(f"{ind}w = (R{k} * (c{k} / abs(R{k}))).conjugate()")
+        lines.append(f"{ind}h{k} = (w * r{k}).real")
+        lines += [f"{ind}a{k}_{j} = {'1.0 ' if j == k else ''}- (w * b{j}_{k}).real" for j in rng]
+    for p in rng:  # Gaussian elimination, then back substitution
+        lines.append(f"{ind}v = 1.0 / a{p}_{p}")
+        lines += [f"{ind}a{p}_{q} *= v" for q in range(p + 1, m)]
+        lines.append(f"{ind}h{p} *= v")
+        for i in range(p + 1, m):
+            lines.append(f"{ind}f = a{i}_{p}")
+            lines += [f"{ind}a{i}_{q} -= f * a{p}_{q}" for q in range(p + 1, m)]
+            lines.append(f"{ind}h{i} -= f * h{p}")
+    for p in reversed(rng):
+        lines.append(f"{ind}x{p} = h{p}" + "".join(f" - a{p}_{q} * x{q}" for q in range(p + 1, m)))
+    lines += [f"{ind}R{k} = {reaction(k)}" for k in rng]
+    lines += [f"{ind}n{k} = c{k} * abs(R{k})" for k in rng]
+    news = ", ".join(f"n{k}" for k in rng)
+    lines += [f"{ind}t = {float(CONVERGED)!r} * max({news}, 0.0)",
+              f"{ind}if {' and '.join(f'-t <= n{k} - x{k} <= t' for k in rng)}:",
+              f"{ind}    return [{news}]",
+              "    except ZeroDivisionError:",
+              "        return None",
               "    return None"]
     space: dict[str, Any] = {}
-    exec(compile("\n".join(lines), f"<friction sweeps, {m} elements>", "exec"), space)
-    return space["sweeps"]
+    exec(compile("\n".join(lines), f"<friction magnitudes, {m} elements>", "exec"), space)
+    return space["solve_one"]
