@@ -43,7 +43,7 @@ import numpy as np
 from .._backend import Backend
 from ..errors import SolverError
 from ..tolerances import RELATIVE_REST
-from ._friction_solve import CONVERGED, NEWTON_STEPS, ONE_SAMPLE_STEPS, solve_one
+from ._friction_solve import CONVERGED, NEWTON_STEPS, solve_one
 from ._friction_solve import solve as _solve_columns
 from .friction_spec import FrictionSpec
 from .state import ForcePass
@@ -64,8 +64,10 @@ class _Responses(Protocol):
     def respond(self, values: Any, xp: Backend, load: Callable[[ForcePass], None]) -> list[Any]: ...
 
 
-#: The most sweeps of the one-sample solve :func:`solve_one` (kept under its former name).
-FIXED_STEPS = ONE_SAMPLE_STEPS
+#: Fixed-point sweeps a plain Gauss–Seidel loop on one sample may take before it hands the sample to
+#: :func:`solve_magnitudes` (the former one-sample solve's bound; :func:`solve_one` is bounded by
+#: its own ONE_SAMPLE_STEPS Newton steps).
+FIXED_STEPS = 24
 #: The angular acceleration that only gives the friction its direction in :func:`breakaway`
 #: (its inertial loads, ~1e-200, vanish beside any load to round-off).
 TENDENCY = 1e-200
