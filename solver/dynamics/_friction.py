@@ -214,9 +214,12 @@ class FrictionDynamics:
         dirs, s = mode if mode is not None else (self._directions(rates, w, slip, override), _sign(w) or slip)
         rest = (drive - h - self.seal * s) / mass
         m = len(dirs)
-        rt = [r0[k] + a[k] * rest for k in range(m)]
-        bt = [[b[j][k] - a[k] * (u[j] / mass) for k in range(m)] for j in range(m)]
-        x = self._magnitudes(rt, bt, dirs, f"{self.input} = {q:.6g}")
+        # the reduced system R̃⁰ = R⁰ + A·rest, B̃_jk = B_jk − A_k·uⱼ/M, formed by solve_one itself
+        x = solve_one(r0, b, dirs, self.c_list, shift=(a, rest, [uj / mass for uj in u]))
+        if x is None:
+            rt = [r0[k] + a[k] * rest for k in range(m)]
+            bt = [[b[j][k] - a[k] * (u[j] / mass) for k in range(m)] for j in range(m)]
+            x = self._magnitudes(rt, bt, dirs, f"{self.input} = {q:.6g}")
         eps = rest - sum(x[j] * dirs[j] * u[j] for j in range(m)) / mass
         # the power of the friction against the motion, −Σ x·d·v′·q̇ (= Σ x·|v′·q̇| in its own mode)
         loss = -sum(x[j] * dirs[j] * rates[j][0] for j in range(m)) * w + self.seal * s * w

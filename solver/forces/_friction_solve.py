@@ -269,16 +269,19 @@ def newton(r0c: list[np.ndarray], responses: list[list[np.ndarray]], dirs: list[
 
 
 def solve_one(r0: Sequence[complex], b: Sequence[Sequence[complex]], dirs: Sequence[float],
-              c: Sequence[float]) -> list[float] | None:
+              c: Sequence[float], *,
+              shift: tuple[Sequence[complex], float, Sequence[float]] | None = None) -> list[float] | None:
     """x = c·|R₀ + Σⱼ xⱼ·dⱼ·B_j| at one sample on Python numbers (the dynamics' right-hand side,
-    one instant): from x = c·|R₀| one Gauss–Seidel sweep, then the directions' Newton of
+    one instant). ``shift`` = (A, s, v): the system with one more unknown eliminated (forward
+    dynamics' ε, solver.dynamics._friction), R₀_k + A_k·s for R₀_k and B_jk − A_k·vⱼ for B_jk,
+    formed inside. From x = c·|R₀| one Gauss–Seidel sweep, then the directions' Newton of
     :func:`solve` (the m × m system eliminated without pivoting: I − c·G is diagonally dominant
     while the gain is below 1), each step checked by the evaluation x ← c·|R(x)| to
     CONVERGED·max x — two steps at the usual gains; in straight-line code generated for this m
     (:func:`_unrolled`: a loop over the elements costs Python three times the arithmetic).
     None where ONE_SAMPLE_STEPS steps do not settle or a pivot vanishes (the caller hands the
     sample to :func:`solve`, whose pivoted per-sample Newton also tells self-locking)."""
-    return _unrolled(len(r0))(r0, b, dirs, c) if r0 else []  # type: ignore[no-any-return]
+    return _unrolled(len(r0))(r0, b, dirs, c, shift) if r0 else []  # type: ignore[no-any-return]
 
 
 #: Newton steps of :func:`solve_one` before it gives up (two at the usual gains).
@@ -295,11 +298,15 @@ def _unrolled(m: int) -> Any:
         return f"r{k}" + "".join(f" + x{j} * b{j}_{k}" for j in rng)
 
     lines = [
-        "def solve_one(r0, b, d, c):",
+        "def solve_one(r0, b, d, c, shift):",
         f"    {''.join(f'r{k}, ' for k in rng)}= r0",
         *(f"    {''.join(f'b{j}_{k}, ' for k in rng)}= b[{j}]" for j in rng),
         f"    {''.join(f'd{j}, ' for j in rng)}= d",
         f"    {''.join(f'c{k}, ' for k in rng)}= c",
+        "    if shift is not None:",  # R₀ + A·s, B_jk − A_k·vⱼ
+        f"        ({''.join(f'A{k}, ' for k in rng)}), s, ({''.join(f'v{j}, ' for j in rng)}) = shift",
+        *(f"        r{k} += A{k} * s" for k in rng),
+        *(f"        b{j}_{k} -= A{k} * v{j}" for j in rng for k in rng),
         *(f"    b{j}_{k} *= d{j}" for j in rng for k in rng),  # dⱼ·B_jk
         *(f"    x{k} = c{k} * abs(r{k})" for k in rng),
         *(f"    x{k} = c{k} * abs({reaction(k)})" for k in rng),  # one Gauss–Seidel sweep
