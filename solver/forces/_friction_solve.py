@@ -182,7 +182,11 @@ class _Columns:
 
 
 def _workspace(rows: int, n: int) -> list[np.ndarray]:
-    """``rows`` scratch columns of n samples: rows of this thread's workspace (grown as needed)."""
+    """``rows`` scratch columns of n samples: rows of this thread's workspace (grown as needed),
+    or of a fresh array where that would hold more than KEPT values (a synthesis population's
+    block: not kept once solved)."""
+    if rows * n > KEPT:
+        return list(np.empty((rows, n)))
     work: np.ndarray | None = getattr(_LOCAL, "work", None)
     if work is None or work.shape[0] < rows or work.shape[1] < n:
         shape = (rows, n) if work is None else (max(rows, work.shape[0]), max(n, work.shape[1]))
@@ -190,6 +194,9 @@ def _workspace(rows: int, n: int) -> list[np.ndarray]:
     return [work[i, :n] for i in range(rows)]
 
 
+#: The most values (float64) a thread keeps as its workspace between calls: 16 MB, the columns
+#: of a sweep block (solver.scene.CHUNK samples) for about eight elements all coupled.
+KEPT = 1 << 21
 _LOCAL = threading.local()
 
 
