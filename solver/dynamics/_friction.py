@@ -220,9 +220,10 @@ class FrictionDynamics:
             rt = [r0[k] + a[k] * rest for k in range(m)]
             bt = [[b[j][k] - a[k] * (u[j] / mass) for k in range(m)] for j in range(m)]
             x = self._magnitudes(rt, bt, dirs, f"{self.input} = {q:.6g}")
-        eps = rest - sum(x[j] * dirs[j] * u[j] for j in range(m)) / mass
+        xd = [xj * dj for xj, dj in zip(x, dirs)]
+        eps = rest - sum([v * uj for v, uj in zip(xd, u)]) / mass
         # the power of the friction against the motion, −Σ x·d·v′·q̇ (= Σ x·|v′·q̇| in its own mode)
-        loss = -sum(x[j] * dirs[j] * rates[j][0] for j in range(m)) * w + self.seal * s * w
+        loss = -sum([v * r[0] for v, r in zip(xd, rates)]) * w + self.seal * s * w
         return FrictionState(eps, loss, other, cond)
 
     def holding(self, q: float) -> tuple[float, float]:
