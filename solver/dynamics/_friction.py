@@ -18,7 +18,8 @@ Linear system. Forward dynamics fixes the effort, Q = Q_drive, and leaves ε fre
     x_k = c_k·|R̃⁰_k + Σⱼ xⱼ·dⱼ·B̃_jk|,   R̃⁰_k = R⁰_k + A_k·(Q_drive − h − F·sgn)/M,
                                          B̃_jk = B_jk − A_k·uⱼ/M,
 
-solved by the kinetostatics' own fixed point/Newton (solver.forces.friction.solve_magnitudes) on
+solved by the kinetostatics' own one-sample Newton (solver.forces.friction.solve_one; its vectorised
+solve_magnitudes where that gives up) on
 the responses of the free input. Derivatives: the analogs dv/dφ, d²v/dφ² of each element's
 relative velocity (FrictionModel.element_kinematics); nothing is differentiated numerically.
 

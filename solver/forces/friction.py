@@ -15,7 +15,9 @@ directions held — (I − diag(c)·G)·x = c·Re(ū·R₀), G_kj = dⱼ·Re(ū_
 on whole columns from the frictionless directions, two or three steps to round-off, checked by
 a fixed-point sweep to |Δx| ≤ CONVERGED·|x|; the samples left go to a pivoted Newton per sample
 (an m × m system each), which also stops at the rounding floor (steps that no longer halve:
-near self-locking 1/(1 − gain) amplifies the rounding): solver.forces._friction_solve.
+near self-locking 1/(1 − gain) amplifies the rounding): solver.forces._friction_solve. One
+sample (an instant) is solved on Python numbers by :func:`solve_one` (the same Newton in
+generated straight-line code), the columns' solve where it gives up.
 
 No solution. Where Newton does not converge in NEWTON_STEPS the equations have no solution with
 the friction against the motion: the mechanism **self-locks** there (no finite effort drives
