@@ -159,7 +159,7 @@ class _Columns:
         """One step of the directions' Newton (module docstring) on the active elements."""
         active, c, s, cu_re, cu_im, tmp = self.active, self.c, self.s, self.cu_re, self.cu_im, self.tmp
         where = {j: i for i, j in enumerate(active)}
-        for i, k in enumerate(active):
+        for i, k in enumerate(active):  # the system negated: (c·G − I)·x = −c·Re(ū·R₀)
             row = self.matrix[i]
             self.reaction(k)
             self.modulus(s)
@@ -168,13 +168,16 @@ class _Columns:
             np.multiply(self.im, s, out=cu_im)
             b = np.multiply(cu_re, self.r0re[k], out=self.rhs[i])
             b += np.multiply(cu_im, self.r0im[k], out=tmp)
-            for g in row:
-                g.fill(0.0)
-            row[i].fill(1.0)
-            for j, bre, bim in self.terms[k]:  # −c·dⱼ·Re(ū·B_jk) (+1 on the diagonal)
-                g = row[where[j]]
-                g -= np.multiply(cu_re, bre, out=tmp)
-                g -= np.multiply(cu_im, bim, out=tmp)
+            np.negative(b, out=b)
+            filled = set()
+            for j, bre, bim in self.terms[k]:  # c·dⱼ·Re(ū·B_jk)
+                g = np.multiply(cu_re, bre, out=row[where[j]])
+                g += np.multiply(cu_im, bim, out=tmp)
+                filled.add(where[j])
+            for q, g in enumerate(row):
+                if q not in filled:
+                    g.fill(0.0)
+            row[i] -= 1.0
         _eliminate(self.matrix, self.rhs, self.solution, tmp)
         for i, j in enumerate(active):
             self.xs[j], self.solution[i] = self.solution[i], self.xs[j]

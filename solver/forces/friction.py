@@ -221,9 +221,16 @@ class FrictionModel:
             if unit is not None:
                 unit = unit if np.ndim(unit) == 0 else flat(unit)
             carriers.append(index[("pin" if e.kind == "pin" else "slide"), e.index])
-            at_rest = np.abs(v1) <= RELATIVE_REST * scale  # a zero rounded (tolerances.RELATIVE_REST)
-            dirs.append(_direction(np.where(at_rest, 0.0, v1) * w, v2 * w * w + v1 * eps, v1 * tendency))
-            speeds.append(np.abs(v1 * w))
+            velocity = v1 * w
+            d = np.sign(velocity)
+            d[np.abs(v1) <= RELATIVE_REST * scale] = 0.0  # a zero rounded (tolerances.RELATIVE_REST)
+            if not d.all():  # (the rule's later cases only where the velocity is zero)
+                z = np.flatnonzero(d == 0.0)
+                wz, vz = w[z], v1[z]
+                d[z] = -_direction(np.zeros(z.size), v2[z] * wz * wz + vz * eps[z], vz * tendency[z])
+            np.negative(d, out=d)
+            dirs.append(d)
+            speeds.append(np.abs(velocity))
             units.append(unit)
             responses.append([flat(v) for v in model.respond(values, xp, load)])
         x, locked = _magnitudes(base, responses, dirs, carriers, np.array([e.coefficient for e in self.elements]), n)
