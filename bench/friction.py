@@ -4,6 +4,7 @@ Run from the repository root::
 
     .venv/bin/python -m bench.friction            # 10⁵ samples, 9 interleaved pairs
     .venv/bin/python -m bench.friction --quick    # 10⁴ samples, 3 pairs
+    .venv/bin/python -m bench.friction --pairs 25 # more pairs: a steadier median on a loaded machine
 
 The scene is tests/forces/scenes/friction_slider_crank.yaml (friction circles at three pins and
 friction in the guide: four elements) against the same scene without its ``friction:`` key; both
@@ -50,8 +51,10 @@ def _cpu(fn) -> float:  # type: ignore[no-untyped-def]
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--quick", action="store_true")
+    p.add_argument("--pairs", type=int, default=None, help="interleaved pairs (default 9; 1–3 with --quick)")
     args = p.parse_args(argv)
     n, pairs = (10_000, 3) if args.quick else (100_000, 9)
+    pairs = args.pairs or pairs
     with_f, without = _scenes()
     phi = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
 

@@ -4,6 +4,7 @@ Run from the repository root::
 
     .venv/bin/python -m bench.friction_dynamics            # 5 interleaved pairs
     .venv/bin/python -m bench.friction_dynamics --quick    # 1 pair
+    .venv/bin/python -m bench.friction_dynamics --pairs 15 # more pairs: a steadier median on a loaded machine
 
 The scene is tests/dynamics/scenes/friction_four_bar_pendulum.yaml (a friction circle at each of its
 four pins) against the same scene without its ``friction:`` key, both released from rest at
@@ -48,8 +49,9 @@ def _scenes() -> tuple[solver.Scene, solver.Scene]:
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--quick", action="store_true")
+    p.add_argument("--pairs", type=int, default=None, help="interleaved pairs (default 5; 1–3 with --quick)")
     args = p.parse_args(argv)
-    pairs = 1 if args.quick else 5
+    pairs = args.pairs or (1 if args.quick else 5)
     with_f, without = _scenes()
     runs: dict[str, object] = {}
 
