@@ -16,8 +16,8 @@ from ..jet import Jet
 from ..tolerances import EPS
 from .rrr import solve_linear
 
-__all__ = ["ON_CIRCLE", "SAME_ROOT", "POLISH_STEPS", "RESIDUAL_ROUNDING", "triad_coefficients", "triad_start",
-           "triad_polish", "triad_roots", "triad_analogs"]
+__all__ = ["ON_CIRCLE", "SAME_ROOT", "POLISH_STEPS", "POLISH_DONE", "RESIDUAL_ROUNDING", "triad_coefficients",
+           "triad_start", "triad_polish", "triad_roots", "triad_analogs"]
 
 
 #: A companion-matrix root counts as on the unit circle (a candidate real mode) within this of
@@ -28,6 +28,9 @@ SAME_ROOT: float = 1e-9
 #: Newton steps on the loop equations per root; it converges quadratically from the
 #: eigenvalue's ~1e-13 (a simple root) or ~1e-8 (near a double root).
 POLISH_STEPS: int = 6
+#: ... and fewer: the polish of every root ends once no candidate's Newton step exceeds this (rad;
+#: the next step's ~|Δθ|²·curvature is below round-off) — one step from a simple root's eigenvalue.
+POLISH_DONE: float = 1e-10
 #: A polished root is accepted when its loop residuals are within this many EPS of size².
 RESIDUAL_ROUNDING: float = 256.0
 
@@ -88,7 +91,8 @@ def triad_polish(d: Any, theta: Any, a_: Any, b_: Any, c_: Any, lengths: tuple[f
                  v: complex, *, steps: int, xp: Backend, until: float | None = None,
                  ) -> tuple[Any, Any, Any, Any, Any]:
     """Up to ``steps`` Newton steps on the three loop equations from (D, θ) — per tick also ended
-    by a step |Δθ| ≤ ``until`` (the next would be below round-off) — : ``(D, θ, e^{jθ}, closed,
+    by a step |Δθ| ≤ ``until`` (the next would be below round-off; on arrays, once no sample's
+    step exceeds it, NaN counting as done) — : ``(D, θ, e^{jθ}, closed,
     |Δθ| of the last step)``, ``closed`` where every residual is within
     ``RESIDUAL_ROUNDING``·EPS·size² (one source for the vectorised roots and the per-tick follow)."""
     dt: Any = 0.0
@@ -101,8 +105,12 @@ def triad_polish(d: Any, theta: Any, a_: Any, b_: Any, c_: Any, lengths: tuple[f
         dx, dt, _ = _solve3(p, q, s, g, h, -0.5 * f1, -0.5 * f2, -0.5 * f3)
         d = d + dx
         theta = theta + dt
-        if until is not None and abs(dt) <= until:
-            break
+        if until is not None:
+            if isinstance(dt, np.ndarray):
+                if not (np.abs(dt) > until).any():
+                    break
+            elif abs(dt) <= until:
+                break
     w = xp.cis(theta)
     *_, f1, f2, f3 = _residuals(d, w, a_, b_, c_, lengths, u, v)
     size = abs(a_) + abs(b_) + abs(c_) + sum(lengths) + abs(u) + abs(v)
@@ -131,7 +139,8 @@ def triad_roots(a_: Any, b_: Any, c_: Any, lengths: tuple[float, float, float], 
         w = np.where(near, w / np.abs(w), np.nan)
         theta = np.angle(w)
         d = triad_start(w, a_, b_, c_, lengths, u, v, None)
-        d, theta, w, good, _ = triad_polish(d, theta, a_, b_, c_, lengths, u, v, steps=POLISH_STEPS, xp=NUMPY)
+        d, theta, w, good, _ = triad_polish(d, theta, a_, b_, c_, lengths, u, v, steps=POLISH_STEPS, xp=NUMPY,
+                                            until=POLISH_DONE)
     theta = np.where(good, np.angle(w), np.nan)
     order = np.argsort(theta, axis=-1)  # NaN last
     theta = np.take_along_axis(theta, order, axis=-1)

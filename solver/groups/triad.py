@@ -235,8 +235,10 @@ class Triad(Group):
         return np.where(slots >= 0, theta[rows, pick], np.nan), np.where(slots >= 0, dd[rows, pick], np.nan)
 
     def _pick_sweep(self, phi: Any, theta: np.ndarray, dd: np.ndarray, ja: Jet, jb: Jet, jc: Jet, *,
-                    carry: dict[str, Any] | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """The followed root's slot at each sample, and where following it would jump mode."""
+                    carry: dict[str, Any] | None = None, rate: np.ndarray | None = None,
+                    ) -> tuple[np.ndarray, np.ndarray]:
+        """The followed root's slot at each sample, and where following it would jump mode
+        (``rate``: θ' at every slot, if the caller has it already)."""
         n = len(theta)
         ph = np.asarray(phi, float).reshape(n, -1)
         idx = np.full(n, -1)
@@ -254,14 +256,9 @@ class Triad(Group):
         if carry is not None:  # the previous block's last root, carried forward
             target = carry["theta"] + carry["rate"] * (float(np.sum(ph[i0])) - carry["phi"])
         idx[i0] = int(np.flatnonzero(real)[np.argmin(np.abs(_wrap(theta[i0][real] - target)))])
-        u, v = self.shape
-        ws = np.cos(theta) + 1j * np.sin(theta)
-
-        def col(x: Any) -> Any:
-            return x[:, None] if np.ndim(x) == 1 else x
-        jets = [Jet(col(j.value), col(j.d1), col(j.d2)) for j in (ja, jb, jc)]
         with np.errstate(all="ignore"):
-            rate = np.real(triad_analogs(dd, ws, u, v, *jets)[1])  # θ' at every slot: the predictor
+            if rate is None:
+                rate = self.slot_analogs(theta, dd, ja, jb, jc)[1]  # θ' at every slot: the predictor
             # each slot's distance to its nearest other real root (the matching's safe radius)
             diff = np.abs(_wrap(theta[:, :, None] - theta[:, None, :]))
             diff[:, np.arange(6), np.arange(6)] = np.inf
@@ -300,6 +297,14 @@ class Triad(Group):
         if last >= 0:
             self._end_state.update(theta=rows[-1][last], rate=rate_l[-1][last], phi=step_phi[-1])
         return np.array(out), np.array(jump)
+
+    def slot_analogs(self, theta: np.ndarray, dd: np.ndarray, ja: Jet, jb: Jet, jc: Jet) -> tuple[Any, ...]:
+        """:func:`triad_analogs` at every slot of :meth:`roots`' ``(θ, D)`` (shape (n, 6); NaN where a
+        slot holds no root), the ends' jets of shape (n,) or scalars."""
+        def col(x: Any) -> Any:
+            return x[:, None] if np.ndim(x) == 1 else x
+        jets = [Jet(col(j.value), col(j.d1), col(j.d2)) for j in (ja, jb, jc)]
+        return triad_analogs(dd, np.cos(theta) + 1j * np.sin(theta), *self.shape, *jets)
 
     def assembly_residual(self, vals: Mapping[str, Jet]) -> tuple[Any, Any, Any]:
         """``R = +1`` where a real assembly mode exists, ``−1`` where none (a step: its sign change
