@@ -152,16 +152,16 @@ def _through_anchors(group: Any, phi: Any, step: np.ndarray, stride: int, ja: Je
     c_d = _quintic(d_a[:-1], d_a[1:], d_rate[:-1] * h, d_rate[1:] * h, d_acc[:-1] * h2, d_acc[1:] * h2)
     counts = np.diff(anchors)
     counts[-1] += 1  # the last sample belongs to the last step (s = 1)
-    table = np.repeat(np.stack([c_th, c_d.real, c_d.imag]), counts, axis=-1)  # (3, 6, n)
-    s = (step - np.repeat(x[:-1], counts)) * np.repeat(1.0 / h, counts)
-    guess = table[:, 5].copy()
+    seg = np.repeat(rows[:-1], counts)
+    table = np.stack([c_th, c_d.real, c_d.imag], axis=1)  # (6, 3, steps): s⁰ … s⁵ of θ, Re D, Im D
+    s = (step - x[seg]) * (1.0 / h)[seg]
+    guess = table[5].take(seg, axis=-1)
     for k in range(4, -1, -1):
         guess *= s
-        guess += table[:, k]
+        guess += table[k].take(seg, axis=-1)
     g_theta = guess[0]
     g_d = np.empty(n, complex)
     g_d.real, g_d.imag = guess[1], guess[2]
-    seg = np.repeat(rows[:-1], counts)
     av, bv, cv = ja.value, jb.value, jc.value
     d, th, w, closed, last = triad_polish(g_d, g_theta, av, bv, cv, group.lengths, u, v, steps=SWEEP_STEPS,
                                           xp=NUMPY)

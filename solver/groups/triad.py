@@ -185,13 +185,11 @@ class Triad(Group):
             if key is not None and self._end_state:
                 self._last["block"] = dict(self._end_state, key=(key[0], key[1] + len(phi)))
         d1, t1, d2, t2, det = analogs
-        uw, vw = u * w, v * w
-        e_, f_ = d + uw, d + vw
-        for name, off in zip(self.points, (0.0, uw, vw)):
-            pos = d if name == self.points[0] else (e_ if off is uw else f_)
-            vel = d1 + 1j * off * t1
-            acc = d2 + 1j * off * t2 - off * t1 * t1
-            vals[name] = Jet(pos, vel, acc)
+        vals[self.points[0]] = Jet(d, d1, d2)
+        t1sq = t1 * t1
+        for name, off in zip(self.points[1:], (u * w, v * w)):  # E = D + u·w, F = D + v·w
+            joff = 1j * off
+            vals[name] = Jet(d + off, d1 + joff * t1, d2 + joff * t2 - off * t1sq)
         if self.joint is not None:
             vals[self.joint] = Jet(th, t1, t2)
         a, b, c = self.lengths
