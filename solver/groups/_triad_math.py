@@ -63,7 +63,13 @@ def _residuals(d: Any, w: Any, a_: Any, b_: Any, c_: Any, lengths: tuple[float, 
                v: complex) -> tuple[Any, Any, Any, Any, Any, Any]:
     """p, q, s and the three loop residuals |p|² − a², |q|² − b², |s|² − c² (plain operators: the
     same lines on arrays, on floats and on traced values)."""
-    p, q, s = d - a_, d + u * w - b_, d + v * w - c_
+    return _legs(d, u * w, v * w, a_, b_, c_, lengths)
+
+
+def _legs(d: Any, uw: Any, vw: Any, a_: Any, b_: Any, c_: Any, lengths: tuple[float, float, float],
+          ) -> tuple[Any, Any, Any, Any, Any, Any]:
+    """:func:`_residuals` given u·w and v·w."""
+    p, q, s = d - a_, d + uw - b_, d + vw - c_
     a, b, c = lengths
     return (p, q, s, p.real * p.real + p.imag * p.imag - a * a, q.real * q.real + q.imag * q.imag - b * b,
             s.real * s.real + s.imag * s.imag - c * c)
@@ -98,8 +104,8 @@ def triad_polish(d: Any, theta: Any, a_: Any, b_: Any, c_: Any, lengths: tuple[f
     dt: Any = 0.0
     for _ in range(steps):
         w = xp.cis(theta)
-        p, q, s, f1, f2, f3 = _residuals(d, w, a_, b_, c_, lengths, u, v)
         uw, vw = u * w, v * w
+        p, q, s, f1, f2, f3 = _legs(d, uw, vw, a_, b_, c_, lengths)
         g = uw.real * q.imag - uw.imag * q.real  # −(q × u·w)
         h = vw.real * s.imag - vw.imag * s.real
         dx, dt, _ = _solve3(p, q, s, g, h, -0.5 * f1, -0.5 * f2, -0.5 * f3)

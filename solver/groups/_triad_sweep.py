@@ -165,21 +165,23 @@ def _through_anchors(group: Any, phi: Any, step: np.ndarray, stride: int, ja: Je
     av, bv, cv = ja.value, jb.value, jc.value
     d, th, w, closed, last = triad_polish(g_d, g_theta, av, bv, cv, group.lengths, u, v, steps=SWEEP_STEPS,
                                           xp=NUMPY)
-    more = np.flatnonzero(~(last <= FOLLOW_DONE))
-    if more.size:  # the quadratic bound shows no round-off yet there: more steps there only
+    done = last <= FOLLOW_DONE
+    if not done.all():  # the quadratic bound shows no round-off yet there: more steps there only
+        more = np.flatnonzero(~done)
         if more.size > n // 8:
             return None
         d2_, th2, w2, closed2, last2 = triad_polish(d[more], th[more], _take(av, more), _take(bv, more),
                                                     _take(cv, more), group.lengths, u, v, steps=EXTRA_STEPS,
                                                     xp=NUMPY)
-        d[more], th[more], w[more], closed[more], last[more] = d2_, th2, w2, closed2, last2
-    near = np.abs(th - g_theta) <= FOLLOW_SHARE * np.minimum(gap[seg], gap[seg + 1])
-    if not np.all(closed & near & (last <= FOLLOW_DONE)):
+        d[more], th[more], w[more], closed[more] = d2_, th2, w2, closed2
+        done[more] = last2 <= FOLLOW_DONE
+    near = np.abs(th - g_theta) <= share.take(seg)
+    if not np.all(closed & near & done):
         return None
     th = _wrap(th)
     th[anchors] = th_a  # the anchors' own roots, polished by triad_roots
     w[anchors] = np.cos(th_a) + 1j * np.sin(th_a)
     d[anchors] = d_a
-    sign = np.sign(det_a[seg])
-    floor = FOLLOW_DET * np.minimum(np.abs(det_a[seg]), np.abs(det_a[seg + 1]))
+    sign = np.sign(det_a[:-1]).take(seg)
+    floor = (FOLLOW_DET * np.minimum(np.abs(det_a[:-1]), np.abs(det_a[1:]))).take(seg)
     return Shortcut(th, d, w, sign, floor)
