@@ -4,7 +4,10 @@ compiled instant ≤ 4×), measured in one process: ``python -m bench.triad``.
 Prints the load average beside the figures (the machine is shared; only the ratios are meaningful),
 and each figure twice: wall-clock (``perf_counter``) and this process's CPU time (``process_time``,
 which other processes' load inflates less). The two scenes are timed in turn, repeat by repeat,
-and each keeps its best (least disturbed) repeat, so that a burst of load falls on both alike.
+and each keeps its best (least disturbed) repeat, so that a burst of load falls on both alike. On a
+loaded machine the scheduler's time slices cut the triad's longer sweep more often than the
+four-bar's short one, so the wall-clock ratio there is the scheduler's; ``chrt -f 1 python -m
+bench.triad`` (no time slicing by ordinary processes) makes the two clocks agree.
 """
 
 from __future__ import annotations

@@ -17,7 +17,7 @@ from ..tolerances import EPS
 from .rrr import solve_linear
 
 __all__ = ["ON_CIRCLE", "SAME_ROOT", "POLISH_STEPS", "POLISH_DONE", "RESIDUAL_ROUNDING", "triad_coefficients",
-           "triad_start", "triad_polish", "triad_roots", "triad_analogs"]
+           "triad_start", "triad_polish", "triad_roots", "triad_analogs", "triad_points"]
 
 
 #: A companion-matrix root counts as on the unit circle (a candidate real mode) within this of
@@ -153,6 +153,8 @@ def triad_roots(a_: Any, b_: Any, c_: Any, lengths: tuple[float, float, float], 
     d = np.take_along_axis(np.where(good, d, np.nan), order, axis=-1)
     same = np.zeros(theta.shape, bool)
     same[..., 1:] = np.abs(np.diff(theta, axis=-1)) <= SAME_ROOT
+    if not same.any():  # no double root: sorted already
+        return theta, d
     theta[same] = np.nan
     d[same] = np.nan
     order = np.argsort(theta, axis=-1)
@@ -175,3 +177,13 @@ def triad_analogs(d: Any, w: Any, u: complex, v: complex, ja: Jet, jb: Jet, jc: 
     r3 = dot(jc.d2 + vw * t1 * t1, s) - abs2(f1 - jc.d1)
     d2, t2, _ = _solve3(p, q, s, g, h, r1, r2, r3)
     return d1, t1, d2, t2, det
+
+
+def triad_points(d: Any, w: Any, u: Any, v: Any, d1: Any, t1: Any, d2: Any, t2: Any) -> tuple[Jet, Jet, Jet]:
+    """The jets of D, E = D + u·w and F = D + v·w from D's and θ's analogs (module docstring of
+    solver.groups.triad): E' = D' + j·u·w·θ', E'' = D'' + j·u·w·θ'' − u·w·θ'², F alike (one
+    source for the group's every path and its population)."""
+    t1sq = t1 * t1
+    e_, f_ = (Jet(d + off, d1 + joff * t1, d2 + joff * t2 - off * t1sq)
+              for off, joff in ((x, 1j * x) for x in (u * w, v * w)))
+    return Jet(d, d1, d2), e_, f_

@@ -73,6 +73,7 @@ from ._triad_math import (
     _wrap,
     triad_analogs,
     triad_coefficients,
+    triad_points,
     triad_polish,
     triad_roots,
 )
@@ -185,11 +186,8 @@ class Triad(Group):
             if key is not None and self._end_state:
                 self._last["block"] = dict(self._end_state, key=(key[0], key[1] + len(phi)))
         d1, t1, d2, t2, det = analogs
-        vals[self.points[0]] = Jet(d, d1, d2)
-        t1sq = t1 * t1
-        for name, off in zip(self.points[1:], (u * w, v * w)):  # E = D + u·w, F = D + v·w
-            joff = 1j * off
-            vals[name] = Jet(d + off, d1 + joff * t1, d2 + joff * t2 - off * t1sq)
+        for name, jet in zip(self.points, triad_points(d, w, u, v, d1, t1, d2, t2)):
+            vals[name] = jet
         if self.joint is not None:
             vals[self.joint] = Jet(th, t1, t2)
         a, b, c = self.lengths
