@@ -23,7 +23,8 @@ sample's roots, as before), so the result never depends on the shortcut:
   ``FOLLOW_SHARE`` × the smaller of the two anchors' distances of its interpolated guess, and its
   Jacobian determinant has the sign of the anchors' and at least ``FOLLOW_DET`` of the smaller of
   their sizes (a branch point, where the determinant vanishes, is never passed unseen: checked by
-  the group once its analogs are in).
+  the group once its analogs are in; refused there, the group tries the narrower spans, then the
+  full path).
 """
 
 from __future__ import annotations
@@ -75,17 +76,21 @@ def _quintic(y0: Any, y1: Any, d0: Any, d1: Any, c0: Any, c1: Any) -> Any:
 
 class Shortcut:
     """The followed root at every sample (θ, D, e^{jθ}), and what the group checks once it has the
-    Jacobian determinant ``det`` at every sample: :meth:`holds`."""
+    Jacobian determinant ``det`` at every sample: :meth:`holds`; ``narrower``, the spans of
+    ``SPANS`` after the one taken (to try where :meth:`holds` fails)."""
 
     def __init__(self, theta: np.ndarray, d: np.ndarray, w: np.ndarray, sign: np.ndarray, floor: np.ndarray) -> None:
         self.theta, self.d, self.w, self._sign, self._floor = theta, d, w, sign, floor
+        self.narrower: tuple[float, ...] = ()
 
     def holds(self, det: np.ndarray) -> bool:
         return bool(np.all(det * self._sign > 0.0) and np.all(np.abs(det) >= self._floor))
 
 
-def fast_sweep(group: Any, phi: Any, ja: Jet, jb: Jet, jc: Jet, carry: dict[str, Any] | None) -> Shortcut | None:
-    """The sweep through anchors (module docstring), or None where the full path must decide."""
+def fast_sweep(group: Any, phi: Any, ja: Jet, jb: Jet, jc: Jet, carry: dict[str, Any] | None, *,
+               spans: tuple[float, ...] = SPANS) -> Shortcut | None:
+    """The sweep through anchors ``spans`` apart, each tried in turn (module docstring), or None
+    where the full path must decide."""
     n = len(phi)
     if n < 2 * MIN_STRIDE:
         return None
@@ -95,12 +100,13 @@ def fast_sweep(group: Any, phi: Any, ja: Jet, jb: Jet, jc: Jet, carry: dict[str,
         return None
     pitch = abs(float(step[-1] - step[0])) / (n - 1)
     saved = dict(group._end_state)
-    for span in SPANS:
+    for i, span in enumerate(spans):
         stride = min(STRIDE, int(span / pitch))
         if stride < MIN_STRIDE:
             return None
         out = _through_anchors(group, phi, step, stride, ja, jb, jc, carry)
         if out is not None:
+            out.narrower = spans[i + 1:]
             return out
         group._end_state.clear()
         group._end_state.update(saved)

@@ -174,11 +174,13 @@ class Triad(Group):
             carry = carry if key is not None and carry is not None and carry["key"] == key else None
             with np.errstate(all="ignore"):
                 fast = _sweep.fast_sweep(self, phi, ja, jb, jc, carry)
-            if fast is not None:
+            while fast is not None:  # the determinant checked at every sample; else narrower anchors
                 th, d, w = fast.theta, fast.d, fast.w
                 analogs = triad_analogs(d, w, u, v, ja, jb, jc)
-                if not fast.holds(analogs[-1]):
-                    fast = None
+                if fast.holds(analogs[-1]):
+                    break
+                with np.errstate(all="ignore"):
+                    fast = _sweep.fast_sweep(self, phi, ja, jb, jc, carry, spans=fast.narrower)
             if fast is None:
                 th, d = self._full_sweep(ctx, phi, ja, jb, jc, carry)
                 w = np.cos(th) + 1j * np.sin(th)

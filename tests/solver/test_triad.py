@@ -478,3 +478,28 @@ def test_a_sample_not_yet_at_round_off_gets_more_steps_there_only() -> None:
     assert [ok for _, ok in seen] == [True]
     assert extra == [50]
     _against_full_path(scene, phi, k, 1.5)
+
+
+def test_a_shortcut_refused_at_its_determinant_check_tries_the_narrower_anchors() -> None:
+    """The group checks the determinant at every sample once its analogs are in; refused there,
+    the sweep tries the next span of SPANS before every sample's eigenvalues."""
+    from unittest import mock
+
+    import solver
+    from solver.groups import _triad_sweep
+
+    scene = solver.load_scene("triad_press")
+    phi = np.linspace(0.0, 2.0 * np.pi, 3600)
+    real = _triad_sweep.Shortcut.holds
+    verdicts: list[bool] = []
+
+    def holds(self: object, det: np.ndarray) -> bool:
+        ok = real(self, det) and bool(verdicts)  # type: ignore[arg-type]  # the first one refused
+        verdicts.append(ok)
+        return ok
+    with mock.patch.object(_triad_sweep.Shortcut, "holds", holds):
+        k, seen = _spans_taken(scene, phi)
+    pitch = phi[1] - phi[0]
+    assert verdicts == [False, True]
+    assert seen == [(int(span / pitch), True) for span in _triad_sweep.SPANS]
+    _against_full_path(scene, phi, k, 1.5)
