@@ -503,3 +503,48 @@ def test_a_shortcut_refused_at_its_determinant_check_tries_the_narrower_anchors(
     assert verdicts == [False, True]
     assert seen == [(int(span / pitch), True) for span in _triad_sweep.SPANS]
     _against_full_path(scene, phi, k, 1.5)
+
+
+def test_random_triads_the_shortcut_gives_the_full_path_s_roots_and_refusals() -> None:
+    """Random drawn triads (seeded), swept over half a radian to a turn around the drawn input:
+    wherever the full path (every sample's roots and the branch rule) solves, the sweep with its
+    anchors' shortcut gives the same roots (≤ 1e-12 of the size; analogs ≤ 1e-9), and where the
+    full path refuses (no real root, a mode jump) so does the sweep; the shortcut is taken often."""
+    from unittest import mock
+
+    from solver.groups import _triad_sweep
+
+    rng = np.random.default_rng(28)
+    taken = solved = 0
+    for _ in range(40):
+        r = rng.uniform(0.05, 0.2)
+        b_, c_, d, e, f = (complex(*rng.uniform(-0.8, 0.8, 2)) for _ in range(5))
+        phi0 = rng.uniform(0.0, 2.0 * np.pi)
+        lengths = [abs(d - r * np.exp(1j * phi0)), abs(e - b_), abs(f - c_)]
+        if min(*lengths, abs(e - d), abs(f - e), abs(d - f)) < 0.05:
+            continue
+        case = {"B": [b_.real, b_.imag], "C": [c_.real, c_.imag], "r": r, "lengths": lengths,
+                "drawn": {"D": [d.real, d.imag], "E": [e.real, e.imag], "F": [f.real, f.imag]},
+                "theta_d": math.atan2((e - d).imag, (e - d).real), "phi_d": phi0}
+        span = float(rng.choice([0.5, 1.0, 2.0 * np.pi]))
+        phi = np.linspace(phi0 - span / 2, phi0 + span / 2, 1200)
+        try:
+            k, seen = _spans_taken(_scene(case), phi)
+        except AssemblyError:
+            k, seen = None, []
+        try:
+            with mock.patch.object(_triad_sweep, "fast_sweep", lambda *a, **kw: None):
+                full = _scene(case).solve(phi)  # type: ignore[attr-defined]
+        except AssemblyError:
+            full = None
+        assert (k is None) == (full is None)
+        if full is None:
+            continue
+        solved += 1
+        taken += any(ok for _, ok in seen)
+        size = r + max(abs(b_), abs(c_)) + max(lengths)
+        for name in "DEF":
+            got, ref = k.point(name), full.point(name)  # type: ignore[union-attr]
+            assert np.abs(got.position - ref.position).max() <= TOL_POS * size, name
+            assert np.abs(got.velocity - ref.velocity).max() <= TOL_VEL * size, name
+    assert solved >= 15 and taken >= 0.8 * solved, (solved, taken)
