@@ -16,8 +16,8 @@ from ..jet import Jet
 from ..tolerances import EPS
 from .rrr import solve_linear
 
-__all__ = ["ON_CIRCLE", "SAME_ROOT", "POLISH_STEPS", "RESIDUAL_ROUNDING", "triad_coefficients", "triad_start",
-           "triad_polish", "triad_roots", "triad_analogs"]
+__all__ = ["ON_CIRCLE", "SAME_ROOT", "POLISH_STEPS", "POLISH_DONE", "RESIDUAL_ROUNDING", "triad_coefficients",
+           "triad_start", "triad_polish", "triad_roots", "triad_analogs", "triad_points"]
 
 
 #: A companion-matrix root counts as on the unit circle (a candidate real mode) within this of
@@ -28,6 +28,9 @@ SAME_ROOT: float = 1e-9
 #: Newton steps on the loop equations per root; it converges quadratically from the
 #: eigenvalue's ~1e-13 (a simple root) or ~1e-8 (near a double root).
 POLISH_STEPS: int = 6
+#: ... and fewer: the polish of every root ends once no candidate's Newton step exceeds this (rad;
+#: the next step's ~|Δθ|²·curvature is below round-off) — one step from a simple root's eigenvalue.
+POLISH_DONE: float = 1e-10
 #: A polished root is accepted when its loop residuals are within this many EPS of size².
 RESIDUAL_ROUNDING: float = 256.0
 
@@ -60,7 +63,13 @@ def _residuals(d: Any, w: Any, a_: Any, b_: Any, c_: Any, lengths: tuple[float, 
                v: complex) -> tuple[Any, Any, Any, Any, Any, Any]:
     """p, q, s and the three loop residuals |p|² − a², |q|² − b², |s|² − c² (plain operators: the
     same lines on arrays, on floats and on traced values)."""
-    p, q, s = d - a_, d + u * w - b_, d + v * w - c_
+    return _legs(d, u * w, v * w, a_, b_, c_, lengths)
+
+
+def _legs(d: Any, uw: Any, vw: Any, a_: Any, b_: Any, c_: Any, lengths: tuple[float, float, float],
+          ) -> tuple[Any, Any, Any, Any, Any, Any]:
+    """:func:`_residuals` given u·w and v·w."""
+    p, q, s = d - a_, d + uw - b_, d + vw - c_
     a, b, c = lengths
     return (p, q, s, p.real * p.real + p.imag * p.imag - a * a, q.real * q.real + q.imag * q.imag - b * b,
             s.real * s.real + s.imag * s.imag - c * c)
@@ -88,21 +97,26 @@ def triad_polish(d: Any, theta: Any, a_: Any, b_: Any, c_: Any, lengths: tuple[f
                  v: complex, *, steps: int, xp: Backend, until: float | None = None,
                  ) -> tuple[Any, Any, Any, Any, Any]:
     """Up to ``steps`` Newton steps on the three loop equations from (D, θ) — per tick also ended
-    by a step |Δθ| ≤ ``until`` (the next would be below round-off) — : ``(D, θ, e^{jθ}, closed,
+    by a step |Δθ| ≤ ``until`` (the next would be below round-off; on arrays, once no sample's
+    step exceeds it, NaN counting as done) — : ``(D, θ, e^{jθ}, closed,
     |Δθ| of the last step)``, ``closed`` where every residual is within
     ``RESIDUAL_ROUNDING``·EPS·size² (one source for the vectorised roots and the per-tick follow)."""
     dt: Any = 0.0
     for _ in range(steps):
         w = xp.cis(theta)
-        p, q, s, f1, f2, f3 = _residuals(d, w, a_, b_, c_, lengths, u, v)
         uw, vw = u * w, v * w
+        p, q, s, f1, f2, f3 = _legs(d, uw, vw, a_, b_, c_, lengths)
         g = uw.real * q.imag - uw.imag * q.real  # −(q × u·w)
         h = vw.real * s.imag - vw.imag * s.real
         dx, dt, _ = _solve3(p, q, s, g, h, -0.5 * f1, -0.5 * f2, -0.5 * f3)
         d = d + dx
         theta = theta + dt
-        if until is not None and abs(dt) <= until:
-            break
+        if until is not None:
+            if isinstance(dt, np.ndarray):
+                if not (np.abs(dt) > until).any():
+                    break
+            elif abs(dt) <= until:
+                break
     w = xp.cis(theta)
     *_, f1, f2, f3 = _residuals(d, w, a_, b_, c_, lengths, u, v)
     size = abs(a_) + abs(b_) + abs(c_) + sum(lengths) + abs(u) + abs(v)
@@ -131,13 +145,16 @@ def triad_roots(a_: Any, b_: Any, c_: Any, lengths: tuple[float, float, float], 
         w = np.where(near, w / np.abs(w), np.nan)
         theta = np.angle(w)
         d = triad_start(w, a_, b_, c_, lengths, u, v, None)
-        d, theta, w, good, _ = triad_polish(d, theta, a_, b_, c_, lengths, u, v, steps=POLISH_STEPS, xp=NUMPY)
+        d, theta, w, good, _ = triad_polish(d, theta, a_, b_, c_, lengths, u, v, steps=POLISH_STEPS, xp=NUMPY,
+                                            until=POLISH_DONE)
     theta = np.where(good, np.angle(w), np.nan)
     order = np.argsort(theta, axis=-1)  # NaN last
     theta = np.take_along_axis(theta, order, axis=-1)
     d = np.take_along_axis(np.where(good, d, np.nan), order, axis=-1)
     same = np.zeros(theta.shape, bool)
     same[..., 1:] = np.abs(np.diff(theta, axis=-1)) <= SAME_ROOT
+    if not same.any():  # no double root: sorted already
+        return theta, d
     theta[same] = np.nan
     d[same] = np.nan
     order = np.argsort(theta, axis=-1)
@@ -160,3 +177,13 @@ def triad_analogs(d: Any, w: Any, u: complex, v: complex, ja: Jet, jb: Jet, jc: 
     r3 = dot(jc.d2 + vw * t1 * t1, s) - abs2(f1 - jc.d1)
     d2, t2, _ = _solve3(p, q, s, g, h, r1, r2, r3)
     return d1, t1, d2, t2, det
+
+
+def triad_points(d: Any, w: Any, u: Any, v: Any, d1: Any, t1: Any, d2: Any, t2: Any) -> tuple[Jet, Jet, Jet]:
+    """The jets of D, E = D + u·w and F = D + v·w from D's and θ's analogs (module docstring of
+    solver.groups.triad): E' = D' + j·u·w·θ', E'' = D'' + j·u·w·θ'' − u·w·θ'², F alike (one
+    source for the group's every path and its population)."""
+    t1sq = t1 * t1
+    e_, f_ = (Jet(d + off, d1 + joff * t1, d2 + joff * t2 - off * t1sq)
+              for off, joff in ((x, 1j * x) for x in (u * w, v * w)))
+    return Jet(d, d1, d2), e_, f_

@@ -86,7 +86,7 @@ def _column(x: Any, rows: int) -> np.ndarray:
 def solve_population(group: Any, ctx: Context) -> None:
     """Solve the triad ``group`` (parameters (C, 1) arrays or constants) at ``ctx.phi`` (C, S),
     each design following its own mode (module docstring)."""
-    from ._triad_math import triad_analogs, triad_roots
+    from ._triad_math import triad_analogs, triad_points, triad_roots
 
     phi = np.asarray(ctx.phi, float)
     n_rows, n_samples = phi.shape
@@ -122,9 +122,8 @@ def solve_population(group: Any, ctx: Context) -> None:
     w = np.cos(th) + 1j * np.sin(th)
     with np.errstate(all="ignore"):
         d1, t1, d2, t2, det = triad_analogs(d, w, u, v, *jets)
-    uw, vw = u * w, v * w
-    for name, off in zip(group.points, (0.0, uw, vw)):
-        ctx.values[name] = Jet(d + off, d1 + 1j * off * t1, d2 + 1j * off * t2 - off * t1 * t1)
+    for name, jet in zip(group.points, triad_points(d, w, u, v, d1, t1, d2, t2)):
+        ctx.values[name] = jet
     if group.joint is not None:
         ctx.values[group.joint] = Jet(th, t1, t2)
     a, b, c = lengths

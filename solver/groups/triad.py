@@ -73,6 +73,7 @@ from ._triad_math import (
     _wrap,
     triad_analogs,
     triad_coefficients,
+    triad_points,
     triad_polish,
     triad_roots,
 )
@@ -173,11 +174,13 @@ class Triad(Group):
             carry = carry if key is not None and carry is not None and carry["key"] == key else None
             with np.errstate(all="ignore"):
                 fast = _sweep.fast_sweep(self, phi, ja, jb, jc, carry)
-            if fast is not None:
+            while fast is not None:  # the determinant checked at every sample; else narrower anchors
                 th, d, w = fast.theta, fast.d, fast.w
                 analogs = triad_analogs(d, w, u, v, ja, jb, jc)
-                if not fast.holds(analogs[-1]):
-                    fast = None
+                if fast.holds(analogs[-1]):
+                    break
+                with np.errstate(all="ignore"):
+                    fast = _sweep.fast_sweep(self, phi, ja, jb, jc, carry, spans=fast.narrower)
             if fast is None:
                 th, d = self._full_sweep(ctx, phi, ja, jb, jc, carry)
                 w = np.cos(th) + 1j * np.sin(th)
@@ -185,13 +188,8 @@ class Triad(Group):
             if key is not None and self._end_state:
                 self._last["block"] = dict(self._end_state, key=(key[0], key[1] + len(phi)))
         d1, t1, d2, t2, det = analogs
-        uw, vw = u * w, v * w
-        e_, f_ = d + uw, d + vw
-        for name, off in zip(self.points, (0.0, uw, vw)):
-            pos = d if name == self.points[0] else (e_ if off is uw else f_)
-            vel = d1 + 1j * off * t1
-            acc = d2 + 1j * off * t2 - off * t1 * t1
-            vals[name] = Jet(pos, vel, acc)
+        for name, jet in zip(self.points, triad_points(d, w, u, v, d1, t1, d2, t2)):
+            vals[name] = jet
         if self.joint is not None:
             vals[self.joint] = Jet(th, t1, t2)
         a, b, c = self.lengths
@@ -235,8 +233,10 @@ class Triad(Group):
         return np.where(slots >= 0, theta[rows, pick], np.nan), np.where(slots >= 0, dd[rows, pick], np.nan)
 
     def _pick_sweep(self, phi: Any, theta: np.ndarray, dd: np.ndarray, ja: Jet, jb: Jet, jc: Jet, *,
-                    carry: dict[str, Any] | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """The followed root's slot at each sample, and where following it would jump mode."""
+                    carry: dict[str, Any] | None = None, rate: np.ndarray | None = None,
+                    ) -> tuple[np.ndarray, np.ndarray]:
+        """The followed root's slot at each sample, and where following it would jump mode
+        (``rate``: θ' at every slot, if the caller has it already)."""
         n = len(theta)
         ph = np.asarray(phi, float).reshape(n, -1)
         idx = np.full(n, -1)
@@ -254,14 +254,9 @@ class Triad(Group):
         if carry is not None:  # the previous block's last root, carried forward
             target = carry["theta"] + carry["rate"] * (float(np.sum(ph[i0])) - carry["phi"])
         idx[i0] = int(np.flatnonzero(real)[np.argmin(np.abs(_wrap(theta[i0][real] - target)))])
-        u, v = self.shape
-        ws = np.cos(theta) + 1j * np.sin(theta)
-
-        def col(x: Any) -> Any:
-            return x[:, None] if np.ndim(x) == 1 else x
-        jets = [Jet(col(j.value), col(j.d1), col(j.d2)) for j in (ja, jb, jc)]
         with np.errstate(all="ignore"):
-            rate = np.real(triad_analogs(dd, ws, u, v, *jets)[1])  # θ' at every slot: the predictor
+            if rate is None:
+                rate = self.slot_analogs(theta, dd, ja, jb, jc)[1]  # θ' at every slot: the predictor
             # each slot's distance to its nearest other real root (the matching's safe radius)
             diff = np.abs(_wrap(theta[:, :, None] - theta[:, None, :]))
             diff[:, np.arange(6), np.arange(6)] = np.inf
@@ -300,6 +295,14 @@ class Triad(Group):
         if last >= 0:
             self._end_state.update(theta=rows[-1][last], rate=rate_l[-1][last], phi=step_phi[-1])
         return np.array(out), np.array(jump)
+
+    def slot_analogs(self, theta: np.ndarray, dd: np.ndarray, ja: Jet, jb: Jet, jc: Jet) -> tuple[Any, ...]:
+        """:func:`triad_analogs` at every slot of :meth:`roots`' ``(θ, D)`` (shape (n, 6); NaN where a
+        slot holds no root), the ends' jets of shape (n,) or scalars."""
+        def col(x: Any) -> Any:
+            return x[:, None] if np.ndim(x) == 1 else x
+        jets = [Jet(col(j.value), col(j.d1), col(j.d2)) for j in (ja, jb, jc)]
+        return triad_analogs(dd, np.cos(theta) + 1j * np.sin(theta), *self.shape, *jets)
 
     def assembly_residual(self, vals: Mapping[str, Jet]) -> tuple[Any, Any, Any]:
         """``R = +1`` where a real assembly mode exists, ``−1`` where none (a step: its sign change

@@ -405,3 +405,146 @@ def test_a_sweep_longer_than_one_block_follows_its_mode_across_blocks() -> None:
     again = scene.solve(np.angle(turn) % (2 * np.pi)).point("D").position
     np.testing.assert_allclose(k.point("D").position[8000:], again, atol=1e-12)
     assert np.abs(np.diff(k.joint("ternary").position)).max() < 0.05
+
+
+def _spans_taken(scene: object, phi: np.ndarray) -> tuple[object, list[tuple[int, bool]]]:
+    """Solve, recording each anchors' attempt of solver.groups._triad_sweep: (stride, taken)."""
+    from unittest import mock
+
+    from solver.groups import _triad_sweep
+
+    real = _triad_sweep._through_anchors
+    seen: list[tuple[int, bool]] = []
+
+    def spy(group: object, phi_: object, step: object, stride: int, *rest: object) -> object:
+        out = real(group, phi_, step, stride, *rest)  # type: ignore[arg-type]
+        seen.append((stride, out is not None))
+        return out
+    with mock.patch.object(_triad_sweep, "_through_anchors", spy):
+        k = scene.solve(phi)  # type: ignore[attr-defined]
+    return k, seen
+
+
+def _against_full_path(scene: object, phi: np.ndarray, k: object, size: float) -> None:
+    from unittest import mock
+
+    from solver.groups import _triad_sweep
+
+    with mock.patch.object(_triad_sweep, "fast_sweep", lambda *a, **kw: None):
+        full = scene.solve(phi)  # type: ignore[attr-defined]
+    for name in "DEF":
+        got, ref = k.point(name), full.point(name)  # type: ignore[attr-defined]
+        assert np.abs(got.position - ref.position).max() <= TOL_POS * size, name
+        assert np.abs(got.velocity - ref.velocity).max() <= TOL_VEL * size, name
+
+
+def test_a_turn_of_the_shipped_press_takes_the_wide_anchors() -> None:
+    """3600 samples over a turn: anchors 0.8 rad apart (nine eigenvalue problems), two Newton steps
+    from the quintic interpolation; the same roots as every sample's eigenvalues to round-off."""
+    import solver
+    from solver.groups import _triad_sweep
+
+    scene = solver.load_scene("triad_press")
+    phi = np.linspace(0.0, 2.0 * np.pi, 3600)
+    k, seen = _spans_taken(scene, phi)
+    assert seen == [(int(_triad_sweep.SPANS[0] / (phi[1] - phi[0])), True)]
+    _against_full_path(scene, phi, k, 1.5)
+
+
+def test_a_sample_not_yet_at_round_off_gets_more_steps_there_only() -> None:
+    """Fifty samples started 1e-3 rad off their interpolated root: after the two steps of every
+    sample their last step is still above FOLLOW_DONE (the quadratic bound shows no round-off yet),
+    so those fifty, and only they, take up to EXTRA_STEPS more; the result is the full path's."""
+    from unittest import mock
+
+    import solver
+    from solver.groups import _triad_math, _triad_sweep
+
+    scene = solver.load_scene("triad_press")
+    phi = np.linspace(0.0, 2.0 * np.pi, 3600)
+    extra: list[int] = []
+    real = _triad_math.triad_polish
+
+    def spy(*args: object, **kw: object) -> object:
+        if kw.get("steps") == _triad_sweep.EXTRA_STEPS:
+            extra.append(int(np.size(args[1])))
+        elif kw.get("steps") == _triad_sweep.SWEEP_STEPS and np.size(args[1]) == phi.size:
+            off = np.array(args[1], float)
+            off[1000:1050] += 1e-3
+            args = (args[0], off, *args[2:])
+        return real(*args, **kw)  # type: ignore[arg-type]
+    with mock.patch.object(_triad_math, "triad_polish", spy):
+        k, seen = _spans_taken(scene, phi)
+    assert [ok for _, ok in seen] == [True]
+    assert extra == [50]
+    _against_full_path(scene, phi, k, 1.5)
+
+
+def test_a_shortcut_refused_at_its_determinant_check_tries_the_narrower_anchors() -> None:
+    """The group checks the determinant at every sample once its analogs are in; refused there,
+    the sweep tries the next span of SPANS before every sample's eigenvalues."""
+    from unittest import mock
+
+    import solver
+    from solver.groups import _triad_sweep
+
+    scene = solver.load_scene("triad_press")
+    phi = np.linspace(0.0, 2.0 * np.pi, 3600)
+    real = _triad_sweep.Shortcut.holds
+    verdicts: list[bool] = []
+
+    def holds(self: object, det: np.ndarray) -> bool:
+        ok = real(self, det) and bool(verdicts)  # type: ignore[arg-type]  # the first one refused
+        verdicts.append(ok)
+        return ok
+    with mock.patch.object(_triad_sweep.Shortcut, "holds", holds):
+        k, seen = _spans_taken(scene, phi)
+    pitch = phi[1] - phi[0]
+    assert verdicts == [False, True]
+    assert seen == [(int(span / pitch), True) for span in _triad_sweep.SPANS]
+    _against_full_path(scene, phi, k, 1.5)
+
+
+def test_random_triads_the_shortcut_gives_the_full_path_s_roots_and_refusals() -> None:
+    """Random drawn triads (seeded), swept over half a radian to a turn around the drawn input:
+    wherever the full path (every sample's roots and the branch rule) solves, the sweep with its
+    anchors' shortcut gives the same roots (≤ 1e-12 of the size; analogs ≤ 1e-9), and where the
+    full path refuses (no real root, a mode jump) so does the sweep; the shortcut is taken often."""
+    from unittest import mock
+
+    from solver.groups import _triad_sweep
+
+    rng = np.random.default_rng(28)
+    taken = solved = 0
+    for _ in range(40):
+        r = rng.uniform(0.05, 0.2)
+        b_, c_, d, e, f = (complex(*rng.uniform(-0.8, 0.8, 2)) for _ in range(5))
+        phi0 = rng.uniform(0.0, 2.0 * np.pi)
+        lengths = [abs(d - r * np.exp(1j * phi0)), abs(e - b_), abs(f - c_)]
+        if min(*lengths, abs(e - d), abs(f - e), abs(d - f)) < 0.05:
+            continue
+        case = {"B": [b_.real, b_.imag], "C": [c_.real, c_.imag], "r": r, "lengths": lengths,
+                "drawn": {"D": [d.real, d.imag], "E": [e.real, e.imag], "F": [f.real, f.imag]},
+                "theta_d": math.atan2((e - d).imag, (e - d).real), "phi_d": phi0}
+        span = float(rng.choice([0.5, 1.0, 2.0 * np.pi]))
+        phi = np.linspace(phi0 - span / 2, phi0 + span / 2, 1200)
+        try:
+            k, seen = _spans_taken(_scene(case), phi)
+        except AssemblyError:
+            k, seen = None, []
+        try:
+            with mock.patch.object(_triad_sweep, "fast_sweep", lambda *a, **kw: None):
+                full = _scene(case).solve(phi)  # type: ignore[attr-defined]
+        except AssemblyError:
+            full = None
+        assert (k is None) == (full is None)
+        if full is None:
+            continue
+        solved += 1
+        taken += any(ok for _, ok in seen)
+        size = r + max(abs(b_), abs(c_)) + max(lengths)
+        for name in "DEF":
+            got, ref = k.point(name), full.point(name)  # type: ignore[union-attr]
+            assert np.abs(got.position - ref.position).max() <= TOL_POS * size, name
+            assert np.abs(got.velocity - ref.velocity).max() <= TOL_VEL * size, name
+    assert solved >= 15 and taken >= 0.8 * solved, (solved, taken)
