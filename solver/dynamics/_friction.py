@@ -45,7 +45,7 @@ import numpy as np
 from ..errors import DynamicsError
 from ..forces.friction import CONVERGED, FIXED_STEPS, solve_magnitudes
 
-__all__ = ["FrictionDynamics", "FrictionLayer", "FrictionState"]
+__all__ = ["FrictionDynamics", "FrictionLayer", "FrictionState", "magnitudes"]
 
 
 @dataclass(frozen=True)
@@ -61,6 +61,42 @@ class FrictionState:
 
 def _sign(v: float) -> float:
     return 1.0 if v > 0.0 else -1.0 if v < 0.0 else 0.0
+
+
+def magnitudes(r0: list[complex], b: list[list[complex]], dirs: list[float], c: list[float], *, where: str,
+               scene: str) -> list[float]:
+    """x = c·|R⁰ + Σⱼ xⱼ·dⱼ·B_j| at one state: Gauss–Seidel sweeps on plain Python numbers (the
+    kinetostatics' fixed point, solver.forces.friction, for one sample: a few µs a sweep),
+    handed to its vectorised solve (sweeps, then Newton) where they do not settle; DynamicsError
+    naming ``where`` where the equations have no solution (the friction locks the motion)."""
+    m = len(r0)
+    terms = [[(j, b[j][k] * dirs[j]) for j in range(m) if b[j][k] != 0.0 and dirs[j] != 0.0] for k in range(m)]
+    rows = list(zip(range(m), r0, c, terms))
+    x = [ck * abs(r) for r, ck in zip(r0, c)]
+    for _ in range(FIXED_STEPS):
+        change = size = 0.0
+        for k, r, ck, tk in rows:  # Gauss–Seidel: each x_k from the latest others
+            for j, bjk in tk:
+                r += x[j] * bjk
+            new = ck * abs(r)
+            d = new - x[k]
+            if d < 0.0:
+                d = -d
+            if d > change:
+                change = d
+            if new > size:
+                size = new
+            x[k] = new
+        if change <= CONVERGED * size:
+            return x
+    base = [np.array([r0[k]], complex) for k in range(m)]
+    responses = [[np.array([b[j][k]], complex) for k in range(m)] for j in range(m)]
+    xs, locked = solve_magnitudes(base, responses, [np.array([d]) for d in dirs], list(range(m)),
+                                  np.asarray(c, float), 1)
+    if locked[0]:
+        raise DynamicsError(f"the friction equations have no solution at {where}: the friction locks the "
+                            "mechanism against its own motion (no acceleration satisfies them)", scene=scene)
+    return [float(v) for v in xs[0]]
 
 
 class FrictionLayer:
@@ -173,37 +209,8 @@ class FrictionDynamics:
         return out
 
     def _magnitudes(self, r0: list[complex], b: list[list[complex]], dirs: list[float], where: str) -> list[float]:
-        """x = c·|R⁰ + Σⱼ xⱼ·dⱼ·B_j| at one state: Gauss–Seidel sweeps on plain Python numbers (the
-        kinetostatics' fixed point, solver.forces.friction, for one sample: a few µs a sweep),
-        handed to its vectorised solve (sweeps, then Newton) where they do not settle."""
-        m = len(r0)
-        c = self.c_list
-        terms = [[(j, b[j][k] * dirs[j]) for j in range(m) if b[j][k] != 0.0 and dirs[j] != 0.0] for k in range(m)]
-        rows = list(zip(range(m), r0, c, terms))
-        x = [ck * abs(r) for r, ck in zip(r0, c)]
-        for _ in range(FIXED_STEPS):
-            change = size = 0.0
-            for k, r, ck, tk in rows:  # Gauss–Seidel: each x_k from the latest others
-                for j, bjk in tk:
-                    r += x[j] * bjk
-                new = ck * abs(r)
-                d = new - x[k]
-                if d < 0.0:
-                    d = -d
-                if d > change:
-                    change = d
-                if new > size:
-                    size = new
-                x[k] = new
-            if change <= CONVERGED * size:
-                return x
-        base = [np.array([r0[k]], complex) for k in range(m)]
-        responses = [[np.array([b[j][k]], complex) for k in range(m)] for j in range(m)]
-        xs, locked = solve_magnitudes(base, responses, [np.array([d]) for d in dirs], list(range(m)), self.c, 1)
-        if locked[0]:
-            raise DynamicsError(f"the friction equations have no solution at {where}: the friction locks the "
-                                "mechanism against its own motion (no acceleration satisfies them)", scene=self.name)
-        return [float(v) for v in xs[0]]
+        """x = c·|R⁰ + Σⱼ xⱼ·dⱼ·B_j| at one state (:func:`magnitudes`)."""
+        return magnitudes(r0, b, dirs, self.c_list, where=where, scene=self.name)
 
     def mode(self, q: float, w: float, *, slip: float = 0.0,
              override: dict[int, float] | None = None) -> tuple[list[float], float]:
