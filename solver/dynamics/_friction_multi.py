@@ -24,23 +24,29 @@ Linear system. The inputs are **free** (F: moving, or slipping from rest) or **s
 the holding efforts Q_S = h_S + M_SF·ε_F + Σⱼ xⱼ·dⱼ·uⱼ,S + F_S∘σ_S. Derivatives: the jets'
 (nothing is differentiated numerically).
 
-Branch rule (the friction's direction). dⱼ = −sign vⱼ where |vⱼ| exceeds the rounding of its
-terms (tolerances.RELATIVE_REST·Σᵢ|Gⱼᵢ·q̇ᵢ|); where it is zero, −sign Σᵢ Gⱼᵢ·sᵢ (s: the direction
-each input at rest starts in — a slip, or a side of a stick test); where that is zero too, −sign
-of its relative acceleration under the frictionless accelerations of the free inputs,
-a⁰ⱼ + Σᵢ Gⱼᵢ·ε̂ᵢ; else 0 (an element held at rest by the stuck inputs: its static friction is
-part of their holding efforts). σᵢ = sign q̇ᵢ, else sᵢ. **Stick test** of input i at rest: its
-holding interval [Q₋ᵢ, Q₊ᵢ] is its effort at εᵢ = 0 with the start sᵢ = −1 and +1, the other
-stuck inputs held and the free ones under their drives; it sticks while Q_drive,i lies inside.
+Branch rule (the friction's direction). dⱼ = −sign vⱼ where |vⱼ| exceeds the rounding of the
+terms it is a difference of (tolerances.RELATIVE_REST·Σᵢ wⱼᵢ·|q̇ᵢ|, wⱼᵢ the two links' rates
+per unit q̇ᵢ at a pin, the block's and its guide point's at a slide: a zero rounded); where it is
+zero, −sign Σᵢ Gⱼᵢ·sᵢ (s: the direction each input at rest starts in — a slip, or a side of a
+stick test); where that is zero too, −sign of its relative acceleration under the frictionless
+accelerations of the free inputs, a⁰ⱼ + Σᵢ Gⱼᵢ·ε̂ᵢ; else 0 (an element held at rest by the stuck
+inputs: its static friction is part of their holding efforts). σᵢ = sign q̇ᵢ, else sᵢ. At a
+segment's start each element at rest is checked (:meth:`MultiFrictionDynamics.consistent`):
+where the solve gives it a relative acceleration of the friction's own sign, its direction is
+reversed; where that holds either way it is **locked** — its moment λⱼ an unknown with the row
+a⁰ⱼ + Gⱼ,F·ε_F = 0, i.e. [M_FF U_LF; G_LF 0]·[ε_F; λ_L] = [rest_F; −a⁰_L] − Σⱼ xⱼ·dⱼ·[uⱼ,F; 0],
+still affine in x — while |λⱼ| ≤ cⱼ·|Rⱼ|. **Stick test** of input i at rest: its holding
+interval [Q₋ᵢ, Q₊ᵢ] is its effort at εᵢ = 0 with the start sᵢ = −1 and +1, the other stuck inputs
+held and the free ones under their drives; it sticks while Q_drive,i lies inside.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -53,6 +59,16 @@ __all__ = ["InertiaLayer", "MultiFrictionDynamics", "MultiState", "StateLayer"]
 
 def _sign(v: float) -> float:
     return 1.0 if v > 0.0 else -1.0 if v < 0.0 else 0.0
+
+
+def _terms(friction: Any, e: Any, values: Any, xp: Any) -> tuple[Any, Any]:
+    """The two terms element ``e``'s relative acceleration is the difference of (its rounding's
+    scale): a pin's two links' angular accelerations (the jets' d2); a slide's block point's and
+    guide point's accelerations (complex; 0 for a fixed guide). Operators only (traced)."""
+    if e.kind == "pin":
+        return friction._rate(e.body, values, xp)[1], friction._rate(e.other, values, xp)[1]
+    ln = friction.links[e.body]
+    return values[e.point].d2, (0j if ln.along is None else values[ln.along[0]].d2)
 
 
 class StateLayer:
@@ -73,9 +89,10 @@ class StateLayer:
         k, m = len(self.inputs), len(self.carriers)
         parts = [(f"h.{i}", False) for i in range(k)] + [(f"other.{i}", False) for i in range(k)]
         parts += [(f"R0.{c}", True) for c in range(m)]
-        for j in range(m):
+        for j, e in enumerate(self.elements):
             parts += [*((f"u.{j}.{i}", False) for i in range(k)), *((f"B.{j}.{c}", True) for c in range(m)),
-                      (f"v.{j}", False), (f"a.{j}", False)]
+                      (f"v.{j}", False), (f"a.{j}", False), (f"a1.{j}", e.kind != "pin"),
+                      (f"a2.{j}", e.kind != "pin")]
         self.layout = tuple(("friction", key, cplx) for key, cplx in parts)
         self.index = {(kind, key): i for i, (kind, key, _) in enumerate(self.layout)}
 
@@ -86,9 +103,10 @@ class StateLayer:
         q_other = [0.0] * k if other is None else \
             other.respond(values, xp, lambda s: other._apply_loads(s, omega, epsilon))[:k]
         out = [*base[:k], *q_other, *(base[c] for c in self.carriers)]
-        for v, a, _, load in rub.friction.element_kinematics(values, xp):
+        friction = rub.friction
+        for e, (v, a, _, load) in zip(self.elements, friction.element_kinematics(values, xp)):
             unit = rub.respond(values, xp, load)
-            out += [*unit[:k], *(unit[c] for c in self.carriers), v, a]
+            out += [*unit[:k], *(unit[c] for c in self.carriers), v, a, *_terms(friction, e, values, xp)]
         return tuple(out)
 
 
@@ -103,10 +121,12 @@ class InertiaLayer:
         self.targets = rubbing.targets
         self.inputs = rubbing.inputs
         index = rubbing.base_index
-        self.carriers = [index[("pin" if e.kind == "pin" else "slide"), e.index] for e in rubbing.friction.elements]
+        self.elements = rubbing.friction.elements
+        self.carriers = [index[("pin" if e.kind == "pin" else "slide"), e.index] for e in self.elements]
         k, m = len(self.inputs), len(self.carriers)
         parts = [(f"M.{i}", False) for i in range(k)] + [(f"A.{c}", True) for c in range(m)]
         parts += [(f"G.{j}", False) for j in range(m)]
+        parts += [(f"G{n}.{j}", e.kind != "pin") for j, e in enumerate(self.elements) for n in (1, 2)]
         self.layout = tuple(("friction", key, cplx) for key, cplx in parts)
         self.index = {(kind, key): i for i, (kind, key, _) in enumerate(self.layout)}
 
@@ -115,7 +135,10 @@ class InertiaLayer:
         k = len(self.inputs)
         inert = inertia.respond(values, xp, lambda s: inertia._apply_loads(s, omega, epsilon))
         out = [*inert[:k], *(inert[c] for c in self.carriers)]
-        out += [a for _, a, _, _ in self.rubbing.friction.element_kinematics(values, xp)]
+        friction = self.rubbing.friction
+        out += [a for _, a, _, _ in friction.element_kinematics(values, xp)]
+        for e in self.elements:
+            out += _terms(friction, e, values, xp)
         return tuple(out)
 
 
@@ -133,6 +156,9 @@ class _Passes:
     mass: list[list[float]]  # M[i][l]
     inert: list[list[complex]]  # A[k][i]
     g: list[list[float]]  # G[j][i]
+    #: the scales of the roundings: of vⱼ per unit q̇ᵢ (w[j][i]) and of a⁰ⱼ (the terms they are differences of)
+    w: list[list[float]]
+    a_scale: list[float]
     conditioning: float
 
 
@@ -147,10 +173,18 @@ class MultiState:
     loss: float
     other: list[float]
     conditioning: float
+    #: per locked element: (λⱼ, cⱼ·|Rⱼ|), its friction moment and the most the friction gives
+    holds: dict[int, tuple[float, float]] = field(default_factory=dict)
 
 
-#: (dⱼ per element, σᵢ per input): the friction's directions and the seals' signs a segment holds
-Mode = tuple[list[float], list[float]]
+class Mode(NamedTuple):
+    """What a segment holds: the friction's directions dⱼ (0 for a locked element), the seals'
+    signs σᵢ, and the **locked** elements — at rest while the inputs move, their friction moment
+    λⱼ the unknown that keeps their relative acceleration 0 (|λⱼ| ≤ cⱼ·|Rⱼ|)."""
+
+    dirs: list[float]
+    sigma: list[float]
+    locked: frozenset[int] = frozenset()
 
 
 class MultiFrictionDynamics:
@@ -180,8 +214,10 @@ class MultiFrictionDynamics:
     def _inertia_unit(self) -> Any:
         return self.inertia_scene.compiled()
 
-    def _geometry(self, q: tuple[float, ...]) -> tuple[list[list[float]], list[list[complex]], list[list[float]]]:
-        """(M, A, G) at ``q``: k compiled passes of the inertia alone (kept for the last q)."""
+    def _geometry(self, q: tuple[float, ...]) -> tuple[list[list[float]], list[list[complex]], list[list[float]],
+                                                       list[list[float]]]:
+        """(M, A, G, the scale of G's rounding) at ``q``: k compiled passes of the inertia alone
+        (kept for the last q)."""
         if self._geometry_memo[0] == q:
             return self._geometry_memo[1]  # type: ignore[no-any-return]
         unit = self._inertia_unit
@@ -191,11 +227,13 @@ class MultiFrictionDynamics:
         for i in range(k):
             flat = unit.function(*q, *zeros, *(1.0 if j == i else 0.0 for j in range(k)))
             start = unit.size + len(unit.conditioning)
-            cols.append(flat[start:start + k + 2 * m])
+            cols.append(flat[start:start + k + 4 * m])
         mass = [[cols[l_][i] for l_ in range(k)] for i in range(k)]
         inert = [[cols[i][k + c] for i in range(k)] for c in range(m)]
         g = [[cols[i][k + m + j] for i in range(k)] for j in range(m)]
-        out = (mass, inert, g)
+        w = [[abs(cols[i][k + 2 * m + 2 * j]) + abs(cols[i][k + 2 * m + 2 * j + 1]) for i in range(k)]
+             for j in range(m)]
+        out = (mass, inert, g, w)
         self._geometry_memo = (q, out)
         return out
 
@@ -215,15 +253,16 @@ class MultiFrictionDynamics:
         i = start + 2 * k
         r0 = list(flat[i:i + m])
         i += m
-        u, b, v, a = [], [], [], []
+        u, b, v, a, a_scale = [], [], [], [], []
         for _ in range(m):
             u.append(list(flat[i:i + k]))
             b.append(list(flat[i + k:i + k + m]))
             v.append(flat[i + k + m])
             a.append(flat[i + k + m + 1])
-            i += k + m + 2
-        mass, inert, g = self._geometry(key[0])
-        out = _Passes(h, other, r0, u, b, v, a, mass, inert, g, cond)
+            a_scale.append(abs(flat[i + k + m + 2]) + abs(flat[i + k + m + 3]))
+            i += k + m + 4
+        mass, inert, g, w = self._geometry(key[0])
+        out = _Passes(h, other, r0, u, b, v, a, mass, inert, g, w, a_scale, cond)
         self._memo = (key, out)
         return out
 
@@ -244,12 +283,14 @@ class MultiFrictionDynamics:
 
     def mode(self, q: Sequence[float], qd: Sequence[float], drive: Sequence[float], *,
              stuck: Iterable[int] = (), starts: Sequence[float] | None = None,
-             override: dict[int, float] | None = None, keep: Sequence[float] | None = None) -> Mode:
+             override: dict[int, float] | None = None, keep: Sequence[float] | None = None,
+             locked: Iterable[int] = ()) -> Mode:
         """The friction's directions and the seals' signs at (q, q̇) by the branch rule (module
         docstring); ``starts``: per input at rest the direction it starts in (0: none);
         ``override``: element → d (a restart at its reversal); ``keep``: a segment's directions,
         kept for the elements that move (so that a stick test along the segment is as smooth as
-        its equation: their reversals end it)."""
+        its equation: their reversals end it); ``locked``: elements kept locked (a segment's, where
+        the free inputs still move them)."""
         p = self.passes(q, qd)
         k = self.k
         s = list(starts) if starts is not None else [0.0] * k
@@ -258,25 +299,30 @@ class MultiFrictionDynamics:
         free = [i for i in range(k) if i not in held]
         eps_hat: list[float] | None = None
         dirs = []
+        keep_locked = frozenset(j for j in locked if sum(abs(p.g[j][i]) for i in free)
+                                > RELATIVE_REST * sum(p.w[j][i] for i in range(k)))
         for j in range(self.m):
+            if j in keep_locked:
+                dirs.append(0.0)
+                continue
             if override is not None and j in override:
                 dirs.append(override[j])
                 continue
-            gj = p.g[j]
+            gj, wj = p.g[j], p.w[j]
             v = p.v[j]
-            if abs(v) > RELATIVE_REST * sum(abs(gj[i] * qd[i]) for i in range(k)):
+            if abs(v) > RELATIVE_REST * sum(wj[i] * abs(qd[i]) for i in range(k)):
                 dirs.append(keep[j] if keep is not None and keep[j] != 0.0 else -_sign(v))
                 continue
             t = sum(gj[i] * s[i] for i in range(k))
-            if abs(t) > RELATIVE_REST * sum(abs(gj[i] * s[i]) for i in range(k)):
+            if abs(t) > RELATIVE_REST * sum(wj[i] * abs(s[i]) for i in range(k)):
                 dirs.append(-_sign(t))
                 continue
             if eps_hat is None:
                 eps_hat = self._tendency(p, drive, free, sigma)
             acc = p.a[j] + sum(gj[i] * eps_hat[i] for i in range(k))
-            scale = abs(p.a[j]) + sum(abs(gj[i] * eps_hat[i]) for i in range(k))
+            scale = p.a_scale[j] + sum(wj[i] * abs(eps_hat[i]) for i in range(k))
             dirs.append(-_sign(acc) if abs(acc) > RELATIVE_REST * scale else 0.0)
-        return dirs, sigma
+        return Mode(dirs, sigma, keep_locked)
 
     # -- the solve ------------------------------------------------------------------------------
     def solve(self, q: Sequence[float], qd: Sequence[float], drive: Sequence[float], *,
@@ -297,19 +343,30 @@ class MultiFrictionDynamics:
     def _solve(self, p: _Passes, qd: Sequence[float], drive: Sequence[float], held: frozenset[int], mode: Mode,
                where: str) -> MultiState:
         k, m = self.k, self.m
-        dirs, sigma = mode
+        dirs, sigma, locked = mode
         free = [i for i in range(k) if i not in held]
+        lock = sorted(locked) if free else []
         seal = self.seal
-        if free:
-            mff = np.array([[p.mass[i][l_] for l_ in free] for i in free])
-            rhs = np.empty((len(free), 1 + m))
+        nf, nl = len(free), len(lock)
+        if free:  # [M_FF U_LF; G_LF 0]·[ε_F; λ_L] = [rest_F; −a⁰_L] − Σⱼ xⱼ·dⱼ·[uⱼ,F; 0]
+            kk = np.zeros((nf + nl, nf + nl))
+            rhs = np.zeros((nf + nl, 1 + m))
             for n, i in enumerate(free):
+                for n2, i2 in enumerate(free):
+                    kk[n, n2] = p.mass[i][i2]
+                for b, el in enumerate(lock):
+                    kk[n, nf + b] = p.u[el][i]
+                    kk[nf + b, n] = p.g[el][i]
                 rhs[n, 0] = drive[i] - p.h[i] - seal[i] * sigma[i]
                 for j in range(m):
                     rhs[n, 1 + j] = p.u[j][i]
-            sol = np.linalg.solve(mff, rhs).tolist()  # M_FF⁻¹·[rest, u_F]
-            rt = [p.r0[c] + sum(p.inert[c][i] * sol[n][0] for n, i in enumerate(free)) for c in range(m)]
-            bt = [[p.b[j][c] - sum(p.inert[c][i] * sol[n][1 + j] for n, i in enumerate(free)) for c in range(m)]
+            for b, el in enumerate(lock):
+                rhs[nf + b, 0] = -p.a[el]
+            sol = np.linalg.solve(kk, rhs).tolist()
+            rt = [p.r0[c] + sum(p.inert[c][i] * sol[n][0] for n, i in enumerate(free))
+                  + sum(p.b[el][c] * sol[nf + b][0] for b, el in enumerate(lock)) for c in range(m)]
+            bt = [[p.b[j][c] - sum(p.inert[c][i] * sol[n][1 + j] for n, i in enumerate(free))
+                   - sum(p.b[el][c] * sol[nf + b][1 + j] for b, el in enumerate(lock)) for c in range(m)]
                   for j in range(m)]
         else:
             sol, rt, bt = [], p.r0, p.b
@@ -318,13 +375,61 @@ class MultiFrictionDynamics:
         eps = [0.0] * k
         for n, i in enumerate(free):
             eps[i] = sol[n][0] - sum(sol[n][1 + j] * xd[j] for j in range(m))
+        lam = [sol[nf + b][0] - sum(sol[nf + b][1 + j] * xd[j] for j in range(m)) for b in range(nl)]
+        for b, el in enumerate(lock):  # (a locked element's moment where the others' act)
+            xd[el] = lam[b]
         efforts = list(drive)
         for i in held:
             efforts[i] = (p.h[i] + sum(p.mass[i][l_] * eps[l_] for l_ in free)
                           + sum(xd[j] * p.u[j][i] for j in range(m)) + seal[i] * sigma[i])
         # the power of the friction against the motion, −Σ xⱼ·dⱼ·vⱼ + Σ Fᵢ·σᵢ·q̇ᵢ (= Σ x·|v| in its own mode)
         loss = -sum(xd[j] * p.v[j] for j in range(m)) + sum(seal[i] * sigma[i] * qd[i] for i in range(k))
-        return MultiState(eps, efforts, loss, p.other, p.conditioning)
+        holds = {el: (lam[b], x[el]) for b, el in enumerate(lock)}
+        return MultiState(eps, efforts, loss, p.other, p.conditioning, holds)
+
+    def resting(self, q: Sequence[float], qd: Sequence[float]) -> list[int]:
+        """The elements whose relative velocity is a rounded zero at (q, q̇) (the branch rule's)."""
+        p = self.passes(q, qd)
+        return [j for j in range(self.m)
+                if abs(p.v[j]) <= RELATIVE_REST * sum(p.w[j][i] * abs(qd[i]) for i in range(self.k))]
+
+    def consistent(self, q: Sequence[float], qd: Sequence[float], drive: Sequence[float], mode: Mode, *,
+                   stuck: Iterable[int] = (), where: str = "") -> Mode:
+        """``mode`` with each element at rest moving off against its friction: where the relative
+        acceleration the solve gives has the friction's own sign (dⱼ·aⱼ > 0: the friction would
+        drive the motion it opposes) its direction is reversed, once; where it is so either way
+        the friction holds that element's relative motion while the inputs move: it is **locked**
+        (its moment the unknown that keeps its relative acceleration 0). DynamicsError where no
+        such assignment is found (a locked element's moment beyond its friction's)."""
+        held = frozenset(stuck)
+        dirs, sigma, locked = list(mode.dirs), list(mode.sigma), set(mode.locked)
+        where = where or self._where(q)
+        rest = [j for j in self.resting(q, qd) if dirs[j] != 0.0]
+        flipped: set[int] = set()
+        p = self.passes(q, qd)
+        for _ in range(2 * self.m + 2):
+            st = self.solve(q, qd, drive, stuck=held, mode=Mode(dirs, sigma, frozenset(locked)), where=where)
+            acc = self.relative_accelerations(q, qd, st.epsilon)
+            bad = [j for j in rest if j not in locked and acc[j] * dirs[j] > 0.0
+                   and abs(acc[j]) > RELATIVE_REST * (p.a_scale[j] + sum(
+                       p.w[j][i] * abs(st.epsilon[i]) for i in range(self.k)))]
+            over = [j for j, (lam, most) in st.holds.items() if abs(lam) > most * (1.0 + RELATIVE_REST)]
+            if not bad and not over:
+                return Mode(dirs, sigma, frozenset(locked))
+            if over:
+                break
+            for j in bad:
+                if j in flipped:
+                    locked.add(j)
+                    dirs[j] = 0.0
+                else:
+                    dirs[j] = -dirs[j]
+                    flipped.add(j)
+        bad_el = self.elements[(over or bad)[0]]
+        what = f"pin {bad_el.point}" if bad_el.kind == "pin" else f"the slide of {bad_el.body}"
+        raise DynamicsError(f"at {where}: no direction of the friction at {what} (at rest while the inputs move) is "
+                            "consistent with the motion it gives, nor a moment within its friction that holds it "
+                            "(docs/dynamics.md#friction-with-several-inputs)", scene=self.name)
 
     def relative_accelerations(self, q: Sequence[float], qd: Sequence[float], eps: Sequence[float]) -> list[float]:
         """Each element's relative acceleration a⁰ⱼ + Σᵢ Gⱼᵢ·εᵢ at (q, q̇) under ``eps``."""
@@ -334,29 +439,36 @@ class MultiFrictionDynamics:
     # -- stick–slip -----------------------------------------------------------------------------
     def holding(self, q: Sequence[float], qd: Sequence[float], drive: Sequence[float], i: int, *,
                 stuck: Iterable[int] = (), starts: Sequence[float] | None = None,
-                keep: Sequence[float] | None = None) -> tuple[float, float]:
+                keep: Sequence[float] | None = None, locked: Iterable[int] = ()) -> tuple[float, float]:
         """Input i's holding interval (Q₋, Q₊) at (q, q̇) — q̇ᵢ = 0 — with the inputs ``stuck``
         held and the others under their drives (``starts``: the direction of each free input at
         rest): its effort at εᵢ = 0 with the friction against a start toward −qᵢ and toward +qᵢ.
         An edge where that start self-locks is ∓inf (every effort beyond holds it). ``keep``: as
-        :meth:`mode`'s."""
-        held = frozenset(stuck) | {i}
-        s = list(starts) if starts is not None else [0.0] * self.k
+        :meth:`mode`'s, and ``locked``."""
         edges = []
         for side in (-1.0, 1.0):
-            s[i] = side
-            mode = self.mode(q, qd, drive, stuck=held, starts=s, keep=keep)
-            mode[1][i] = side
             try:
-                st = self.solve(q, qd, drive, stuck=held, mode=mode)
+                st = self.edge(q, qd, drive, i, side, stuck=stuck, starts=starts, keep=keep, locked=locked)
             except DynamicsError:  # that start self-locks
                 edges.append(side * math.inf)
                 continue
             edges.append(st.efforts[i])
         return edges[0], edges[1]
 
+    def edge(self, q: Sequence[float], qd: Sequence[float], drive: Sequence[float], i: int, side: float, *,
+             stuck: Iterable[int] = (), starts: Sequence[float] | None = None,
+             keep: Sequence[float] | None = None, locked: Iterable[int] = ()) -> MultiState:
+        """The solved state of one edge of :meth:`holding`: input i held (εᵢ = 0) with the
+        friction against its start toward ``side`` (its effort there is the edge)."""
+        held = frozenset(stuck) | {i}
+        s = list(starts) if starts is not None else [0.0] * self.k
+        s[i] = side
+        mode = self.mode(q, qd, drive, stuck=held, starts=s, keep=keep, locked=locked)
+        mode.sigma[i] = side
+        return self.solve(q, qd, drive, stuck=held, mode=mode)
+
     def settle(self, q: Sequence[float], qd: Sequence[float], drive: Sequence[float], rest: Iterable[int], *,
-               starts: Sequence[float] | None = None
+               starts: Sequence[float] | None = None, locked: Iterable[int] = ()
                ) -> tuple[frozenset[int], list[float], dict[int, tuple[float, float]]]:
         """Which of the inputs at rest (``rest``: q̇ᵢ = 0) stick: each is tested with the others
         of ``rest`` held; those whose drive leaves their interval slip (toward +qᵢ beyond Q₊,
@@ -370,7 +482,7 @@ class MultiFrictionDynamics:
         for _ in range(self.k + 1):
             slipped = []
             for i in sorted(held):
-                lo, hi = tests[i] = self.holding(q, qd, drive, i, stuck=held - {i}, starts=s)
+                lo, hi = tests[i] = self.holding(q, qd, drive, i, stuck=held - {i}, starts=s, locked=locked)
                 if not lo <= drive[i] <= hi:
                     slipped.append((i, 1.0 if drive[i] > hi else -1.0))
             if not slipped:

@@ -140,7 +140,8 @@ def run_with_friction_multi(
         ``report``: the one at its turning point)."""
         q, qd = yy[:k], yy[k:2 * k]
         drive = drive_at(t, yy)
-        stuck, starts, tests = fd.settle(q, qd, drive, rest, starts=starts)
+        stuck, starts, tests = fd.settle(q, qd, drive, rest, starts=starts, locked=carry)
+        told = t > 0.0 or bool(switches) or bool(stuck)  # (a release from rest where nothing sticks: no line)
         for i in sorted(rest):
             lo, hi = tests[i]
             interval = f"[{lo:.6g}, {hi:.6g}]"
@@ -149,7 +150,7 @@ def run_with_friction_multi(
                                 f"inside its breakaway interval {interval}{others(i, stuck)}")
                 switches.append(("stick", t, q[i]))
                 inputs.append(names[i])
-            elif i not in stuck and (i in before or (i in report and (t > 0.0 or switches))):
+            elif i not in stuck and (i in before or (i in report and told)):
                 messages.append(f"{_at(eq, t, q, i)}: {names[i]} slips toward {'+' if starts[i] > 0 else '−'}: "
                                 f"the effort {drive[i]:.6g} leaves its breakaway interval {interval}"
                                 f"{others(i, stuck)}")
@@ -177,6 +178,7 @@ def run_with_friction_multi(
     stuck: frozenset[int] = frozenset()
     starts = [0.0] * k
     override: dict[int, float] | None = None
+    carry: frozenset[int] = frozenset()  # the elements locked at the last segment's end
     rest0 = {i for i in range(k) if y[k + i] == 0.0}
     if rest0:
         stuck, starts = settle(0.0, y, rest0, frozenset(), starts, rest0)
@@ -196,9 +198,11 @@ def run_with_friction_multi(
             if len(stuck) == k:  # (the drive touched an edge and came back: rounding) held on
                 continue
         q, qd = y[:k], y[k:2 * k]
-        mode = fd.mode(q, qd, drive_at(t0, y), stuck=stuck, starts=starts, override=override)
+        drive = drive_at(t0, y)
+        mode = fd.mode(q, qd, drive, stuck=stuck, starts=starts, override=override, locked=carry)
+        mode = fd.consistent(q, qd, drive, mode, stuck=stuck, where=f"t = {t0:.9g} s, {fd._where(q)}")
         eq.t0, eq.stuck, eq.mode = t0, stuck, mode
-        dirs, sigma = mode
+        dirs, sigma, locked = mode
         held_now = stuck
         def shifted(g: Callable[[float, Any], float], t0: float = t0) -> Callable[[float, Any], float]:
             return lambda t, yy: g(t + t0, yy)
@@ -225,14 +229,26 @@ def run_with_friction_multi(
             what.append(("reverse", j))
         for i in sorted(stuck):
             def margin(t: float, yy: Any, i: int = i, t0: float = t0, held_now: frozenset[int] = held_now,
-                       s: tuple[float, ...] = tuple(starts), keep: tuple[float, ...] = tuple(dirs)) -> float:
+                       s: tuple[float, ...] = tuple(starts), keep: tuple[float, ...] = tuple(dirs),
+                       lk: frozenset[int] = locked) -> float:
                 yy = list(yy)
                 drive = drive_at(t0 + t, yy)
-                lo, hi = fd.holding(yy[:k], yy[k:2 * k], drive, i, stuck=held_now - {i}, starts=s, keep=keep)
+                lo, hi = fd.holding(yy[:k], yy[k:2 * k], drive, i, stuck=held_now - {i}, starts=s, keep=keep,
+                                    locked=lk)
                 return min(drive[i] - lo, hi - drive[i])
 
             seg_events.append((margin, -1))
             what.append(("slip", i))
+        for j in sorted(locked):
+            def grip(t: float, yy: Any, j: int = j, t0: float = t0, mode: Any = mode,
+                     held_now: frozenset[int] = held_now) -> float:
+                yy = list(yy)
+                st = fd.solve(yy[:k], yy[k:2 * k], drive_at(t0 + t, yy), stuck=held_now, mode=mode)
+                lam, most = st.holds[j]
+                return most - abs(lam)
+
+            seg_events.append((grip, -1))
+            what.append(("unlock", j))
         local_eval = None if t_eval is None else t_eval[t_eval > t0] - t0
         out = run(eq, t_end - t0, y, method=method, rtol=rtol, atol=atol, step=step, max_step=max_step,
                   events=seg_events, t_eval=local_eval)
@@ -249,6 +265,7 @@ def run_with_friction_multi(
         y = [float(v) for v in out.sol(float(out.t[-1]))] if out.sol.steps else list(y)
         kind, n = what[out.hit - n_user]
         prev_t0, t0 = t0, t_stop
+        carry = locked
         for i in stuck:  # (held exactly)
             y[k + i] = 0.0
         if kind == "turn":  # input n's rate reaches 0: its stick test, and the stuck ones' again
@@ -259,7 +276,8 @@ def run_with_friction_multi(
             stuck, starts = settle(t0, y, set(stuck) | {n}, stuck, starts, {n})
         elif kind == "slip":  # stuck input n's drive leaves its interval
             drive = drive_at(t0, y)
-            lo, hi = fd.holding(y[:k], y[k:2 * k], drive, n, stuck=stuck - {n}, starts=starts, keep=dirs)
+            lo, hi = fd.holding(y[:k], y[k:2 * k], drive, n, stuck=stuck - {n}, starts=starts, keep=dirs,
+                                locked=locked)
             side = 1.0 if drive[n] - hi > lo - drive[n] else -1.0
             messages.append(f"{_at(eq, t0, y[:k], n)}: {names[n]} slips toward {'+' if side > 0 else '−'}: the "
                             f"effort {drive[n]:.6g} leaves its breakaway interval [{lo:.6g}, {hi:.6g}]"
@@ -272,6 +290,12 @@ def run_with_friction_multi(
             stuck = frozenset()
             if rest:
                 stuck, starts = settle(t0, y, rest, frozenset(rest), starts, set())
+        elif kind == "unlock":  # locked element n's moment reaches its friction's: it slips, the moment kept
+            eq.t0 = prev_t0
+            st = fd.solve(y[:k], y[k:2 * k], drive_at(t0, y), stuck=stuck, mode=mode)
+            override = {n: _sign(st.holds[n][0])}
+            carry = locked - {n}
+            starts = [0.0] * k
         else:  # element n's relative velocity reverses: its friction against its relative acceleration
             eq.t0 = prev_t0
             acc = fd.relative_accelerations(y[:k], y[k:2 * k], eq.rates(t_stop - prev_t0, y)[k:2 * k])[n]
