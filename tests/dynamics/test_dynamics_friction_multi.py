@@ -225,3 +225,27 @@ def test_the_drive_may_hold_one_crank_at_rest_and_the_run_says_so_at_the_start(f
     assert run.omega[1, 1] > 0.0 and run.omega[1, 0] == 0.0 and run.phi[1, 0] == q[0]
     e = run.energy()
     assert np.max(np.abs(e["balance"])) <= BALANCE * (abs(e["gravity"][0] - e["gravity"][-1]) + 1e-3)
+
+
+def test_a_pin_the_friction_holds_either_way_is_locked_at_the_release(five_bar: Any) -> None:
+    """At the release from rest, pin A2's friction against either start of its relative rotation
+    would drive that rotation (its relative acceleration has the friction's own sign both ways):
+    it is locked — its moment λ the unknown that keeps its relative acceleration 0, within its
+    friction (|λ| < c·|R|), and the efforts are the drives."""
+    fd = reduced_model(five_bar).friction
+    q, qd, drive = list(RELEASE), [0.0, 0.0], [0.0, 0.0]
+    a2 = next(j for j, e in enumerate(fd.elements) if e.point == "A2")
+    stuck, starts, _ = fd.settle(q, qd, drive, [0, 1])
+    assert not stuck and all(starts)
+    mode = fd.consistent(q, qd, drive, fd.mode(q, qd, drive, starts=starts))
+    assert a2 in mode.locked and mode.dirs[a2] == 0.0
+    st = fd.solve(q, qd, drive, mode=mode)
+    acc = fd.relative_accelerations(q, qd, st.epsilon)
+    assert abs(acc[a2]) <= ROUNDING * max(abs(v) for v in st.epsilon)
+    lam, most = st.holds[a2]
+    assert 0.0 < abs(lam) < most
+    for d in (-1.0, 1.0):  # either direction of its friction would drive its own rotation
+        dirs = list(mode.dirs)
+        dirs[a2] = d
+        trial = fd.solve(q, qd, drive, mode=type(mode)(dirs, mode.sigma, frozenset(mode.locked - {a2})))
+        assert fd.relative_accelerations(q, qd, trial.epsilon)[a2] * d > 0.0
