@@ -81,7 +81,9 @@ class MultiFrictionEquation(Equation):
     def accelerations(self, t: float, q: Sequence[float], qd: Sequence[float]) -> tuple[list[float], list[float],
                                                                                           float]:
         """(ε, Q_drive, conditioning) at global time ``t``: the inputs at rest stick or slip by
-        the stick test (solver.dynamics._friction_multi.MultiFrictionDynamics.settle)."""
+        the stick test (solver.dynamics._friction_multi.MultiFrictionDynamics.settle), the
+        elements at rest checked (``consistent``: a segment's start). (A run's samples take the
+        ε its integrator had, where it had one: the locked elements are the segment's.)"""
         q, qd = [float(v) for v in q], [float(v) for v in qd]
         drive = [float(v) for v in self.drive(t, q, qd)]
         fd = self.friction
@@ -90,7 +92,8 @@ class MultiFrictionEquation(Equation):
         starts: list[float] | None = None
         if rest:
             stuck, starts, _ = fd.settle(q, qd, drive, rest)
-        st = fd.solve(q, qd, drive, stuck=stuck, starts=starts)
+        mode = fd.consistent(q, qd, drive, fd.mode(q, qd, drive, stuck=stuck, starts=starts), stuck=stuck)
+        st = fd.solve(q, qd, drive, stuck=stuck, mode=mode)
         return st.epsilon, drive, st.conditioning
 
 
@@ -122,10 +125,13 @@ def run_with_friction_multi(
     t0, y = 0.0, list(y0)
     status, hit, fault = 0, None, None
 
-    def emit(t: float, yy: list[float]) -> None:
+    rs: list[list[float] | None] = []  # y' where the segment's integrator had it (its ε: the locked elements')
+
+    def emit(t: float, yy: list[float], rate: list[float] | None = None) -> None:
         if not ts or t > ts[-1]:
             ts.append(t)
             ys.append(list(yy))
+            rs.append(rate)
 
     def drive_at(t: float, yy: list[float]) -> list[float]:
         return [float(v) for v in eq.drive(t, yy[:k], yy[k:2 * k])]
@@ -256,7 +262,8 @@ def run_with_friction_multi(
         override = None
         start = 1 if t_eval is None else 0
         for n in range(start, out.t.size):
-            emit(t0 + float(out.t[n]), [float(v) for v in out.y[:, n]])
+            known = out.rates[n] if out.rates is not None and n < len(out.rates) else None
+            emit(t0 + float(out.t[n]), [float(v) for v in out.y[:, n]], None if known is None else list(known))
         t_stop = t0 + (float(out.t[-1]) if out.t.size else 0.0)
         pieces.append(_Piece(t0, t_stop, sol=out.sol))
         if out.status != 1 or out.hit is None or out.hit < n_user:
@@ -306,4 +313,4 @@ def run_with_friction_multi(
                             "(a chatter that would not end)", scene=fd.name)
     y_arr = np.array(ys, float).T if ys else np.empty((len(y0), 0))
     return FrictionOutcome(np.array(ts, float), y_arr, status, hit, fault, nfev, Solution(pieces),  # type: ignore[arg-type]
-                           messages=messages, switches=switches, inputs=inputs)
+                           rates=rs, messages=messages, switches=switches, inputs=inputs)

@@ -244,6 +244,12 @@ def test_a_pin_the_friction_holds_either_way_is_locked_at_the_release(five_bar: 
     assert abs(acc[a2]) <= ROUNDING * max(abs(v) for v in st.epsilon)
     lam, most = st.holds[a2]
     assert 0.0 < abs(lam) < most
+    released = five_bar.simulate(0.02, phi0=RELEASE, omega0=0.0, rtol=TIGHT, atol=TIGHT)
+    for n in range(2):  # the run's first samples: A2 held (the ε its integrator had)
+        eps = [float(v) for v in released.epsilon[n]]
+        rel = fd.relative_accelerations([float(v) for v in released.phi[n]], [float(v) for v in released.omega[n]],
+                                        eps)[a2]
+        assert abs(rel) <= ROUNDING * max(abs(v) for v in eps)
     for d in (-1.0, 1.0):  # either direction of its friction would drive its own rotation
         dirs = list(mode.dirs)
         dirs[a2] = d
