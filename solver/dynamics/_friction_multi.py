@@ -362,7 +362,11 @@ class MultiFrictionDynamics:
                     rhs[n, 1 + j] = p.u[j][i]
             for b, el in enumerate(lock):
                 rhs[nf + b, 0] = -p.a[el]
-            sol = np.linalg.solve(kk, rhs).tolist()
+            try:
+                sol = np.linalg.solve(kk, rhs).tolist()
+            except np.linalg.LinAlgError:
+                raise DynamicsError(f"at {where}: the locked elements' constraints are dependent (no motion of the "
+                                    "free inputs keeps them all at rest)", scene=self.name) from None
             rt = [p.r0[c] + sum(p.inert[c][i] * sol[n][0] for n, i in enumerate(free))
                   + sum(p.b[el][c] * sol[nf + b][0] for b, el in enumerate(lock)) for c in range(m)]
             bt = [[p.b[j][c] - sum(p.inert[c][i] * sol[n][1 + j] for n, i in enumerate(free))
