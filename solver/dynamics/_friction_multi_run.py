@@ -97,6 +97,11 @@ class MultiFrictionEquation(Equation):
         return st.epsilon, drive, st.conditioning
 
 
+def _element(fd: MultiFrictionDynamics, j: int) -> str:
+    e = fd.elements[j]
+    return f"pin {e.point}" if e.kind == "pin" else f"the slide of {e.body}"
+
+
 def _at(eq: MultiFrictionEquation, t: float, q: Sequence[float], i: int) -> str:
     name = eq.friction.inputs[i]
     unit = eq.model.scene.joint_units.get(name, "rad")
@@ -210,6 +215,12 @@ def run_with_friction_multi(
         eq.t0, eq.stuck, eq.mode = t0, stuck, mode
         dirs, sigma, locked = mode
         held_now = stuck
+        if locked - carry:  # one line per element that locks
+            st = fd.solve(q, qd, drive, stuck=stuck, mode=mode)
+            for j in sorted(locked - carry):
+                lam, most = st.holds[j]
+                messages.append(f"t = {t0:.9g} s, {fd._where(q)}: {_element(fd, j)} locks: its friction holds its "
+                                f"relative motion while the inputs move (its moment {lam:.6g} within ±{most:.6g})")
         def shifted(g: Callable[[float, Any], float], t0: float = t0) -> Callable[[float, Any], float]:
             return lambda t, yy: g(t + t0, yy)
 
@@ -301,6 +312,8 @@ def run_with_friction_multi(
             eq.t0 = prev_t0
             st = fd.solve(y[:k], y[k:2 * k], drive_at(t0, y), stuck=stuck, mode=mode)
             override = {n: _sign(st.holds[n][0])}
+            messages.append(f"t = {t0:.9g} s, {fd._where(y[:k])}: {_element(fd, n)} slips: its moment reaches its "
+                            f"friction's {st.holds[n][1]:.6g}")
             carry = locked - {n}
             starts = [0.0] * k
         else:  # element n's relative velocity reverses: its friction against its relative acceleration
