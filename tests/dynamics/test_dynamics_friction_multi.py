@@ -3,6 +3,7 @@ docs/dynamics.md#friction-with-several-inputs)."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from typing import Any
 
@@ -259,3 +260,23 @@ def test_a_pin_the_friction_holds_either_way_is_locked_at_the_release(five_bar: 
         dirs[a2] = d
         trial = fd.solve(q, qd, drive, mode=type(mode)(dirs, mode.sigma, frozenset(mode.locked - {a2})))
         assert fd.relative_accelerations(q, qd, trial.epsilon)[a2] * d > 0.0
+
+
+REFERENCE = ROOT / "tests/data/friction_ref_five_bar_states.json"
+
+
+def test_the_slip_accelerations_agree_with_the_50_digit_newton_euler_reference(five_bar: Any) -> None:
+    """Against tests/reference/friction_multi_mp.py (Newton–Euler in absolute coordinates, 22
+    unknowns at 50 digits, the five friction circles by fixed point): ε1, ε2 under the crank
+    torques and the dissipated power at three states, to round-off."""
+    ref = json.loads(REFERENCE.read_text(encoding="utf-8"))
+    assert ref["scene_file"] == str(FIVE_BAR.relative_to(ROOT))
+    fd = reduced_model(five_bar).friction
+    for case in ref["expected"]:
+        q1, q2, w1, w2, t1, t2 = (float(v) for v in case["state"])
+        st = fd.solve([q1, q2], [w1, w2], [t1, t2])
+        expected = [float(v) for v in case["epsilon"]]
+        scale = max(abs(v) for v in expected)
+        for got, want in zip(st.epsilon, expected):
+            assert abs(got - want) <= ROUNDING * scale
+        assert st.loss == pytest.approx(float(case["loss"]), rel=ROUNDING)
