@@ -280,3 +280,20 @@ def test_the_slip_accelerations_agree_with_the_50_digit_newton_euler_reference(f
         for got, want in zip(st.epsilon, expected):
             assert abs(got - want) <= ROUNDING * scale
         assert st.loss == pytest.approx(float(case["loss"]), rel=ROUNDING)
+
+
+def test_the_holding_interval_agrees_with_the_50_digit_reference(five_bar: Any) -> None:
+    """Crank 1 at rest while crank 2 moves: the edges of its holding interval, and crank 2's ε at
+    each, against the reference's Newton–Euler with crank 1 held (its torque a 23rd unknown, its
+    pivot's friction against each start), to round-off."""
+    ref = json.loads(REFERENCE.read_text(encoding="utf-8"))
+    fd = reduced_model(five_bar).friction
+    assert len(ref["holding"]) == 4
+    for case in ref["holding"]:
+        q1, q2, w1, w2, t1, t2 = (float(v) for v in case["state"])
+        side = float(case["held"])
+        lo, hi = fd.holding([q1, q2], [w1, w2], [t1, t2], 0)
+        edge = float(case["effort"])
+        assert (lo if side < 0 else hi) == pytest.approx(edge, rel=ROUNDING)
+        st = fd.edge([q1, q2], [w1, w2], [t1, t2], 0, side)
+        assert st.epsilon[1] == pytest.approx(float(case["epsilon"][1]), rel=ROUNDING)

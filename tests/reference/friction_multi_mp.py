@@ -14,7 +14,9 @@ its root picked by the solver's P to float precision; the distal links' rates fr
 constraint at P).
 
 Run from the repository root: ``.venv/bin/python tests/reference/friction_multi_mp.py`` (writes
-tests/data/friction_ref_five_bar_states.json; seconds).
+tests/data/friction_ref_five_bar_states.json; seconds). Also the two edges of crank 1's holding
+interval at two states where it is at rest and crank 2 moves (``holding``: crank 1 held at
+ε1 = 0, its torque a 23rd unknown, its pivot's friction against each start).
 """
 
 from __future__ import annotations
@@ -38,6 +40,11 @@ STATES = [
     ("-1.3", "-1.7", "-3.0", "0.7", "0.0", "0.0"),
     ("-1.7", "-1.4", "2.2", "2.9", "-0.4", "0.5"),
 ]
+#: states with crank 1 at rest (its torque unknown): the edges of its holding interval
+HELD = [
+    ("-1.3", "-1.7", "0", "1.1", "0", "0.1"),
+    ("-1.6", "-1.5", "0", "-2.4", "0", "-0.3"),
+]
 
 
 def _c(x: list) -> mp.mpc:
@@ -52,7 +59,10 @@ def _r_cross_f(r: mp.mpc, f: mp.mpc) -> mp.mpf:
     return r.real * f.imag - r.imag * f.real
 
 
-def solve_state(data: dict, state: tuple[str, ...], p_guess: complex) -> dict:
+def solve_state(data: dict, state: tuple[str, ...], p_guess: complex, *, held: int = 0) -> dict:
+    """ε and the loss at ``state``; ``held`` = ±1: crank 1 at rest held (ε1 = 0, its torque the
+    23rd unknown) with its pivot's friction against a start toward ``held`` (an edge of its
+    holding interval)."""
     q1, q2, w1, w2, t1, t2 = (mp.mpf(v) for v in state)
     o1, o2 = _c(data["fixed"]["O1"]), _c(data["fixed"]["O2"])
     groups = {g["name"]: g for g in data["groups"]}
@@ -103,11 +113,15 @@ def solve_state(data: dict, state: tuple[str, ...], p_guess: complex) -> dict:
         return bodies[b]["w"] - (bodies[o]["w"] if o else 0)
 
     dirs = [-mp.sign(rel_w(pin)) for pin in pins]
+    if held:
+        assert w1 == 0 and dirs[0] == 0
+        dirs[0] = mp.mpf(-held)  # O1: against crank 1's start
     assert all(dd != 0 for dd in dirs)
+    n = 23 if held else 22
 
     def system(x: list) -> mp.matrix:
-        a = mp.zeros(22, 22)
-        r = mp.zeros(22, 1)
+        a = mp.zeros(n, n)
+        r = mp.zeros(n, 1)
         row = 0
         for name in names:  # Newton–Euler of each body
             bd = bodies[name]
@@ -129,7 +143,9 @@ def solve_state(data: dict, state: tuple[str, ...], p_guess: complex) -> dict:
                 a[mom, j] -= sgn * (-arm.imag)  # r × R = rx·Ry − ry·Rx
                 a[mom, j + 1] -= sgn * arm.real
                 r[mom] += sgn * x[n_pin] * dirs[n_pin]  # the friction couple
-            if name == "left_crank":
+            if name == "left_crank" and held:
+                a[mom, 22] = -1  # its torque, unknown
+            elif name == "left_crank":
                 r[mom] += t1
             if name == "right_crank":
                 r[mom] += t2
@@ -151,6 +167,8 @@ def solve_state(data: dict, state: tuple[str, ...], p_guess: complex) -> dict:
                 r[row + 1] -= side * cen.imag
             row += 2
         assert row == 22
+        if held:  # crank 1 held: ε1 = 0
+            a[22, bi["left_crank"] + 2] = 1
         return mp.lu_solve(a, r)
 
     x = [mp.mpf(0)] * 5
@@ -166,6 +184,9 @@ def solve_state(data: dict, state: tuple[str, ...], p_guess: complex) -> dict:
     sol = system(x)
     eps1, eps2 = sol[bi["left_crank"] + 2], sol[bi["right_crank"] + 2]
     loss = sum(xx * abs(rel_w(pin)) for xx, pin in zip(x, pins))
+    if held:
+        return {"state": list(state), "held": held, "effort": mp.nstr(sol[22], 40),
+                "epsilon": [mp.nstr(eps1, 40), mp.nstr(eps2, 40)]}
     return {"state": list(state), "epsilon": [mp.nstr(eps1, 40), mp.nstr(eps2, 40)],
             "magnitudes": {pin[0]: mp.nstr(xx, 30) for xx, pin in zip(x, pins)}, "loss": mp.nstr(loss, 40)}
 
@@ -182,12 +203,17 @@ def main() -> int:
         k = scene.solve((float(st[0]), float(st[1])), omega=0.0, epsilon=0.0)
         px, py = (float(v) for v in k.point("P").position)
         out.append(solve_state(data, st, complex(px, py)))
+    holding = []
+    for st in HELD:
+        k = scene.solve((float(st[0]), float(st[1])), omega=0.0, epsilon=0.0)
+        px, py = (float(v) for v in k.point("P").position)
+        holding += [solve_state(data, st, complex(px, py), held=side) for side in (-1, 1)]
     OUT.write_text(json.dumps({
         "provenance": "tests/reference/friction_multi_mp.py: Newton–Euler in absolute coordinates at 50 digits "
                       "(22 unknowns), friction magnitudes by fixed point to 1e-45",
         "scene_file": str(SCENE.relative_to(ROOT)),
         "units": {"state": "q1, q2 (rad), q1', q2' (rad/s), Q1, Q2 (N·m)", "epsilon": "rad/s²", "loss": "W"},
-        "expected": out, "seconds": round(time.time() - t, 1)}, indent=1) + "\n", encoding="utf-8")
+        "expected": out, "holding": holding, "seconds": round(time.time() - t, 1)}, indent=1) + "\n", encoding="utf-8")
     print(f"wrote {OUT} in {time.time() - t:.1f} s")
     return 0
 
