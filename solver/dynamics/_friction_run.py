@@ -33,11 +33,12 @@ from scipy.optimize import brentq
 
 from ..errors import AssemblyError, DynamicsError
 from ._equation import Equation
+from ._friction import FrictionDynamics
 from ._run import Outcome, Solution, run
 from .drive import Drive
 from .reduced import ReducedModel
 
-__all__ = ["FrictionEquation", "run_with_friction", "MAX_SWITCHES"]
+__all__ = ["FrictionEquation", "FrictionOutcome", "run_with_friction", "first_outside", "MAX_SWITCHES"]
 
 #: At most this many switches (turning points, reversals, stick–slips) in one run: a run past it
 #: stops with one line (a chatter that would not end).
@@ -54,8 +55,8 @@ class FrictionEquation(Equation):
 
     def __init__(self, model: ReducedModel, drive: Drive) -> None:
         super().__init__(model, drive)
-        assert model.friction is not None
-        self.friction = model.friction
+        assert isinstance(model.friction, FrictionDynamics)
+        self.friction: FrictionDynamics = model.friction
         self.t0 = 0.0
         self.slip = 0.0  # where q̇ = 0: the direction the input slips in
         self.override: dict[int, float] | None = None  # at the segment's start: element → d
@@ -128,6 +129,8 @@ class FrictionOutcome(Outcome):
 
     messages: list[str] = field(default_factory=list)
     switches: list[tuple[str, float, float]] = field(default_factory=list)
+    #: the input of each switch (several inputs: solver.dynamics._friction_multi_run)
+    inputs: list[str] = field(default_factory=list)
 
 
 def _where(eq: FrictionEquation, t: float, q: float) -> str:
@@ -135,6 +138,30 @@ def _where(eq: FrictionEquation, t: float, q: float) -> str:
     unit = eq.model.scene.joint_units.get(name, "rad")
     at = f"{name} = {q:.9g} rad ({math.degrees(q):.6g}°)" if unit == "rad" else f"{name} = {q:.9g} {unit}"
     return f"t = {t:.9g} s, {at}"
+
+
+def first_outside(outside: Callable[[float], float], t_from: float, t_end: float, *, max_step: float,
+                  t_eval: np.ndarray | None) -> float:
+    """While the inputs stick under a drive that depends on the time: the first time in
+    (t_from, t_end] at which ``outside(t)`` > 0 (the drive leaves a holding interval), t_end if
+    none — sampled (STICK_SAMPLES, or every ``max_step``/``dt`` if finer), then Brent's method,
+    then the first float outside (the slip's own test)."""
+    n = STICK_SAMPLES
+    grid = np.linspace(t_from, t_end, n + 1)
+    finer = min(max_step, *(np.diff(t_eval) if t_eval is not None and t_eval.size > 1 else [math.inf]))
+    if math.isfinite(finer) and finer > 0 and (t_end - t_from) / finer > n:
+        grid = np.append(np.arange(t_from, t_end, finer), t_end)
+    prev = grid[0]
+    for t in grid[1:]:
+        if outside(float(t)) > 0.0:
+            r = float(brentq(outside, float(prev), float(t), xtol=1e-15, rtol=4 * np.finfo(float).eps))
+            for _ in range(64):
+                if outside(r) > 0.0:
+                    break
+                r = math.nextafter(r, math.inf)
+            return min(max(r, float(prev)), float(t))
+        prev = t
+    return t_end
 
 
 def run_with_friction(
@@ -173,22 +200,7 @@ def run_with_friction(
             e = float(eq.drive(t, [q], [0.0])[0])
             return max(lo - e, e - hi)
 
-        n = STICK_SAMPLES
-        grid = np.linspace(t_from, t_end, n + 1)
-        finer = min(max_step, *(np.diff(t_eval) if t_eval is not None and t_eval.size > 1 else [math.inf]))
-        if math.isfinite(finer) and finer > 0 and (t_end - t_from) / finer > n:
-            grid = np.append(np.arange(t_from, t_end, finer), t_end)
-        prev = grid[0]
-        for t in grid[1:]:
-            if outside(float(t)) > 0.0:
-                r = float(brentq(outside, float(prev), float(t), xtol=1e-15, rtol=4 * np.finfo(float).eps))
-                for _ in range(64):  # the first float at which it is outside (the slip's own test)
-                    if outside(r) > 0.0:
-                        break
-                    r = math.nextafter(r, math.inf)
-                return min(max(r, float(prev)), float(t))
-            prev = t
-        return t_end
+        return first_outside(outside, t_from, t_end, max_step=max_step, t_eval=t_eval)
 
     def stick_test(t: float, yy: list[float]) -> float:
         """At rest at ``t``: 0.0 if the input sticks, else the direction it slips in (one line each)."""

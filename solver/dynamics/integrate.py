@@ -25,6 +25,7 @@ from .._arguments import Arguments
 from ..errors import AssemblyError, DynamicsArgumentError, DynamicsError
 from ..tolerances import DYNAMICS_TOGGLE
 from ._equation import Equation
+from ._friction_multi_run import MultiFrictionEquation, run_with_friction_multi
 from ._friction_run import FrictionEquation, run_with_friction
 from ._guard import MAX_RATE, MAX_STEPS, RunGuard, rates_text
 from ._run import Outcome, run
@@ -68,9 +69,11 @@ class Trajectory:
     work_friction: np.ndarray | None = None
     #: one line per event of the run that did not end it: each stick and slip of a scene with friction
     messages: list[str] = field(default_factory=list)
-    #: with friction: each stick and slip as (``"stick"`` / ``"slip"``, t (s), q) — the input's
-    #: coordinates where it happened (in the order of ``messages``)
+    #: with friction: each stick and slip as (``"stick"`` / ``"slip"``, t (s), q) — the coordinate
+    #: of the input that sticks or slips (``switch_inputs``) where it happened (in the order of ``messages``)
     switches: list[tuple[str, float, float]] = field(default_factory=list)
+    #: with friction: the input of each entry of ``switches`` (several inputs stick and slip apart)
+    switch_inputs: list[str] = field(default_factory=list)
     _dense: Callable[[Any], np.ndarray] | None = field(default=None, repr=False)
 
     def at(self, t: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -247,7 +250,11 @@ def simulate(
     if friction and method not in OWN_METHODS:
         args.fail("method", method, "must be 'DOP853' or 'RK4' for a scene with friction (its switches are segment "
                   "ends of the own step loop)")
-    eq = FrictionEquation(model, fn) if friction else Equation(model, fn)
+    eq: Equation
+    if friction:
+        eq = FrictionEquation(model, fn) if k == 1 else MultiFrictionEquation(model, fn)
+    else:
+        eq = Equation(model, fn)
     y0 = np.array([*q0, *w0, 0.0, 0.0, *((0.0,) if friction else ())])
     try:
         eq.accelerations(0.0, q0, w0)
@@ -290,6 +297,7 @@ def simulate(
             t_eval = t_eval[:-1]
     messages: list[str] = []
     switches: list[tuple[str, float, float]] = []
+    switch_inputs: list[str] = []
     if method in OWN_METHODS:
         own_events = [(ev, int(getattr(ev, "direction", 0))) for ev in all_events]
         out: Outcome
@@ -298,6 +306,12 @@ def simulate(
                                     max_step=max_step, events=own_events, t_eval=t_eval,
                                     time_dependent=kind == "function")
             messages, switches = out.messages, out.switches
+            switch_inputs = [scene.inputs[0]] * len(switches)
+        elif isinstance(eq, MultiFrictionEquation):
+            out = run_with_friction_multi(eq, float(t_end), y0.tolist(), method=method, rtol=rtol, atol=atol,
+                                          step=step, max_step=max_step, events=own_events, t_eval=t_eval,
+                                          time_dependent=kind == "function")
+            messages, switches, switch_inputs = out.messages, out.switches, out.inputs
         else:
             out = run(eq, float(t_end), y0.tolist(), method=method, rtol=rtol, atol=atol, step=step,
                       max_step=max_step, events=own_events, t_eval=t_eval)
@@ -342,7 +356,7 @@ def simulate(
             known = None
     traj = _trajectory(scene, eq, ts, ys, dense, status=status, message=message, kind=kind, method=method,
                        rtol=rtol, atol=atol, nfev=nfev, known=known)
-    traj.messages, traj.switches = messages, switches
+    traj.messages, traj.switches, traj.switch_inputs = messages, switches, switch_inputs
     if status in ("toggle", "assembly", "runaway", "steps"):
         at = _where(scene, ys[:, -1])
         if status in ("runaway", "steps"):

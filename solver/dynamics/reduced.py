@@ -36,6 +36,7 @@ from ..groups import Context
 from ..jet import Jet
 from ..scene import CHUNK, Scene
 from ._friction import FrictionDynamics, FrictionLayer
+from ._friction_multi import InertiaLayer, MultiFrictionDynamics, StateLayer
 
 __all__ = ["ReducedModel", "reduced_model"]
 
@@ -89,12 +90,8 @@ class ReducedModel:
                                 scene=scene.name)
         #: the scene's Coulomb friction (solver.dynamics._friction), None without any; M, h and
         #: the loads' forces below are the frictionless mechanism's (friction is solved per state)
-        self.friction: FrictionDynamics | None = None
+        self.friction: FrictionDynamics | MultiFrictionDynamics | None = None
         spec = model.spec
-        if model.friction is not None and len(scene.inputs) != 1:
-            raise DynamicsError(f"names friction and has {len(scene.inputs)} inputs ({', '.join(scene.inputs)}): "
-                                "forward dynamics with Coulomb friction is for one input (docs/dynamics.md#friction)",
-                                scene=scene.name)
         if all(b.inert for b in spec.bodies):
             raise DynamicsError("every link is massless (no mass, inertia or flywheel): the reduced inertia is "
                                 "zero, so the motion under given efforts is not defined", scene=scene.name)
@@ -112,11 +109,16 @@ class ReducedModel:
             _variant(scene, replace(spec, bodies=_massless(spec.bodies), gravity=0j, loads=other)) if other else None
         )
         self.motors = dict(spec.motors)
-        if model.friction is not None:  # one compiled pass of every response the friction needs
+        other_forces = None if self.other is None else self.other.forces
+        if model.friction is not None and self.k == 1:  # one compiled pass of every response the friction needs
             rubbing = _variant(scene, rubs)
-            rubbing.forces = FrictionLayer(  # type: ignore[assignment]
-                rubbing.forces, self.inertia.forces, None if self.other is None else self.other.forces)
+            rubbing.forces = FrictionLayer(rubbing.forces, self.inertia.forces, other_forces)  # type: ignore[assignment]
             self.friction = FrictionDynamics(rubbing, model)
+        elif model.friction is not None:  # one pass at (q, q̇, 0) and one of the inertia per input
+            state, inert = _variant(scene, rubs), _variant(scene, rubs)
+            state.forces = StateLayer(state.forces, other_forces)  # type: ignore[assignment]
+            inert.forces = InertiaLayer(inert.forces, self.inertia.forces)  # type: ignore[assignment]
+            self.friction = MultiFrictionDynamics(state, inert, model)
         #: one input: the scene whose compiled instant gives (h, M, Q_other) in one pass
         self.stacked: Scene | None = None
         if self.k == 1:

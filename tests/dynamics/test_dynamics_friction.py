@@ -160,21 +160,6 @@ def test_a_slide_in_the_dynamics_balances_its_energy() -> None:
     np.testing.assert_allclose(k.effort("crank"), 0.0, atol=1e-9)
 
 
-def test_friction_with_several_inputs_is_refused_in_one_line() -> None:
-    scene = solver.load_scene("five_bar")
-    data = scene._data
-    from dataclasses import replace
-
-    from solver.forces.friction_spec import FrictionSpec, PinFriction
-
-    spec = data.forces
-    pin = spec.structure.pins[0]
-    rubbing = replace(spec, friction=FrictionSpec(pins=(PinFriction(0, pin.point, pin.body, pin.other, 0.1, 0.01),)))
-    five = type(scene)(replace(data, forces=rubbing))
-    with pytest.raises(solver.DynamicsError, match=r"five_bar: names friction and has 2 inputs .*for one input"):
-        five.simulate(0.1)
-
-
 def test_a_cylinders_seal_and_pin_friction_on_a_stroke_input() -> None:
     """tipper (an input that is a cylinder's stroke, N) with a seal of 300 N and a friction circle
     at O, pushed from rest by 2000 N beyond its breakaway force: each state needs exactly that
