@@ -86,9 +86,12 @@ def _solve2(e: complex, q: Any, r: Any, g: Any, h: Any, r1: Any, r2: Any) -> tup
 
 
 def slider_polish(s: Any, theta: Any, o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float],
-                  u: complex, v: complex, *, steps: int, xp: Backend) -> tuple[Any, Any, Any, Any]:
-    """``steps`` Newton steps on the two loop equations from (s, θ): ``(s, θ, e^{jθ}, closed)``,
-    ``closed`` where both residuals are within ``RESIDUAL_ROUNDING``·EPS·size²."""
+                  u: complex, v: complex, *, steps: int, xp: Backend, until: float | None = None,
+                  ) -> tuple[Any, Any, Any, Any, Any]:
+    """Up to ``steps`` Newton steps on the two loop equations from (s, θ) — per tick also ended by
+    a step |Δθ| ≤ ``until`` — : ``(s, θ, e^{jθ}, closed, |Δθ| of the last step)``, ``closed``
+    where both residuals are within ``RESIDUAL_ROUNDING``·EPS·size²."""
+    dt: Any = 0.0
     for _ in range(steps):
         w = xp.cis(theta)
         _, q, r, f1, f2 = _residuals(s, w, o, e, b_, c_, lengths, u, v)
@@ -98,11 +101,13 @@ def slider_polish(s: Any, theta: Any, o: Any, e: complex, b_: Any, c_: Any, leng
         ds, dt, _ = _solve2(e, q, r, g, h, -0.5 * f1, -0.5 * f2)
         s = s + ds
         theta = theta + dt
+        if until is not None and abs(dt) <= until:
+            break
     w = xp.cis(theta)
     *_, f1, f2 = _residuals(s, w, o, e, b_, c_, lengths, u, v)
     size = abs(o) + abs(b_) + abs(c_) + sum(lengths) + abs(u) + abs(v) + abs(s)
     bound = RESIDUAL_ROUNDING * EPS * size * size
-    return s, theta, w, (abs(f1) <= bound) & (abs(f2) <= bound)
+    return s, theta, w, (abs(f1) <= bound) & (abs(f2) <= bound), abs(dt)
 
 
 def slider_roots(o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float], u: complex,
@@ -124,8 +129,8 @@ def slider_roots(o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, flo
         near = np.abs(np.abs(w) - 1.0) <= ON_CIRCLE
         w = np.where(near, w / np.abs(w), np.nan)
         s = slider_start(w, o, e, b_, c_, lengths, u, v)
-        s, theta, w, good = slider_polish(s, np.angle(w), o, e, b_, c_, lengths, u, v, steps=POLISH_STEPS,
-                                          xp=NUMPY)
+        s, theta, w, good, _ = slider_polish(s, np.angle(w), o, e, b_, c_, lengths, u, v, steps=POLISH_STEPS,
+                                             xp=NUMPY)
         good = good & np.isfinite(s)
     theta = np.where(good, np.angle(w), np.nan)
     order = np.argsort(theta, axis=-1)  # NaN last

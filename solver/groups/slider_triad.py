@@ -39,7 +39,8 @@ Branch rule (the mode): the RRR triad's. ``angle`` θ₀ names the mode: at the 
     the root nearest the previous one carried forward by θ'·Δφ; a match farther than half the
     previous root's distance to its nearest other root where the count of real roots drops is a
     mode jump (a branch point between the samples): refused naming the φ. Per tick the previous
-    tick plays the previous sample.
+    tick plays the previous sample: Newton from the root it predicts, kept when unambiguous, else
+    every root and the rule (solver.groups._slider_triad_tick).
 Assembly fails where no real root exists (AssemblyError with the φ intervals).
 """
 
@@ -54,15 +55,15 @@ import numpy as np
 
 from .._fields import Entry, Units
 from ..jet import Jet
-from ._slider_triad_math import follow_roots, gap_of, nearest, slider_analogs, slider_roots
+from . import _slider_triad_tick as _tick
+from ._slider_triad_math import follow_roots, slider_analogs, slider_polish, slider_roots
+from ._slider_triad_tick import JUMP, NO_ROOT
+from ._triad_tick import FOLLOW_DONE, FOLLOW_STEPS
 from .base import Context, Group
 from .triad import ternary_shape
 
 __all__ = ["SliderTriad", "NO_ROOT", "JUMP"]
 
-NO_ROOT = "has no real assembly mode (slider triad)"
-JUMP = ("would jump assembly mode (a branch point: two of the slider triad's modes merge between this sample and "
-        "the previous one; sample more finely or choose another mode)")
 
 
 def _wrap(x: Any) -> Any:
@@ -123,18 +124,29 @@ class SliderTriad(Group):
         phi = ctx.phi
         th: Any
         s: Any
-        if not ctx.xp.vectorised:  # one tick: every root and the branch rule, in calls
+        if not ctx.xp.vectorised:  # one tick: Newton from the predicted root, else every root
             xp = ctx.xp
             step = sum(phi) if isinstance(phi, (tuple, list, np.ndarray)) else phi
             saved = dict(self._last) if xp.name == "trace" else None  # a trace never moves the mode
-            th = xp.call(self._t_root, step, jb.value, jc.value)
-            if not th == th:
-                ctx.require(self, False, reason=self._last.get("reason", NO_ROOT))
-            s = xp.call(self._t_slide, th)
-            w = xp.cis(th)
-            analogs = slider_analogs(s, w, o, e, u, v, jb, jc)
-            if th == th:
-                th = xp.call(self._t_accept, step, jb.value, jc.value, th, analogs[1])
+            b_, c_ = jb.value, jc.value
+            th = math.nan
+            pred = xp.call(self._t_predict, step, b_, c_)
+            if pred == pred:
+                s = xp.call(self._t_predicted_slide, pred)
+                s, th_n, w, closed, last = slider_polish(s, pred, o, e, b_, c_, self.lengths, u, v,
+                                                         steps=FOLLOW_STEPS, xp=xp, until=FOLLOW_DONE)
+                analogs = slider_analogs(s, w, o, e, u, v, jb, jc)
+                if closed and last <= FOLLOW_DONE:
+                    th = xp.call(self._t_accept, step, b_, c_, pred, th_n, s, analogs[0], analogs[1], analogs[4])
+            if not th == th:  # refused (or no prediction): every root and the branch rule
+                th = xp.call(self._t_full, step, b_, c_)
+                if not th == th:  # NaN: no real root, or a mode jump
+                    ctx.require(self, False, reason=self._last.get("reason", NO_ROOT))
+                s = xp.call(self._t_full_slide, th)
+                w = xp.cis(th)
+                analogs = slider_analogs(s, w, o, e, u, v, jb, jc)
+                if th == th:
+                    th = xp.call(self._t_accept_full, step, b_, c_, th, s, analogs[0], analogs[1], analogs[4])
             if saved is not None:
                 self._last.clear()
                 self._last.update(saved)
@@ -202,42 +214,26 @@ class SliderTriad(Group):
                                    "rate": float(rate[-1, slots[-1]]), "phi": float(step[-1])}
         return th, s
 
-    # the per-tick calls (opaque to the compiled instant: the state lives at run time)
-    def _t_root(self, step: float, b: complex, c: complex) -> float:
-        """θ of the followed root at ``step`` (NaN: no real root or a mode jump, the reason kept);
-        s kept for :meth:`_t_slide`. The same instant again starts from the same state."""
-        st = self._last
-        step, b, c = float(step), complex(b), complex(c)
-        if st.get("key") == (step, b, c):
-            st.update(st["before"])
-        st["pending"] = {k: st.get(k) for k in ("phi", "theta", "rate", "gap", "count", "key")}
-        theta, ss = slider_roots(self.origin, self.direction, b, c, self.lengths, *self.shape)
-        real = np.flatnonzero(np.isfinite(theta))
-        st["s"] = math.nan
-        if not real.size:
-            st["reason"] = NO_ROOT
-            return math.nan
-        roots = theta[real].tolist()
-        if st.get("theta") is None:
-            k, _ = nearest(roots, self.angle)
-        else:
-            k, dist = nearest(roots, st["theta"] + st["rate"] * (step - st["phi"]))
-            if real.size < st["count"] and dist > 0.5 * st["gap"]:
-                st["reason"] = JUMP
-                return math.nan
-        st.update(s=float(ss[real[k]]), new_gap=gap_of(roots, k), new_count=int(real.size))
-        return float(roots[k])
+    # the per-tick follow's calls (solver.groups._slider_triad_tick), bound methods the compiled code calls
+    def _t_predict(self, step: float, b: complex, c: complex) -> float:
+        return _tick.predict(self, step, b, c)
 
-    def _t_slide(self, theta: float) -> float:
-        return float(self._last["s"]) if theta == theta else math.nan
+    def _t_predicted_slide(self, theta: float) -> float:
+        return _tick.predicted_slide(self, theta)
 
-    def _t_accept(self, step: float, b: complex, c: complex, theta: float, rate: float) -> float:
-        """The state moved to this tick's root; its θ."""
-        st = self._last
-        st["before"] = st.pop("pending")
-        st.update(phi=float(step), theta=float(theta), rate=float(rate), gap=st["new_gap"], count=st["new_count"],
-                  key=(float(step), complex(b), complex(c)))
-        return float(theta)
+    def _t_accept(self, step: float, b: complex, c: complex, pred: float, theta: float, s: float, s1: float,
+                  rate: float, det: float) -> float:
+        return _tick.accept(self, step, b, c, pred, theta, s, s1, rate, det)
+
+    def _t_full(self, step: float, b: complex, c: complex) -> float:
+        return _tick.full(self, step, b, c)
+
+    def _t_full_slide(self, theta: float) -> float:
+        return _tick.full_slide(self, theta)
+
+    def _t_accept_full(self, step: float, b: complex, c: complex, theta: float, s: float, s1: float, rate: float,
+                       det: float) -> float:
+        return _tick.accept_full(self, step, b, c, theta, s, s1, rate, det)
 
     def assembly_residual(self, vals: Mapping[str, Jet]) -> tuple[Any, Any, Any]:
         """``R = +1`` where a real mode exists, ``−1`` where none (its sign change is bisected by

@@ -371,3 +371,31 @@ def test_synthesis_refuses_a_slider_triad_in_one_line() -> None:
     with pytest.raises(SceneError, match=r"^groups\[1\]: slider_triad 'triad': a template with a slider triad is not "
                                          r"synthesised yet"):
         solver.synthesize(pivot, point="E", through=through)
+
+
+def test_ticks_follow_by_newton_and_agree_with_the_sweep() -> None:
+    """Tick by tick (1e-3 rad apart) the root is Newton's from the predicted one — every root
+    (the eigenvalues) only at the first tick and while the compiled instant is traced (its eager
+    samples) — and each tick's values are the sweep's to round-off."""
+    from unittest import mock
+
+    import solver
+    from solver.groups import _slider_triad_tick
+
+    scene = solver.load_scene("slider_triad_press")
+    phi = np.arange(0.0, 0.3, 1e-3)
+    sweep = scene.solve(phi)
+    calls = []
+    real = _slider_triad_tick.slider_roots
+
+    def spy(*args: Any, **kw: Any) -> Any:
+        calls.append(1)
+        return real(*args, **kw)
+    with mock.patch.object(_slider_triad_tick, "slider_roots", spy):
+        for i, p in enumerate(phi):
+            k = scene.solve(float(p))
+            assert np.abs(np.asarray(k.point("F").position) - sweep.point("F").position[i]).max() <= 1e-14
+            assert abs(float(k.joint("ram").velocity) - sweep.joint("ram").velocity[i]) <= 1e-12
+            if i == 10:
+                calls.clear()
+    assert not calls, len(calls)
