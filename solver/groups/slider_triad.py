@@ -55,6 +55,7 @@ import numpy as np
 
 from .._fields import Entry, Units
 from ..jet import Jet
+from . import _slider_triad_sweep as _fast
 from . import _slider_triad_tick as _tick
 from ._slider_triad_math import follow_roots, slider_analogs, slider_polish, slider_roots
 from ._slider_triad_tick import JUMP, NO_ROOT
@@ -153,10 +154,8 @@ class SliderTriad(Group):
         else:
             if ctx.seeds is None and np.ndim(phi) == 2:
                 raise _population_refused(self)
-            th, s = self._sweep(ctx, phi, jb, jc)
+            th, s, analogs = self._sweep(ctx, phi, jb, jc)
             w = np.cos(th) + 1j * np.sin(th)
-            with np.errstate(all="ignore"):
-                analogs = slider_analogs(s, w, o, e, u, v, jb, jc)
         s1, t1, s2, t2, det = analogs
         uw, vw = u * w, v * w
         d = o + s * e
@@ -171,10 +170,11 @@ class SliderTriad(Group):
         b, c = self.lengths
         ctx.conditioning[self.name] = abs(det) / (b * c * (abs(u) + abs(v)))
 
-    def _sweep(self, ctx: Context, phi: Any, jb: Jet, jc: Jet) -> tuple[Any, Any]:
-        """Every sample's roots and the branch rule: ``(θ, s)`` of the followed root; a block of a
-        longer sweep (solver.scene solves in blocks of views into one array) continues from the
-        previous block's last root."""
+    def _sweep(self, ctx: Context, phi: Any, jb: Jet, jc: Jet) -> tuple[Any, Any, tuple[Any, ...]]:
+        """The followed root at every sample and its analogs: ``(θ, s, analogs)`` — through the
+        anchors' shortcut (solver.groups._slider_triad_sweep) where it holds, else every sample's
+        roots and the branch rule; a block of a longer sweep (solver.scene solves in blocks of
+        views into one array) continues from the previous block's last root."""
         n = len(phi)
         ph = np.asarray(phi, float).reshape(n, -1)
         step = ph.sum(axis=1)
@@ -185,6 +185,33 @@ class SliderTriad(Group):
             key = (id(base), offset)
         carry = self._last.get("block")
         carry = carry if key is not None and carry is not None and carry["key"] == key else None
+        if carry is not None:
+            start, target = 0, carry["theta"] + carry["rate"] * (float(step[0]) - carry["phi"])
+        elif self.at is None or ph.shape[1] != 1:
+            start, target = 0, self.angle
+        else:
+            start, target = int(np.argmin(np.abs(_wrap(ph[:, 0] - self.at)))), self.angle
+        o, e, (u, v) = self.origin, self.direction, self.shape
+        with np.errstate(all="ignore"):
+            fast = _fast.fast_sweep(self, step, jb, jc, start, target)
+            if fast is not None:
+                th, s = fast.theta, fast.s
+                analogs = slider_analogs(s, np.cos(th) + 1j * np.sin(th), o, e, u, v, jb, jc)
+                if not fast.holds(analogs[4]):
+                    fast = None
+        if fast is None:
+            th, s = self._full_sweep(ctx, step, jb, jc, start, target)
+            with np.errstate(all="ignore"):
+                analogs = slider_analogs(s, np.cos(th) + 1j * np.sin(th), o, e, u, v, jb, jc)
+        if key is not None and np.isfinite(th[-1]):
+            self._last["block"] = {"key": (key[0], key[1] + n), "theta": float(th[-1]),
+                                   "rate": float(np.real(analogs[1][-1])), "phi": float(step[-1])}
+        return th, s, analogs
+
+    def _full_sweep(self, ctx: Context, step: np.ndarray, jb: Jet, jc: Jet, start: int,
+                    target: float) -> tuple[Any, Any]:
+        """Every sample's roots and the branch rule: ``(θ, s)`` of the followed root."""
+        n = len(step)
         theta, ss = slider_roots(self.origin, self.direction, jb.value, jc.value, self.lengths, *self.shape)
         theta, ss = np.broadcast_to(theta, (n, 6)), np.broadcast_to(ss, (n, 6))
         ctx.require(self, np.isfinite(theta).any(axis=-1), reason=NO_ROOT)
@@ -196,23 +223,12 @@ class SliderTriad(Group):
         with np.errstate(all="ignore"):
             rate = np.real(slider_analogs(ss, np.cos(theta) + 1j * np.sin(theta), self.origin, self.direction,
                                           u, v, *jets)[1])
-        if carry is not None:
-            start, target = 0, carry["theta"] + carry["rate"] * (float(step[0]) - carry["phi"])
-        elif self.at is None or ph.shape[1] != 1:
-            start, target = 0, self.angle
-        else:
-            start, target = int(np.argmin(np.abs(_wrap(ph[:, 0] - self.at)))), self.angle
         slots, jumps = follow_roots(theta, rate, step, start, target)
         if jumps.any():
             ctx.require(self, ~jumps, reason=JUMP)
         rows = np.arange(n)
         pick = np.maximum(slots, 0)
-        th = np.where(slots >= 0, theta[rows, pick], np.nan)
-        s = np.where(slots >= 0, ss[rows, pick], np.nan)
-        if key is not None and slots[-1] >= 0:
-            self._last["block"] = {"key": (key[0], key[1] + n), "theta": float(th[-1]),
-                                   "rate": float(rate[-1, slots[-1]]), "phi": float(step[-1])}
-        return th, s
+        return np.where(slots >= 0, theta[rows, pick], np.nan), np.where(slots >= 0, ss[rows, pick], np.nan)
 
     # the per-tick follow's calls (solver.groups._slider_triad_tick), bound methods the compiled code calls
     def _t_predict(self, step: float, b: complex, c: complex) -> float:

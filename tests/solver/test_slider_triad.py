@@ -399,3 +399,51 @@ def test_ticks_follow_by_newton_and_agree_with_the_sweep() -> None:
             if i == 10:
                 calls.clear()
     assert not calls, len(calls)
+
+
+@pytest.mark.parametrize("i", [0, 3, 7, 11])
+def test_reference_in_a_dense_sweep_through_the_anchors_shortcut(i: int) -> None:
+    """0.05° apart a sweep takes the anchors' shortcut (solver.groups._slider_triad_sweep): the
+    same accuracy at the reference's φ, and the same root as the full path at every sample."""
+    from unittest import mock
+
+    from solver.groups import _slider_triad_sweep
+
+    case = _cases()[i]
+    phi_s = np.array([float(s["phi"]) for s in case["samples"]])
+    phi = np.unique(np.concatenate([np.linspace(phi_s.min(), phi_s.max(), 1201), phi_s]))
+    where = np.searchsorted(phi, phi_s)
+    size = _size(case)
+    calls = []
+    real = _slider_triad_sweep.fast_sweep
+
+    def spy(*args: Any, **kw: Any) -> Any:
+        out = real(*args, **kw)
+        calls.append(out is not None)
+        return out
+    with mock.patch.object(_slider_triad_sweep, "fast_sweep", spy):
+        k = _scene(case).solve(phi)
+    assert calls == [True]
+    with mock.patch.object(_slider_triad_sweep, "fast_sweep", lambda *a, **kw: None):
+        full = _scene(case).solve(phi)
+    for name in "DEF":
+        got = k.point(name).position @ [1, 1j]
+        ref = np.array([_c(s[name]) for s in case["samples"]])
+        vel = np.array([_c(s["d" + name]) for s in case["samples"]])
+        assert np.abs(got[where] - ref).max() <= TOL_POS * size, name
+        assert np.abs((k.point(name).velocity @ [1, 1j])[where] - vel).max() <= TOL_VEL * size, name
+        assert np.abs(got - full.point(name).position @ [1, 1j]).max() <= TOL_POS * size, name
+
+
+def test_a_sweep_longer_than_one_block_follows_its_mode_across_blocks() -> None:
+    """The scene solves 8192 samples a block: the second block continues the first's root."""
+    import solver
+
+    scene = solver.load_scene("slider_triad_press")
+    phi = np.linspace(0.0, 4 * np.pi, 9000)
+    k = scene.solve(phi)
+    np.testing.assert_allclose(k.point("D").position[:4000], scene.solve(phi[:4000]).point("D").position,
+                               rtol=0.0, atol=1e-14)
+    again = scene.solve(phi[8000:] - 2 * np.pi).point("D").position  # the same crank angles a turn earlier
+    np.testing.assert_allclose(k.point("D").position[8000:], again, atol=1e-12)
+    assert np.abs(np.diff(k.joint("ternary").position)).max() < 0.05
