@@ -1,6 +1,6 @@
 """The slider triad's cost against the RRR triad's and an RRR dyad's, measured in one process:
-``python -m bench.slider_triad``. The slider triad has no anchors' shortcut and no Newton follow
-per tick yet: every sample (tick) is a 6×6 eigenvalue problem and its Newton polish.
+``python -m bench.slider_triad`` (docs/stability.md#the-slider-triad). Both triads follow their
+mode without an eigenvalue problem per sample (anchors' shortcut) or per tick (Newton follow).
 
 Prints the load average beside the figures (the machine is shared; only the ratios are meaningful),
 and each figure as this process's CPU time (``process_time``) and wall-clock (``perf_counter``).
