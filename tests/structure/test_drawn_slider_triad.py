@@ -68,3 +68,17 @@ def test_a_slider_triad_drawn_at_a_dead_point_is_refused() -> None:
     pts.update({"E": [e.real, e.imag], "F": [f.real, f.imag]})
     with pytest.raises(SceneError, match=r"the slider triad ram, arm_b, arm_c, plate is drawn at a dead point"):
         scene_dict_from_drawing(bad)
+
+
+def test_a_swinging_block_leg_is_not_solved_and_says_so_in_one_line() -> None:
+    """The other one-prismatic variant (the ternary link's line sliding through a block at a fixed
+    pivot A) has no group: the drawing stalls naming the class-3 group (docs/scenes.md, Limits)."""
+    other = copy.deepcopy(DRAWN)
+    d = other["drawing"]  # type: ignore[index]
+    d["points"]["A"] = [-450, -300]
+    d["ground"] = ["O", "C", "A"]
+    del d["points"]["G"], d["points"]["H"]
+    d["slides"] = {"swivel": {"point": "A", "on": "plate", "along": ["D", "E"]}}
+    with pytest.raises(SceneError, match=r"arm_b, arm_c, plate, swivel form a group of class 3 or more") as err:
+        scene_dict_from_drawing(other)
+    assert "\n" not in str(err.value)
