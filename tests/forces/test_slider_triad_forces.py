@@ -3,6 +3,10 @@ independent checks, on tests/forces/scenes/slider_triad_press_loaded.yaml (the s
 slider_triad_press with masses on every body, gravity, a force on the ram, a torque on a binary
 link):
 
+* the 50-digit Newton–Euler reference (tests/reference/forces_mp.py: the slider triad's loop
+  solved by findroot and continued from the drawn pose, every body's equations as one linear
+  system), stored in tests/data/slider_triad/ (its random instants solved inside one sorted sweep
+  from ``at``, as the reference continues them — the RRR triad's arrangement);
 * route 1 (virtual power, no reaction) at random (ω, ε), vectorised and per instant;
 * each of the five bodies (crank, two binary links, the ternary link, the ram's block) in
   equilibrium with the pin reactions and the guide's normal force and couple the solver gives;
@@ -12,10 +16,13 @@ link):
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
+from test_forces_reference import _check, _expected, _reference_module, _scales
 
 import solver
 from solver._backend import NUMPY
@@ -26,6 +33,9 @@ from solver.groups import Context
 from solver.tolerances import EPS
 
 SCENE = Path(__file__).resolve().parent / "scenes" / "slider_triad_press_loaded.yaml"
+REFERENCE = Path(__file__).resolve().parents[1] / "data" / "slider_triad" / "forces_slider_triad_press_loaded.json"
+#: the sweep that carries the reference's instants: at most this far apart (rad)
+SWEEP_STEP = 0.01
 #: route 1 against route 2, relative to the largest effort of the sweep
 ROUTES_AGREE = 1e-12
 #: a body's equilibrium with the solver's reactions, relative to the largest force (torque) there
@@ -34,6 +44,65 @@ BALANCED = 1e-12
 REL = 256 * EPS
 #: loop closure of the binary links along a free run (lengths about 0.5 m)
 CLOSURE = 64 * EPS
+
+
+def _reference() -> tuple[solver.Scene, dict]:
+    ref = json.loads(REFERENCE.read_text())
+    assert _reference_module().digest(SCENE) == ref["scene_mechanics_sha256"], (
+        f"{SCENE.name}'s mechanics changed: python tests/reference/forces_mp.py {SCENE} --out tests/data/slider_triad")
+    return solver.load_scene(SCENE), ref
+
+
+def _sweep(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A sorted sweep from ``at`` = 0 over every q, with the q among its samples: (φ, where q sits)."""
+    lo, hi = min(q.min(), 0.0), max(q.max(), 0.0)
+    phi = np.unique(np.concatenate([np.linspace(lo, hi, int((hi - lo) / SWEEP_STEP) + 2), q, [0.0]]))
+    return phi, np.searchsorted(phi, q)
+
+
+class _At:
+    """The result of a sweep read at the reference's instants only."""
+
+    def __init__(self, k: Any, where: np.ndarray) -> None:
+        self.k, self.where = k, where
+
+    def effort(self, joint: str) -> np.ndarray:
+        return np.asarray(self.k.effort(joint))[self.where]
+
+    def reaction(self, point: str, *, on: str, by: str | None = None) -> np.ndarray:
+        return np.asarray(self.k.reaction(point, on=on, by=by))[self.where]
+
+    def slide_reaction(self, block: str) -> Any:
+        r = self.k.slide_reaction(block)
+
+        class _Pair:
+            force = np.asarray(r.force)[self.where]
+            couple = np.asarray(r.couple)[self.where]
+        return _Pair()
+
+
+def test_slider_triad_forces_match_the_newton_euler_reference() -> None:
+    """Vectorised along the sweep, then tick by tick along it from at = 0 outward."""
+    scene, ref = _reference()
+    q = np.array([float(r["q"][0]) for r in ref["samples"]])
+    phi, where = _sweep(q)
+    omega, epsilon = np.zeros_like(phi), np.zeros_like(phi)
+    omega[where] = [float(r["omega"][0]) for r in ref["samples"]]
+    epsilon[where] = [float(r["epsilon"][0]) for r in ref["samples"]]
+    expected = _expected(ref)
+    assert ("slide force", "block") in expected and ("reaction", "D", "plate") in expected
+    scales = _scales(ref, expected)
+    k = scene.solve(phi, omega=omega, epsilon=epsilon)
+    _check(scene, _At(k, where), expected, scales, slice(None), "slider_triad_press_loaded (vectorised)")
+    sample = {int(w): n for n, w in enumerate(where)}
+    order = np.argsort(np.abs(phi), kind="stable")
+    for path in ([i for i in order if phi[i] >= 0.0], [i for i in order if phi[i] < 0.0]):
+        tick = solver.load_scene(SCENE)
+        for i in path:
+            ki = tick.solve(float(phi[i]), omega=float(omega[i]), epsilon=float(epsilon[i]))
+            n = sample.get(int(i))
+            if n is not None:
+                _check(tick, ki, expected, scales, n, f"slider_triad_press_loaded (one instant, sample {n})")
 
 
 @pytest.mark.parametrize("seed", range(3))
