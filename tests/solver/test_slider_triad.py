@@ -447,3 +447,38 @@ def test_a_sweep_longer_than_one_block_follows_its_mode_across_blocks() -> None:
     again = scene.solve(phi[8000:] - 2 * np.pi).point("D").position  # the same crank angles a turn earlier
     np.testing.assert_allclose(k.point("D").position[8000:], again, atol=1e-12)
     assert np.abs(np.diff(k.joint("ternary").position)).max() < 0.05
+
+
+def test_two_inputs_jacobian_and_hessian_against_central_differences() -> None:
+    """Two cranks drive B and C: the slider triad's exact J and H (solver.multi's directional
+    jets through the group's linear system) against central differences of its positions."""
+    d, e, f = complex(-0.45, -0.8), complex(-0.39, 0.09), complex(-0.06, 0.3)
+    c0, p = complex(0.39, 0.5), complex(0.34, 0.5)
+    scene = build({
+        "scene": "two_inputs", "units": {"length": "m", "angle": "rad"},
+        "fixed": {"O": [0, 0], "P": [p.real, p.imag], "G": [-0.45, -0.49]},
+        "groups": [{"type": "crank", "name": "c1", "center": "O", "point": "B", "length": 0.1},
+                   {"type": "crank", "name": "c2", "center": "P", "point": "C", "length": 0.05},
+                   {"type": "slider_triad", "name": "t", "guide": {"through": "G", "angle": math.pi / 2},
+                    "ends": ["B", "C"], "points": ["D", "E", "F"], "lengths": [abs(e - 0.1), abs(f - c0)],
+                    "shape": {k: [z.real, z.imag] for k, z in zip("DEF", (d, e, f))},
+                    "angle": float(np.angle(e - d)), "slide": "s"}],
+        "outputs": {"points": ["E", "F"], "joints": ["s"]},
+    })
+    q = np.stack([np.linspace(0.0, 0.4, 21), np.linspace(0.0, 0.3, 21)], axis=1)
+    k = scene.solve(q)
+    h = 1e-5
+    for i in range(2):
+        dq = np.zeros(2)
+        dq[i] = h
+        kp, km = scene.solve(q + dq), scene.solve(q - dq)
+        for name in "EF":
+            fd = (kp.point(name).position - km.point(name).position) / (2 * h)
+            assert np.abs(k.point(name).jacobian[..., i] - fd).max() <= TOL_FD
+            fd2 = (kp.point(name).jacobian - km.point(name).jacobian) / (2 * h)
+            assert np.abs(k.point(name).hessian[..., i] - fd2).max() <= TOL_FD
+        fds = (kp.joint("s").position - km.joint("s").position) / (2 * h)
+        assert np.abs(k.joint("s").jacobian[..., i] - fds).max() <= TOL_FD
+    one = scene.solve((0.2, 0.15))  # one instant of two inputs (the per-tick path): the sweep's row
+    np.testing.assert_allclose(np.asarray(one.point("E").jacobian), k.point("E").jacobian[10], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(np.asarray(one.point("E").hessian), k.point("E").hessian[10], rtol=0, atol=1e-11)
