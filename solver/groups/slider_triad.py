@@ -40,7 +40,9 @@ Branch rule (the mode): the RRR triad's. ``angle`` θ₀ names the mode: at the 
     previous root's distance to its nearest other root where the count of real roots drops is a
     mode jump (a branch point between the samples): refused naming the φ. Per tick the previous
     tick plays the previous sample: Newton from the root it predicts, kept when unambiguous, else
-    every root and the rule (solver.groups._slider_triad_tick).
+    every root and the rule (solver.groups._slider_triad_tick); a dense monotone sweep finds every
+    root on anchors only and polishes the interpolated root between them under the same checks
+    (solver.groups._slider_triad_sweep), else every sample's roots.
 Assembly fails where no real root exists (AssemblyError with the φ intervals).
 """
 
