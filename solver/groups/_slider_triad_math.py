@@ -22,10 +22,16 @@ from ..tolerances import EPS
 from ._triad_math import ON_CIRCLE, POLISH_STEPS, RESIDUAL_ROUNDING, SAME_ROOT
 
 __all__ = ["slider_coefficients", "slider_start", "slider_polish", "slider_roots", "slider_analogs",
-           "follow_roots", "DEGREE"]
+           "follow_roots", "DEGREE", "DEGREE_DROP"]
 
 #: The degree of the loop polynomial in w (w³·G(w), G a Laurent polynomial of w^{−3} … w³).
 DEGREE: int = 6
+
+#: w³·G's leading coefficient (and, self-inversive, its constant one) counts as 0 below this
+#: share of size⁴ (G's terms are of order size⁴, size = |B − O| + |C − O| + b + c + |u| + |v|):
+#: B = C (both binary links on one pivot), where the degree drops to 4 (two roots at 0 and ∞, none
+#: on the circle) and a rounding-noise leading coefficient would spoil the others.
+DEGREE_DROP: float = 1e-13
 
 _ROOTS7 = np.exp(2j * np.pi * np.arange(7) / 7)
 
@@ -122,6 +128,13 @@ def slider_roots(o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, flo
     comp[..., 1:, :-1] = np.eye(DEGREE - 1)
     with np.errstate(all="ignore"):
         comp[..., :, -1] = -coef[..., :DEGREE] / coef[..., DEGREE:]
+        size = np.abs(b_[..., 0] - o) + np.abs(c_[..., 0] - o) + sum(lengths) + abs(u) + abs(v)
+        drop = np.abs(coef[..., DEGREE]) <= DEGREE_DROP * size**4
+        if drop.any():  # degree 4 (c₁ … c₅): its companion in the top-left corner, 0 for the rest
+            low = np.zeros((int(drop.sum()), DEGREE, DEGREE), complex)
+            low[:, 1:4, :3] = np.eye(3)
+            low[:, :4, 3] = -coef[drop][:, 1:5] / coef[drop][:, 5:6]
+            comp[drop] = low
         ok = np.isfinite(comp).all(axis=(-2, -1))
         comp[~ok] = 0.0
         w = np.linalg.eigvals(comp)

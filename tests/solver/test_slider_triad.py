@@ -482,3 +482,23 @@ def test_two_inputs_jacobian_and_hessian_against_central_differences() -> None:
     one = scene.solve((0.2, 0.15))  # one instant of two inputs (the per-tick path): the sweep's row
     np.testing.assert_allclose(np.asarray(one.point("E").jacobian), k.point("E").jacobian[10], rtol=0, atol=1e-12)
     np.testing.assert_allclose(np.asarray(one.point("E").hessian), k.point("E").hessian[10], rtol=0, atol=1e-11)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_both_binary_links_on_one_pivot_drop_the_degree_to_four(seed: int) -> None:
+    """B = C: w³·G's leading and constant coefficients vanish (conj(B − C) = 0), the polynomial
+    has degree 4 in w (DEGREE_DROP): every mode still found (brute force), the drawn one to round-off."""
+    rng = np.random.default_rng(50 + seed)
+    o, e, b_, _, _, u, v, theta = _random_instance(rng)
+    d = o + rng.uniform(-0.8, 0.8) * e
+    w = np.exp(1j * theta)
+    lengths = (abs(d + u * w - b_), abs(d + v * w - b_))
+    coef = slider_coefficients(o, e, b_, b_, lengths, u, v)
+    size = abs(b_ - o) * 2 + sum(lengths) + abs(u) + abs(v)
+    assert abs(coef[6]) <= 1e-15 * size**4 and abs(coef[0]) <= 1e-15 * size**4  # rounding only
+    got, _ = slider_roots(o, e, b_, b_, lengths, u, v)
+    got = got[np.isfinite(got)]
+    want = _brute_modes(o, e, b_, b_, lengths, u, v, rng)
+    assert len(got) == len(want) <= 4
+    np.testing.assert_allclose(np.sort(got), want, atol=1e-8)
+    assert np.min(np.abs(got - theta)) <= 1e-13
