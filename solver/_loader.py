@@ -279,7 +279,7 @@ def _check_fixed_joints(top: Entry, fixed: Mapping[str, Any], groups: list[Group
 
 
 #: Groups that close a loop: between fixed points only, they would not move with the input.
-_CLOSURES = ("rrr", "rrp", "slotted", "triad")
+_CLOSURES = ("rrr", "rrp", "slotted", "triad", "slider_triad")
 
 
 def _check_moving(top: Entry, fixed: Mapping[str, Any], groups: list[Group]) -> None:

@@ -23,6 +23,10 @@ triad A, B, C → D, E, F     ``<g>_AD`` (revolute about A),        pins E, F: `
                            ``<g>_BE`` (about B), ``<g>_CF``       ``<g>``, ``<g>_CF`` / ``<g>``
                            (about C), ternary ``<g>`` [D, E, F]
                            (revolute about D on ``<g>_AD``)
+slider_triad D on a guide; ``<g>_slider`` (prismatic on the guide),  pins E, F: ``<g>_BE`` /
+B, C → E, F                ternary ``<g>`` [D, E, F] (revolute     ``<g>``, ``<g>_CF`` / ``<g>``
+                           about D on the slider), ``<g>_BE``
+                           (about B), ``<g>_CF`` (about C)
 spherical_crank_slider     ``<g>_shaft`` (about y), ``<g>_ring``  pin K: ring / cage
                            (about the groove normal), ``<g>_cage``
                            (about −x)
@@ -53,6 +57,7 @@ from solver.groups import (
     CoupledCrank,
     Crank,
     JointExpression,
+    SliderTriad,
     Slotted,
     SphericalCrankSlider,
     Triad,
@@ -74,8 +79,8 @@ __all__ = [
 ]
 
 #: Group kinds the URDF export understands.
-SUPPORTED_GROUPS = ("crank", "actuator", "attached", "rrr", "rrp", "slotted", "triad", "spherical_crank_slider",
-                    "joint")
+SUPPORTED_GROUPS = ("crank", "actuator", "attached", "rrr", "rrp", "slotted", "triad", "slider_triad",
+                    "spherical_crank_slider", "joint")
 
 
 def _c(v: Vec3) -> complex:
@@ -197,6 +202,17 @@ class _Builder:
         rod = self.add_body(Body(g.name, "bar", a, (a, b), {a: (0.0, 0.0, 0.0), b: (g.length, 0.0, 0.0)}), g)
         rod.bars.append((a, b))
         self.pin(parent, rod, a)
+        slider = self.ground_slider(g, b)
+        self.owner[b] = rod.name
+        rod.pins.append(b)
+        self.cuts.append(
+            Cut(f"{g.name}_{b}", "pin", b, rod.name, rod.local[b], slider.name, (0.0, 0.0, 0.0),
+                f"pin {b} joins rod and slider of RRP dyad '{g.name}'; cutting it keeps both on the tree")
+        )
+
+    def ground_slider(self, g: RRP | SliderTriad, b: str) -> Body:
+        """A slider block ``<g>_slider`` at ``b`` on the group's fixed guide (a prismatic joint
+        from the base along the guide: its coordinate is the slide from the guide's origin)."""
         slider = self.add_body(Body(f"{g.name}_slider", "slider", b, complex(g.direction), {b: (0.0, 0.0, 0.0)}), g)
         slider.size["guide_angle"] = math.atan2(g.direction.imag, g.direction.real)
         self.joints.append(
@@ -212,12 +228,37 @@ class _Builder:
                 data=(_v(g.origin), slider.size["guide_angle"]),
             )
         )
-        self.owner[b] = rod.name
-        rod.pins.append(b)
-        self.cuts.append(
-            Cut(f"{g.name}_{b}", "pin", b, rod.name, rod.local[b], slider.name, (0.0, 0.0, 0.0),
-                f"pin {b} joins rod and slider of RRP dyad '{g.name}'; cutting it keeps both on the tree")
-        )
+        return slider
+
+    def slider_triad(self, g: SliderTriad) -> None:
+        """The slider at D on the guide, the ternary link hung at D on it (frame D → E, as the
+        group's θ), the binary bars about B and C, cut at E and at F (two loops)."""
+        (b, c), (d, e, f) = g.ends, g.points
+        u, v = g.shape
+        slider = self.ground_slider(g, d)
+        ternary = self.add_body(Body(g.name, "bar", d, (d, e), {d: (0.0, 0.0, 0.0), e: _v(u), f: _v(v)}), g)
+        ternary.bars += [(d, e), (e, f), (f, d)]
+        self.pin(slider, ternary, d)
+        slider.pins.append(d)
+        bars = []
+        for end, point, length in zip((b, c), (e, f), g.lengths):
+            parent = self.holder(end, g)
+            bar = self.add_body(
+                Body(f"{g.name}_{end}{point}", "bar", end, (end, point),
+                     {end: (0.0, 0.0, 0.0), point: (length, 0.0, 0.0)}), g
+            )
+            bar.bars.append((end, point))
+            self.pin(parent, bar, end)
+            bars.append(bar)
+        for name in (d, e, f):
+            self.owner[name] = ternary.name
+        for bar, point in zip(bars, (e, f)):
+            bar.pins.append(point)
+            self.cuts.append(
+                Cut(f"{g.name}_{point}", "pin", point, bar.name, bar.local[point], ternary.name, ternary.local[point],
+                    f"pin {point} joins bar {bar.name} to the ternary link of slider triad '{g.name}'; cutting it "
+                    "(and the other bar's pin) keeps the slider, the ternary link and both bars on the tree")
+            )
 
     def slotted(self, g: Slotted) -> None:
         a, b = g.pivot, g.through
@@ -332,6 +373,7 @@ def build_model(scene: object) -> TreeModel:
         Attached: b.attached,
         SphericalCrankSlider: b.spherical,
         Triad: b.triad,
+        SliderTriad: b.slider_triad,
     }
     for g in scene.ordered:  # type: ignore[attr-defined]
         if isinstance(g, JointExpression):

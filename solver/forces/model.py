@@ -21,7 +21,7 @@ import numpy as np
 
 from .._backend import Backend
 from .._trace import TraceError
-from ..groups import RRP, RRR, Actuator, CoupledCrank, Crank, Slotted, Triad
+from ..groups import RRP, RRR, Actuator, CoupledCrank, Crank, SliderTriad, Slotted, Triad
 from ..jet import Jet
 from ..tolerances import SINGULAR
 from .actuator import ActuatorForces
@@ -30,6 +30,7 @@ from .frames import accel, inertial_wrench, spring_force, table_force
 from .friction import FrictionModel
 from .rrp import RRPForces
 from .rrr import RRRForces
+from .slider_triad import SliderTriadForces
 from .slotted import SlottedForces
 from .spec import Body, Damper, ForceSpec, PointForce, Spring, TableForce, Torque
 from .state import ForcePass
@@ -38,7 +39,7 @@ from .triad import TriadForces
 
 __all__ = ["ForceModel", "Step"]
 
-Step = CrankForces | ActuatorForces | RRRForces | RRPForces | SlottedForces | TriadForces
+Step = CrankForces | ActuatorForces | RRRForces | RRPForces | SlottedForces | TriadForces | SliderTriadForces
 
 
 @dataclass(frozen=True)
@@ -87,6 +88,13 @@ class ForceModel:
                                        (owner[a, arms[0]], owner[b, arms[1]], owner[c, arms[2]]),
                                        (pin_index[a, arms[0]], pin_index[b, arms[1]], pin_index[c, arms[2]],
                                         pin_index[d, arms[0]], pin_index[e, arms[1]], pin_index[f, arms[2]])))
+            elif isinstance(g, SliderTriad):
+                two, three, block = f"{g.name}.2", f"{g.name}.3", f"{g.name}.block"
+                (b, c), (d, e, f) = g.ends, g.points
+                out.append(SliderTriadForces((two, three), g.name, block, g.ends, g.points,
+                                             (owner[b, two], owner[c, three]), g.direction,
+                                             (pin_index[b, two], pin_index[c, three], pin_index[e, two],
+                                              pin_index[f, three], pin_index[d, block]), slide_index[block]))
             elif isinstance(g, RRP):
                 block = f"{g.name}.block"
                 out.append(RRPForces(g.name, block, g.end, g.point, owner[g.end, g.name], g.direction,

@@ -12,6 +12,9 @@ rrr        ``name.1``: [A, B];  ``name.2``: [C, B]      A: 1 ↔ owner(A); C: 2 
 triad      ternary ``name``: [D, E, F]; binary            A: 1 ↔ owner(A); B: 2 ↔ owner(B); C: 3 ↔
            ``name.1``: [A, D], ``.2``: [B, E],          owner(C); D: 1 ↔ ternary; E: 2 ↔ ternary;
            ``.3``: [C, F]                               F: 3 ↔ ternary
+slider_    ternary ``name``: [D, E, F]; block             B: 2 ↔ owner(B); C: 3 ↔ owner(C);
+triad      ``name.block``: [D] (frame: the guide's);   E: 2 ↔ ternary; F: 3 ↔ ternary; D:
+           binary ``name.2``: [B, E], ``.3``: [C, F]    block ↔ ternary; slide: block on ground
 rrp        rod ``name``: [A, B]; block ``name.block``:  A: rod ↔ owner(A); B: rod ↔ block;
            [B] (frame: the guide's)                     slide: block on the ground's guide
 slotted    link ``name``: [pivot, C, E, …];              pivot: link ↔ owner(pivot); B: block ↔
@@ -23,7 +26,7 @@ joints     none (read-outs)                             —
 
 The *owner* of a point is the body a later group's pin at that point attaches to: ground for a
 fixed point, the crank for its point, an actuator's pushed link for its eye C, the first link
-(A–B) of an RRR for B, a triad's ternary link for D, E and F, the slider block of an RRP for B,
+(A–B) of an RRR for B, a triad's (or slider triad's) ternary link for D, E and F, the slider block of an RRP for B,
 the slotted link for its points, the carrying link for an attached point (never a cylinder: it
 carries no other point). A point that several bodies carry (B of an RRR is on both links) is
 "on" each of them for loads.
@@ -38,7 +41,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..groups import RRP, RRR, Actuator, Attached, Crank, Group, JointExpression, Slotted, Triad
+from ..groups import RRP, RRR, Actuator, Attached, Crank, Group, JointExpression, SliderTriad, Slotted, Triad
 
 __all__ = ["GROUND", "Link", "Pin", "Slide", "Structure", "derive_structure", "StructureFault"]
 
@@ -138,6 +141,15 @@ def derive_structure(ordered: Sequence[Group], fixed: Mapping[str, Any]) -> Stru
             pins += [Pin(a, arms[0], owner[a]), Pin(b, arms[1], owner[b]), Pin(c, arms[2], owner[c]),
                      Pin(d, arms[0], g.name), Pin(e, arms[1], g.name), Pin(f, arms[2], g.name)]
             owner[d] = owner[e] = owner[f] = g.name
+        elif isinstance(g, SliderTriad):
+            (b, c), (d, e, f) = g.ends, g.points
+            two, three, block = f"{g.name}.2", f"{g.name}.3", f"{g.name}.block"
+            links += [Link(two, g.name, (b, e)), Link(three, g.name, (c, f)), Link(g.name, g.name, (d, e, f)),
+                      Link(block, g.name, (d,), True, g.direction)]
+            pins += [Pin(b, two, owner[b]), Pin(c, three, owner[c]), Pin(e, two, g.name), Pin(f, three, g.name),
+                     Pin(d, block, g.name)]
+            slides.append(Slide(block, GROUND, d))
+            owner[d] = owner[e] = owner[f] = g.name
         elif isinstance(g, RRP):
             block = f"{g.name}.block"
             links += [Link(g.name, g.name, (g.end, g.point)), Link(block, g.name, (g.point,), True, g.direction)]
@@ -179,7 +191,8 @@ def derive_structure(ordered: Sequence[Group], fixed: Mapping[str, Any]) -> Stru
         else:
             raise StructureFault(
                 f"{g.kind} '{g.name}': forces are modelled for the planar groups (crank, actuator, rrr, rrp, "
-                "slotted, triad, attached); a vector-loop scene (seed 004) has no body structure here (docs/forces.md)"
+                "slotted, triad, slider_triad, attached); a vector-loop scene (seed 004) has no body structure here "
+                "(docs/forces.md)"
             )
         if not isinstance(g, Attached):
             makers.append(g)

@@ -11,6 +11,7 @@ from .crank import CoupledCrank, CoupledCrankEntry, Crank
 from .joints import JOINT_KINDS, JointExpression
 from .rrp import RRP
 from .rrr import RRR
+from .slider_triad import SliderTriad
 from .slotted import Slotted
 from .spherical import SphericalCrankSlider
 from .triad import Triad
@@ -27,6 +28,7 @@ __all__ = [
     "JointExpression",
     "RRP",
     "RRR",
+    "SliderTriad",
     "Slotted",
     "SphericalCrankSlider",
     "Triad",
@@ -34,6 +36,6 @@ __all__ = [
 
 #: The group types a scene's ``groups:`` list may name, by their ``type:`` key.
 GROUP_TYPES: dict[str, Any] = {
-    cls.kind: cls for cls in (Crank, Actuator, Attached, Slotted, RRR, RRP, SphericalCrankSlider, Triad)
+    cls.kind: cls for cls in (Crank, Actuator, Attached, Slotted, RRR, RRP, SphericalCrankSlider, Triad, SliderTriad)
 }
 GROUP_TYPES[CoupledCrankEntry.kind] = CoupledCrankEntry  # the drawn form's coupled input (solver.structure)

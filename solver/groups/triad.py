@@ -79,7 +79,7 @@ from ._triad_math import (
 )
 from .base import Context, Group
 
-__all__ = ["Triad", "triad_roots", "triad_coefficients", "triad_analogs", "ON_CIRCLE", "SAME_ROOT"]
+__all__ = ["Triad", "ternary_shape", "triad_roots", "triad_coefficients", "triad_analogs", "ON_CIRCLE", "SAME_ROOT"]
 
 
 @dataclass(frozen=True)
@@ -323,50 +323,7 @@ class Triad(Group):
             raise e.error(f"must be [|AD|, |BE|, |CF|], got {raw!r}", "lengths")
         sub = e.child("lengths", {"AD": raw[0], "BE": raw[1], "CF": raw[2]})
         lengths = (sub.length("AD", units), sub.length("BE", units), sub.length("CF", units))
-        has_sides, has_shape = "sides" in e.data, "shape" in e.data
-        u: Any  # complex, or (C, 1) arrays in a population (solver.synthesis)
-        v: Any
-        if has_sides == has_shape:
-            raise e.error("give the ternary link as either sides: [DE, EF, FD] (with M) or shape: {D: [x, y], E, F}",
-                          "sides")
-        if has_sides:
-            raw = e.raw("sides")
-            if not isinstance(raw, (list, tuple)) or len(raw) != 3:
-                raise e.error(f"must be [|DE|, |EF|, |FD|], got {raw!r}", "sides")
-            ss = e.child("sides", {"DE": raw[0], "EF": raw[1], "FD": raw[2]})
-            de, ef, fd = (ss.length(k, units) for k in ("DE", "EF", "FD"))
-            cos_d = (de * de + fd * fd - ef * ef) / (2.0 * de * fd)
-            if isinstance(cos_d, np.ndarray):  # a population (solver.synthesis): no triangle → NaN, rejected
-                with np.errstate(invalid="ignore"):
-                    ang = e.mode() * np.arccos(np.where((cos_d > -1.0) & (cos_d < 1.0), cos_d, np.nan))
-                u, v = de + 0j, fd * (np.cos(ang) + 1j * np.sin(ang))
-            else:
-                if not -1.0 < cos_d < 1.0:
-                    raise e.error(f"[{de:.6g}, {ef:.6g}, {fd:.6g}] is no triangle (each side shorter than the "
-                                  "other two)", "sides")
-                ang = e.mode() * math.acos(cos_d)
-                u, v = complex(de, 0.0), fd * complex(math.cos(ang), math.sin(ang))
-        else:
-            sh = e.child("shape", e.raw("shape"))
-            pts: list[Any] = []
-            for k in points:
-                xy = sh.raw(k)
-                if not isinstance(xy, (list, tuple)) or len(xy) != 2:
-                    raise sh.error(f"must be [x, y], got {xy!r}", k)
-                pts.append(sh.length_value(sh.as_number(xy[0], k), k, units, positive=False)
-                           + 1j * sh.length_value(sh.as_number(xy[1], k), k, units, positive=False))
-            sh.done()
-            line = np.abs(cross(pts[1] - pts[0], pts[2] - pts[0])) <= 1e-12 * np.abs(pts[1] - pts[0]) ** 2
-            u, v = pts[1] - pts[0], pts[2] - pts[0]
-            if isinstance(line, np.ndarray):  # a population: three points on one line → NaN, rejected
-                u = np.where(line, np.nan, u)
-            elif line:
-                raise e.error("the ternary link's three points are on one line", "shape")
-            else:
-                u, v = complex(u), complex(v)
-            u, v = np.abs(u) + 0j, v * np.conj(u) / np.abs(u)  # θ = arg(E − D) in both forms
-            if not isinstance(u, np.ndarray):
-                u, v = complex(u), complex(v)
+        u, v = ternary_shape(e, points, units)
         at = e.raw("at", None)
         joint = e.raw("joint", None)
         return cls(
@@ -379,3 +336,55 @@ class Triad(Group):
             at=None if at is None else e.angle("at", units),
             joint=None if joint is None else e.name("joint"),
         )
+
+
+def ternary_shape(e: Entry, points: tuple[str, ...], units: Units) -> tuple[Any, Any]:
+    """A ternary link's shape from its entry: ``sides: [DE, EF, FD]`` with ``M`` or ``shape: {D: [x, y],
+    E, F}`` → ``(u, v)`` = (E − D, F − D) in the link's own frame (θ = arg(E − D)); (C, 1) arrays with
+    NaN where a design has no ternary link in a population (solver.synthesis). Shared by the
+    triads (solver.groups.triad, solver.groups.slider_triad)."""
+    has_sides, has_shape = "sides" in e.data, "shape" in e.data
+    u: Any  # complex, or (C, 1) arrays in a population (solver.synthesis)
+    v: Any
+    if has_sides == has_shape:
+        raise e.error("give the ternary link as either sides: [DE, EF, FD] (with M) or shape: {D: [x, y], E, F}",
+                      "sides")
+    if has_sides:
+        raw = e.raw("sides")
+        if not isinstance(raw, (list, tuple)) or len(raw) != 3:
+            raise e.error(f"must be [|DE|, |EF|, |FD|], got {raw!r}", "sides")
+        ss = e.child("sides", {"DE": raw[0], "EF": raw[1], "FD": raw[2]})
+        de, ef, fd = (ss.length(k, units) for k in ("DE", "EF", "FD"))
+        cos_d = (de * de + fd * fd - ef * ef) / (2.0 * de * fd)
+        if isinstance(cos_d, np.ndarray):  # a population (solver.synthesis): no triangle → NaN, rejected
+            with np.errstate(invalid="ignore"):
+                ang = e.mode() * np.arccos(np.where((cos_d > -1.0) & (cos_d < 1.0), cos_d, np.nan))
+            u, v = de + 0j, fd * (np.cos(ang) + 1j * np.sin(ang))
+        else:
+            if not -1.0 < cos_d < 1.0:
+                raise e.error(f"[{de:.6g}, {ef:.6g}, {fd:.6g}] is no triangle (each side shorter than the "
+                              "other two)", "sides")
+            ang = e.mode() * math.acos(cos_d)
+            u, v = complex(de, 0.0), fd * complex(math.cos(ang), math.sin(ang))
+    else:
+        sh = e.child("shape", e.raw("shape"))
+        pts: list[Any] = []
+        for k in points:
+            xy = sh.raw(k)
+            if not isinstance(xy, (list, tuple)) or len(xy) != 2:
+                raise sh.error(f"must be [x, y], got {xy!r}", k)
+            pts.append(sh.length_value(sh.as_number(xy[0], k), k, units, positive=False)
+                       + 1j * sh.length_value(sh.as_number(xy[1], k), k, units, positive=False))
+        sh.done()
+        line = np.abs(cross(pts[1] - pts[0], pts[2] - pts[0])) <= 1e-12 * np.abs(pts[1] - pts[0]) ** 2
+        u, v = pts[1] - pts[0], pts[2] - pts[0]
+        if isinstance(line, np.ndarray):  # a population: three points on one line → NaN, rejected
+            u = np.where(line, np.nan, u)
+        elif line:
+            raise e.error("the ternary link's three points are on one line", "shape")
+        else:
+            u, v = complex(u), complex(v)
+        u, v = np.abs(u) + 0j, v * np.conj(u) / np.abs(u)  # θ = arg(E − D) in both forms
+        if not isinstance(u, np.ndarray):
+            u, v = complex(u), complex(v)
+    return u, v

@@ -38,8 +38,9 @@ follows, ratio, offset}`` (angle = ratio·φ_follows + offset; offset in the ang
 kind is the importers' to add; until it exists such a scene is refused by the loader by type.
 Every fault is one SceneError line naming what to change. Deterministic: the same drawing gives
 the same groups, names and order every time. A triad (class 3: a ternary link on three binary
-links) is found after the dyads (``triad_step``), its mode read off the pose; a group of class 4 or
-more is refused naming its links.
+links) is found after the dyads (``triad_step``), its mode read off the pose, and so is a triad
+with one of its points on a ground slide instead of a third binary link (``slider_triad_step``); a
+group of class 4 or more, or another class-3 group, is refused naming its links.
 """
 
 from __future__ import annotations

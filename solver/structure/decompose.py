@@ -45,6 +45,7 @@ from typing import Any, TypeVar
 
 from .drawing import GROUND, Drawing
 from .graph import body_points
+from .slider_triad_step import slider_triad_candidates
 from .step import Step, cross, dot
 from .step import refuse_toggle as _toggle
 from .triad_step import triad_candidates
@@ -261,6 +262,7 @@ def _candidates_of(st: _State, what: str, name: str) -> Iterator[Candidate]:
         yield from _rrr_candidates(st, name)
 
         yield from triad_candidates(st, name)
+        yield from slider_triad_candidates(st, name)
 
 
 def _one_known(st: _State, link: str) -> str | None:

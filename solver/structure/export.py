@@ -20,7 +20,7 @@ from typing import Any
 from .._fields import LENGTH_UNITS
 from ..errors import SceneError
 from ..forces.structure import StructureFault, derive_structure
-from ..groups import RRP, Actuator, Attached, Crank, Group, JointExpression, Slotted, Triad
+from ..groups import RRP, Actuator, Attached, Crank, Group, JointExpression, SliderTriad, Slotted, Triad
 
 __all__ = ["drawing_from_groups"]
 
@@ -85,7 +85,10 @@ def drawing_from_groups(
             continue
         if ln.block:
             if isinstance(g, RRP):
-                slides[_name(ln.name)] = _guide(g, positions, ground, put, points, scale)
+                slides[_name(ln.name)] = _guide(g, g.point, g.length, g.joint, positions, ground, put, points, scale)
+            elif isinstance(g, SliderTriad):
+                slides[_name(ln.name)] = _guide(g, g.points[0], max(g.lengths), g.slide, positions, ground, put,
+                                                points, scale)
             elif isinstance(g, Slotted):
                 slides[_name(ln.name)] = {"point": g.through, "on": _name(g.name), "along": [g.pivot, g.points[0][0]]}
             continue
@@ -113,7 +116,8 @@ def drawing_from_groups(
     if actuators:
         drawing["actuators"] = actuators
     # a triad's joint (the ternary link's angle arg(E − D)) is the drawing's read-out angle of D → E
-    extra = {g.joint: {"angle": [g.points[0], g.points[1]]} for g in groups if isinstance(g, Triad) and g.joint}
+    extra = {g.joint: {"angle": [g.points[0], g.points[1]]} for g in groups
+             if isinstance(g, (Triad, SliderTriad)) and g.joint}
     if extra:
         raw = {**raw, "joints": {**(raw.get("joints") or {}), **extra}}
     out: dict[str, Any] = {}
@@ -127,13 +131,14 @@ def drawing_from_groups(
     return out
 
 
-def _guide(g: RRP, positions: Mapping[str, complex], ground: list[str], put: Any, points: dict[str, Any],
-           scale: float) -> dict[str, Any]:
-    """An RRP's guide as two ground points of its line: the guide's origin (the named fixed point
-    when there is no offset) and a point one rod length along it."""
+def _guide(g: RRP | SliderTriad, point: str, length: float, joint: str | None, positions: Mapping[str, complex],
+           ground: list[str], put: Any, points: dict[str, Any], scale: float) -> dict[str, Any]:
+    """The guide of an RRP (or a slider triad) as two ground points of its line: the guide's
+    origin (the named fixed point when there is no offset) and a point ``length`` along it; the
+    slide of ``point`` on it, with the slide's ``joint``."""
     origin = complex(g.origin)
     names = []
-    for i, z in enumerate((origin, origin + complex(g.direction) * g.length)):
+    for i, z in enumerate((origin, origin + complex(g.direction) * length)):
         found = [n for n in ground if complex(positions[n]) == z]
         if found:
             names.append(found[0])
@@ -145,8 +150,8 @@ def _guide(g: RRP, positions: Mapping[str, complex], ground: list[str], put: Any
         points[name] = [float(z.real / scale), float(z.imag / scale)]
         ground.append(name)
         names.append(name)
-    entry: dict[str, Any] = {"point": g.point, "on": "ground", "along": names}
-    if g.joint is not None:
-        entry["joint"] = g.joint
+    entry: dict[str, Any] = {"point": point, "on": "ground", "along": names}
+    if joint is not None:
+        entry["joint"] = joint
     return entry
 

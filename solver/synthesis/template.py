@@ -189,6 +189,11 @@ class Template:
             frees.append(replace(_read_free(container[key], place, kind, file, line), path=path))
         if not frees:
             raise SceneError("a template needs at least one {free: [lo, hi]} value", file=file)
+        for i, group in enumerate(data.get("groups") or ()):
+            if isinstance(group, Mapping) and group.get("type") == "slider_triad":
+                raise SceneError(f"slider_triad '{group.get('name', '?')}': a template with a slider triad is not "
+                                 "synthesised yet (its designs would each follow their own mode as the RRR "
+                                 "triad's do; docs/synthesis.md#triads)", file=file, entry=f"groups[{i}]")
         self.free: tuple[Free, ...] = tuple(frees)
         self.lo = np.array([f.lo for f in frees])
         self.hi = np.array([f.hi for f in frees])

@@ -23,9 +23,11 @@ An input effort is the torque about +z the actuator applies to its crank (the op
 the ground). ``R(P, on=X)`` is the force on body X at pin P from the other body. Unnamed links
 take the solver's default names (a crank's or slotted link's group name, ``name.1`` / ``name.2``
 for an RRR's links, ``name.block`` for a block; a triad's ternary link ``name`` and binary links
-``name.1`` … ``name.3``): topology is shared, formulas are not. A triad (one input, drawn by its
+``name.1`` … ``name.3``; a slider triad's ternary link ``name``, binary links ``name.2``,
+``name.3`` and block ``name.block``): topology is shared, formulas are not. A triad (one input, drawn by its
 ``shape`` at ``at``) is solved by ``findroot`` on its three loop equations, continued from the
-drawn pose in steps of ≤ 0.25° of the input (the mode drawn, followed as the scene follows it).
+drawn pose in steps of ≤ 0.25° of the input (the mode drawn, followed as the scene follows it);
+a slider triad alike, on its two loop equations in (s, θ).
 
 Loads: a force at a point, a torque, a spring ``[[body, point], [body, point]]`` (tension
 k·(ℓ − ℓ₀), ends on ground allowed), a force of fixed direction whose size is read off a table of a
@@ -162,6 +164,14 @@ def _links(groups: list[dict[str, Any]], fixed: dict[str, Vec], angle: mpf) -> t
             for i, (x, y) in enumerate(zip(g["ends"], g["points"]), 1):
                 links[f"{name}.{i}"] = Link(f"{name}.{i}", [x, y])
             links[name] = Link(name, list(g["points"]))
+        elif kind == "slider_triad":  # block at D on the guide, binary links B–E, C–F, ternary D–E–F
+            a = _n(g["guide"].get("angle", 0)) * angle
+            d, e, f = g["points"]
+            links[f"{name}.2"] = Link(f"{name}.2", [g["ends"][0], e])
+            links[f"{name}.3"] = Link(f"{name}.3", [g["ends"][1], f])
+            links[name] = Link(name, list(g["points"]))
+            links[f"{name}.block"] = Link(f"{name}.block", [d], True, (mp.cos(a), mp.sin(a)))
+            slides[f"{name}.block"] = GROUND
         elif kind == "attached":
             need = {g.get("base", g["along"][0]), *g["along"]}
             if not need <= set(fixed):
@@ -249,6 +259,8 @@ def positions(m: Mechanism, q: Sequence[mpf], upto: int | None = None) -> dict[s
         kind = g["type"]
         if kind == "triad":
             pts.update(_triad(m, index, list(q)))
+        elif kind == "slider_triad":
+            pts.update(_slider_triad(m, index, list(q)))
         elif kind == "crank":
             o, r, t = pts[g["center"]], _n(g["length"]) * L, qs[str(g.get("joint", g["name"]))]
             pts[g["point"]] = (o[0] + r * mp.cos(t), o[1] + r * mp.sin(t))
@@ -342,6 +354,67 @@ def _triad(m: Mechanism, index: int, q: list[mpf]) -> dict[str, Vec]:
     _, u, v = _triad_loop(m, g, positions(m, [target], index))
     d = mpmath.mpc(x[0], x[1])
     w = mpmath.mpc(mp.cos(x[2]), mp.sin(x[2]))
+    return {name: (p.real, p.imag) for name, p in zip(g["points"], (d, d + u * w, d + v * w))}
+
+
+def _slider_loop(m: Mechanism, g: dict[str, Any], pts: dict[str, Vec]) -> tuple[Callable[..., list], Any, Any, Any]:
+    """The slider triad's two loop equations in (s, θ) with the ends at ``pts`` (D = O + s·e on the
+    guide, O the guide's point shifted by its offset), and (O, e, u, v) with u = E − D, v = F − D
+    in the ternary link's own frame."""
+    L, A = m.length, m.angle
+    gd = g["guide"]
+    a = _n(gd.get("angle", 0)) * A
+    e = mpmath.mpc(mp.cos(a), mp.sin(a))
+    off = _n(gd.get("offset", 0)) * L
+    o = mpmath.mpc(*pts[gd["through"]]) + off * mpmath.mpc(0, 1) * e
+    sh = g["shape"]
+    d0, e0, f0 = (mpmath.mpc(_n(sh[k][0]) * L, _n(sh[k][1]) * L) for k in g["points"])
+    u = abs(e0 - d0)
+    v = (f0 - d0) * abs(e0 - d0) / (e0 - d0)
+    b_, c_ = (mpmath.mpc(*pts[k]) for k in g["ends"])
+    lb, lc = (_n(x) * L for x in g["lengths"])
+
+    def f(s: mpf, t: mpf) -> list:
+        d = o + s * e
+        w = mpmath.mpc(mp.cos(t), mp.sin(t))
+        return [abs(d + u * w - b_) ** 2 - lb**2, abs(d + v * w - c_) ** 2 - lc**2]
+
+    return f, (o, e), u, v
+
+
+def _slider_triad(m: Mechanism, index: int, q: list[mpf]) -> dict[str, Vec]:
+    """D, E, F of the ``index``-th group, a slider triad, at q: its loop solved by findroot in
+    (s, θ), continued as :func:`_triad`'s from the drawn pose at ``at``."""
+    g = m.groups[index]
+    if len(m.inputs) != 1 or "shape" not in g or "at" not in g:
+        raise NotImplementedError("the reference solves a slider triad of one input drawn by its shape at 'at'")
+    memo = m.triad_memo.setdefault(index, {})
+    if not memo:
+        at = _n(g["at"]) * m.angle
+        sh = g["shape"]
+        d0, e0 = (mpmath.mpc(_n(sh[k][0]), _n(sh[k][1])) * m.length for k in g["points"][:2])
+        f, (o, e), _, _ = _slider_loop(m, g, positions(m, [at], index))
+        s0 = ((d0 - o) * mpmath.conj(e)).real
+        x0 = [s0, mpmath.arg(e0 - d0)]
+        worst = max(abs(r) for r in f(*x0)) / max(_n(x) * m.length for x in g["lengths"]) ** 2
+        if worst > TRIAD_DRAWN:
+            raise NotImplementedError(f"slider triad '{g['name']}': its shape is not the pose drawn at 'at' ({worst})")
+        memo[at] = x0
+    target = q[0]
+    start = min(memo, key=lambda k: abs(k - target))
+    x = memo[start]
+    steps = max(1, int(mp.ceil(abs(target - start) / (mpf("0.25") * mp.pi / 180))))
+    prev = None
+    for k in range(1, steps + 1):
+        qk = start + (target - start) * k / steps
+        f, _, _, _ = _slider_loop(m, g, positions(m, [qk], index))
+        guess = x if prev is None else [2 * a - b for a, b in zip(x, prev)]
+        sol = mpmath.findroot(f, guess, tol=mpf(10) ** (-2 * mp.dps + 10))
+        prev, x = x, [sol[0], sol[1]]
+    memo[target] = x
+    _, (o, e), u, v = _slider_loop(m, g, positions(m, [target], index))
+    d = o + x[0] * e
+    w = mpmath.mpc(mp.cos(x[1]), mp.sin(x[1]))
     return {name: (p.real, p.imag) for name, p in zip(g["points"], (d, d + u * w, d + v * w))}
 
 

@@ -1,0 +1,227 @@
+"""The slider triad's array functions (the class-3 Assur group with one prismatic pair of
+:mod:`solver.groups.slider_triad`, whose docstring states the loop equations, the polynomial,
+the linear system and the branch rule): the polynomial's coefficients, every root polished by
+Newton on the loop equations, the analogs and the branch rule's matching over a sweep — on arrays
+of samples (numpy) or numbers and tracers (the backends), with no group state.
+
+Notation: the guide through O (offset applied) with unit direction e; D = O + s·e; the ends B, C
+of the binary links BE = b and CF = c; the ternary link's shape u = E − D, v = F − D in its own
+frame, w = e^{jθ}; q = E − B = D + u·w − B, r = F − C = D + v·w − C.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from .._backend import NUMPY, Backend, abs2, cross, dot
+from ..jet import Jet
+from ..tolerances import EPS
+from ._triad_math import ON_CIRCLE, POLISH_STEPS, RESIDUAL_ROUNDING, SAME_ROOT
+
+__all__ = ["slider_coefficients", "slider_start", "slider_polish", "slider_roots", "slider_analogs",
+           "follow_roots", "DEGREE", "DEGREE_DROP"]
+
+#: The degree of the loop polynomial in w (w³·G(w), G a Laurent polynomial of w^{−3} … w³).
+DEGREE: int = 6
+
+#: w³·G's leading coefficient (and, self-inversive, its constant one) counts as 0 below this
+#: share of size⁴ (G's terms are of order size⁴, size = |B − O| + |C − O| + b + c + |u| + |v|):
+#: B = C (both binary links on one pivot), where the degree drops to 4 (two roots at 0 and ∞, none
+#: on the circle) and a rounding-noise leading coefficient would spoil the others.
+DEGREE_DROP: float = 1e-13
+
+_ROOTS7 = np.exp(2j * np.pi * np.arange(7) / 7)
+
+
+def _laurent_terms(o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float], u: complex, v: complex,
+                   w: Any) -> tuple[Any, Any, Any, Any]:
+    """N, Dn, e·p₁ and k₁ at w (module docstring of solver.groups.slider_triad): s = N/Dn."""
+    b, c = lengths
+    p1 = o - b_ + u * w
+    p2 = o - c_ + v * w
+    k1 = abs2(p1) - b * b
+    k2 = abs2(p2) - c * c
+    return k2 - k1, 2.0 * dot(e, p1 - p2), dot(e, p1), k1
+
+
+def slider_coefficients(o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float], u: complex,
+                        v: complex) -> np.ndarray:
+    """The seven coefficients of w³·G(w), lowest power first, shape (..., 7): the DFT of G at the
+    seventh roots of unity (G has exactly seven terms, w^{−3} … w³)."""
+    b_ = np.asarray(b_, complex)[..., None]
+    c_ = np.asarray(c_, complex)[..., None]
+    n, dn, ep, k1 = _laurent_terms(o, e, b_, c_, lengths, u, v, _ROOTS7)
+    g = n * n + 2.0 * n * dn * ep + k1 * dn * dn  # G(w_k), real
+    f = np.fft.fft(g, axis=-1) / 7.0  # f[m] = coefficient of w^m, m mod 7 (−3 … 3)
+    return np.concatenate([f[..., 4:], f[..., :4]], axis=-1)
+
+
+def slider_start(w: Any, o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float], u: complex,
+                 v: complex) -> Any:
+    """The slide s at the unit complex w: the root of the first circle's quadratic in s that
+    best closes the second (robust where Dn, the divisor of s = N/Dn, is small): the Newton start."""
+    b, c = lengths
+    p1 = o - b_ + u * w
+    p2 = o - c_ + v * w
+    ep = dot(e, p1)
+    disc = np.sqrt(np.maximum(ep * ep - (abs2(p1) - b * b), 0.0))
+    s_a, s_b = -ep + disc, -ep - disc
+    r_a = np.abs(abs2(p2 + s_a * e) - c * c)
+    r_b = np.abs(abs2(p2 + s_b * e) - c * c)
+    return np.where(r_a <= r_b, s_a, s_b)
+
+
+def _residuals(s: Any, w: Any, o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float], u: complex,
+               v: complex) -> tuple[Any, Any, Any, Any, Any]:
+    """D, q, r and the loop residuals |q|² − b², |r|² − c² (plain operators: the same lines on
+    arrays, floats and traced values)."""
+    d = o + s * e
+    q, r = d + u * w - b_, d + v * w - c_
+    b, c = lengths
+    return d, q, r, q.real * q.real + q.imag * q.imag - b * b, r.real * r.real + r.imag * r.imag - c * c
+
+
+def _solve2(e: complex, q: Any, r: Any, g: Any, h: Any, r1: Any, r2: Any) -> tuple[Any, Any, Any]:
+    """(e·q)·x + g·t = r₁, (e·r)·x + h·t = r₂ by Cramer: ``(x, t, det)``, det = (e·q)·h − (e·r)·g."""
+    eq, er = dot(e, q), dot(e, r)
+    det = eq * h - er * g
+    return (r1 * h - r2 * g) / det, (eq * r2 - er * r1) / det, det
+
+
+def slider_polish(s: Any, theta: Any, o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float],
+                  u: complex, v: complex, *, steps: int, xp: Backend, until: float | None = None,
+                  ) -> tuple[Any, Any, Any, Any, Any]:
+    """Up to ``steps`` Newton steps on the two loop equations from (s, θ) — per tick also ended by
+    a step |Δθ| ≤ ``until`` — : ``(s, θ, e^{jθ}, closed, |Δθ| of the last step)``, ``closed``
+    where both residuals are within ``RESIDUAL_ROUNDING``·EPS·size²."""
+    dt: Any = 0.0
+    for _ in range(steps):
+        w = xp.cis(theta)
+        _, q, r, f1, f2 = _residuals(s, w, o, e, b_, c_, lengths, u, v)
+        uw, vw = u * w, v * w
+        g = uw.real * q.imag - uw.imag * q.real  # −(q × u·w) = q·(j·u·w)
+        h = vw.real * r.imag - vw.imag * r.real
+        ds, dt, _ = _solve2(e, q, r, g, h, -0.5 * f1, -0.5 * f2)
+        s = s + ds
+        theta = theta + dt
+        if until is not None and abs(dt) <= until:
+            break
+    w = xp.cis(theta)
+    *_, f1, f2 = _residuals(s, w, o, e, b_, c_, lengths, u, v)
+    size = abs(o) + abs(b_) + abs(c_) + sum(lengths) + abs(u) + abs(v) + abs(s)
+    bound = RESIDUAL_ROUNDING * EPS * size * size
+    return s, theta, w, (abs(f1) <= bound) & (abs(f2) <= bound), abs(dt)
+
+
+def slider_roots(o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float], u: complex,
+                 v: complex) -> tuple[np.ndarray, np.ndarray]:
+    """Every real assembly mode at each sample: ``(θ, s)``, shape (..., 6), NaN where a slot holds
+    no real root; θ in (−π, π] sorted ascending per sample; polished by Newton to round-off."""
+    b_, c_ = (np.asarray(x, complex) for x in (b_, c_))
+    shape = np.broadcast_shapes(b_.shape, c_.shape)
+    b_, c_ = (np.broadcast_to(x, shape)[..., None] for x in (b_, c_))
+    coef = slider_coefficients(o, e, b_[..., 0], c_[..., 0], lengths, u, v)
+    comp = np.zeros((*shape, DEGREE, DEGREE), complex)
+    comp[..., 1:, :-1] = np.eye(DEGREE - 1)
+    with np.errstate(all="ignore"):
+        comp[..., :, -1] = -coef[..., :DEGREE] / coef[..., DEGREE:]
+        size = np.abs(b_[..., 0] - o) + np.abs(c_[..., 0] - o) + sum(lengths) + abs(u) + abs(v)
+        drop = np.abs(coef[..., DEGREE]) <= DEGREE_DROP * size**4
+        if drop.any():  # degree 4 (c₁ … c₅): its companion in the top-left corner, 0 for the rest
+            low = np.zeros((int(drop.sum()), DEGREE, DEGREE), complex)
+            low[:, 1:4, :3] = np.eye(3)
+            low[:, :4, 3] = -coef[drop][:, 1:5] / coef[drop][:, 5:6]
+            comp[drop] = low
+        ok = np.isfinite(comp).all(axis=(-2, -1))
+        comp[~ok] = 0.0
+        w = np.linalg.eigvals(comp)
+        w[~ok] = np.nan
+        near = np.abs(np.abs(w) - 1.0) <= ON_CIRCLE
+        w = np.where(near, w / np.abs(w), np.nan)
+        s = slider_start(w, o, e, b_, c_, lengths, u, v)
+        s, theta, w, good, _ = slider_polish(s, np.angle(w), o, e, b_, c_, lengths, u, v, steps=POLISH_STEPS,
+                                             xp=NUMPY)
+        good = good & np.isfinite(s)
+    theta = np.where(good, np.angle(w), np.nan)
+    order = np.argsort(theta, axis=-1)  # NaN last
+    theta = np.take_along_axis(theta, order, axis=-1)
+    s = np.take_along_axis(np.where(good, s, np.nan), order, axis=-1)
+    same = np.zeros(theta.shape, bool)
+    same[..., 1:] = np.abs(np.diff(theta, axis=-1)) <= SAME_ROOT
+    theta[same] = np.nan
+    s[same] = np.nan
+    order = np.argsort(theta, axis=-1)
+    return np.take_along_axis(theta, order, axis=-1), np.take_along_axis(s, order, axis=-1)
+
+
+def slider_analogs(s: Any, w: Any, o: Any, e: complex, u: complex, v: complex, jb: Jet,
+                   jc: Jet) -> tuple[Any, ...]:
+    """``(s', θ', s'', θ'', det)`` from the linear system of solver.groups.slider_triad."""
+    uw, vw = u * w, v * w
+    d = o + s * e
+    q, r = d + uw - jb.value, d + vw - jc.value
+    g, h = -cross(q, uw), -cross(r, vw)
+    s1, t1, det = _solve2(e, q, r, g, h, dot(jb.d1, q), dot(jc.d1, r))
+    e1, f1 = s1 * e + 1j * uw * t1, s1 * e + 1j * vw * t1
+    r1 = dot(jb.d2 + uw * t1 * t1, q) - abs2(e1 - jb.d1)
+    r2 = dot(jc.d2 + vw * t1 * t1, r) - abs2(f1 - jc.d1)
+    s2, t2, _ = _solve2(e, q, r, g, h, r1, r2)
+    return s1, t1, s2, t2, det
+
+
+def _wrap(x: float) -> float:
+    return (x + math.pi) % (2.0 * math.pi) - math.pi
+
+
+def nearest(roots: list[float], target: float) -> tuple[int, float]:
+    """The index of the root nearest ``target`` on the circle and its distance."""
+    best, dist = 0, math.inf
+    for m, t in enumerate(roots):
+        x = abs(_wrap(t - target))
+        if x < dist:
+            best, dist = m, x
+    return best, dist
+
+
+def gap_of(roots: list[float], k: int) -> float:
+    """Root k's distance to its nearest other root (inf when alone)."""
+    return min((abs(_wrap(t - roots[k])) for m, t in enumerate(roots) if m != k), default=math.inf)
+
+
+def follow_roots(theta: np.ndarray, rate: np.ndarray, step: np.ndarray, start: int,
+                 target: float) -> tuple[np.ndarray, np.ndarray]:
+    """The branch rule over a sweep (solver.groups.slider_triad): the slot followed at each sample
+    (−1: no real root) and where following it jumps mode. ``theta`` (n, 6) every real root (NaN
+    last), ``rate`` (n, 6) their θ', ``step`` (n,) the input; the mode at the first sample with a
+    root from ``start`` is the root nearest ``target``; then each neighbour takes the root nearest
+    the previous one carried forward by θ'·Δφ; a match farther than half the previous root's
+    distance to its nearest other root, where the count of real roots drops, is a jump."""
+    n = len(theta)
+    out = [-1] * n
+    jump = [False] * n
+    rows = [[t for t in r if t == t] for r in theta.tolist()]
+    rates = rate.tolist()
+    st = step.tolist()
+    with_root = [i for i in range(start, n) if rows[i]]
+    if not with_root:
+        return np.array(out), np.array(jump)
+    i0 = with_root[0]
+    out[i0] = nearest(rows[i0], target)[0]
+    for direction in (1, -1):
+        i = i0
+        while 0 <= i + direction < n:
+            j = i + direction
+            r = rows[j]
+            if r:
+                k = out[i]
+                if k < 0:  # restart after a gap: nearest θ₀ again
+                    out[j] = nearest(r, target)[0]
+                else:
+                    m, dist = nearest(r, rows[i][k] + rates[i][k] * (st[j] - st[i]))
+                    out[j] = m
+                    jump[j] = dist > 0.5 * gap_of(rows[i], k) and len(r) < len(rows[i])
+            i = j
+    return np.array(out), np.array(jump)

@@ -1,0 +1,317 @@
+"""The slider triad: the class-3 Assur group with one prismatic pair (PRR–RRR–RRR). A ternary
+link D, E, F whose point D is pinned to a slider block on a fixed straight guide, and whose
+points E, F are joined by binary links to two known points B, C.
+
+The variant a drawing or an importer meets where a triad's leg is a slider (a press ram, a
+walking linkage's foot on a rail): ``docs/scenes.md`` says which variants exist and which are not
+solved (a guide carried by the ternary link, a guide on a moving link).
+
+Loop equations
+    D = O + s·e (the guide through the fixed point O, offset applied, unit direction e; s the
+    slide), |E − B| = b, |F − C| = c, E = D + u·w, F = D + v·w, w = e^{jθ}: θ the ternary link's
+    angle, u = E − D and v = F − D its shape in its own frame (as the RRR triad's).
+Univariate polynomial (exact elimination; no search)
+    With p₁ = O − B + u·w, p₂ = O − C + v·w the two circles are the quadratics in s
+        s² + 2s·(e·p₁) + k₁ = 0,  s² + 2s·(e·p₂) + k₂ = 0,  kᵢ = |pᵢ|² − (b², c²);
+    their difference is linear in s: s = N/Dn with N = k₂ − k₁, Dn = 2e·(p₁ − p₂); put back,
+        G(w) = N² + 2N·Dn·(e·p₁) + k₁·Dn² = 0.
+    On |w| = 1, N, Dn, e·p₁ and k₁ are Laurent polynomials of w^{−1} … w¹, so G spans w^{−3} …
+    w³: w³·G(w) is a polynomial of degree 6 — the degree does **not** drop against the RRR
+    triad's: its w³ coefficient is conj(e)²·u·v·(u − v)·conj(B − C) ≠ 0, and six real modes occur
+    (157 of 20 000 random instances; 4 in 3 925, 2 in 7 662). Its seven coefficients are the DFT
+    of G at the seventh roots of unity (exact: G has seven terms), its roots the eigenvalues of the
+    companion matrix (batched over samples); real modes are the roots on |w| = 1.
+Polish
+    Each root on the circle (within ``ON_CIRCLE``) gives s as the root of the first quadratic
+    that best closes the second (robust where Dn is small), then Newton on the two loop
+    equations (the 2×2 system below) to round-off; roots within ``SAME_ROOT`` are one.
+Derivatives (exact): with q = E − B, r = F − C, g = −(q × u·w), h = −(r × v·w):
+        (e·q)·s' + g·θ' = B'·q,     (e·r)·s' + h·θ' = C'·r,
+    second order: the same matrix with right-hand sides
+        (B'' + u·w·θ'²)·q − |E' − B'|²,   (C'' + v·w·θ'²)·r − |F' − C'|²,
+    D' = s'·e, D'' = s''·e, E' = D' + j·u·w·θ', E'' = D'' + j·u·w·θ'' − u·w·θ'² (F alike).
+Linear system: the 2×2 above by Cramer; its determinant det = (e·q)·h − (e·r)·g.
+Conditioning
+    |det| / (b·c·(|u| + |v|)) ∈ [0, 1]: 0 where the guide's normal at D and the lines of the two
+    binary links meet in one point (a dead point: two assembly modes merge).
+Branch rule (the mode): the RRR triad's. ``angle`` θ₀ names the mode: at the reference sample
+    (nearest ``at``, else a sweep's first) the real root whose θ is nearest θ₀; every other sample
+    the root nearest the previous one carried forward by θ'·Δφ; a match farther than half the
+    previous root's distance to its nearest other root where the count of real roots drops is a
+    mode jump (a branch point between the samples): refused naming the φ. Per tick the previous
+    tick plays the previous sample: Newton from the root it predicts, kept when unambiguous, else
+    every root and the rule (solver.groups._slider_triad_tick); a dense monotone sweep finds every
+    root on anchors only and polishes the interpolated root between them under the same checks
+    (solver.groups._slider_triad_sweep), else every sample's roots.
+Assembly fails where no real root exists (AssemblyError with the φ intervals).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .._fields import Entry, Units
+from ..jet import Jet
+from . import _slider_triad_sweep as _fast
+from . import _slider_triad_tick as _tick
+from ._slider_triad_math import follow_roots, slider_analogs, slider_polish, slider_roots
+from ._slider_triad_tick import JUMP, NO_ROOT
+from ._triad_tick import FOLLOW_DONE, FOLLOW_STEPS
+from .base import Context, Group
+from .triad import ternary_shape
+
+__all__ = ["SliderTriad", "NO_ROOT", "JUMP"]
+
+
+
+def _wrap(x: Any) -> Any:
+    return (x + np.pi) % (2.0 * np.pi) - np.pi
+
+
+@dataclass(frozen=True)
+class SliderTriad(Group):
+    kind = "slider_triad"
+    origin: complex  # O: the guide's fixed point, offset applied
+    direction: complex  # e, unit
+    ends: tuple[str, str]  # B, C
+    points: tuple[str, str, str]  # D (on the guide), E, F
+    lengths: tuple[float, float]  # |BE|, |CF|
+    shape: tuple[complex, complex]  # u = E − D, v = F − D in the ternary link's frame
+    angle: float  # θ₀
+    at: float | None = None
+    joint: str | None = None  # θ published as a joint coordinate
+    slide: str | None = None  # s published as a joint coordinate (m)
+    #: the per-tick path's previous tick (φ, θ, θ', gap, count) and a block's carry
+    _last: dict[str, Any] = field(default_factory=dict, compare=False, hash=False, repr=False)
+
+    def requires(self) -> tuple[str, ...]:
+        return self.ends
+
+    def joints(self) -> tuple[str, ...]:
+        return tuple(n for n in (self.joint, self.slide) if n is not None)
+
+    def provides(self) -> tuple[str, ...]:
+        return (*self.points, *self.joints())
+
+    def joint_units(self) -> dict[str, str]:
+        out = {} if self.joint is None else {self.joint: "rad"}
+        if self.slide is not None:
+            out[self.slide] = "m"
+        return out
+
+    def rigid_pairs(self) -> tuple[tuple[str, str, float], ...]:
+        (b, c), (d, e, f) = self.ends, self.points
+        u, v = self.shape
+        return ((b, e, self.lengths[0]), (c, f, self.lengths[1]), (d, e, abs(u)), (e, f, abs(v - u)),
+                (f, d, abs(v)))
+
+    def links(self) -> tuple[tuple[str, ...], ...]:
+        (b, c), (d, e, f) = self.ends, self.points
+        return ((b, e), (c, f), (d, e, f, d))
+
+    def roots(self, vals: Mapping[str, Jet]) -> tuple[np.ndarray, np.ndarray]:
+        """Every real mode at the current values: ``(θ, s)`` (:func:`slider_roots`)."""
+        b_, c_ = (vals[n].value for n in self.ends)
+        return slider_roots(self.origin, self.direction, b_, c_, self.lengths, *self.shape)
+
+    def solve(self, ctx: Context) -> None:
+        vals = ctx.values
+        jb, jc = (vals[n] for n in self.ends)
+        u, v = self.shape
+        o, e = self.origin, self.direction
+        phi = ctx.phi
+        th: Any
+        s: Any
+        if not ctx.xp.vectorised:  # one tick: Newton from the predicted root, else every root
+            xp = ctx.xp
+            step = sum(phi) if isinstance(phi, (tuple, list, np.ndarray)) else phi
+            saved = dict(self._last) if xp.name == "trace" else None  # a trace never moves the mode
+            b_, c_ = jb.value, jc.value
+            th = math.nan
+            pred = xp.call(self._t_predict, step, b_, c_)
+            if pred == pred:
+                s = xp.call(self._t_predicted_slide, pred)
+                s, th_n, w, closed, last = slider_polish(s, pred, o, e, b_, c_, self.lengths, u, v,
+                                                         steps=FOLLOW_STEPS, xp=xp, until=FOLLOW_DONE)
+                analogs = slider_analogs(s, w, o, e, u, v, jb, jc)
+                if closed and last <= FOLLOW_DONE:
+                    th = xp.call(self._t_accept, step, b_, c_, pred, th_n, s, analogs[0], analogs[1], analogs[4])
+            if not th == th:  # refused (or no prediction): every root and the branch rule
+                th = xp.call(self._t_full, step, b_, c_)
+                if not th == th:  # NaN: no real root, or a mode jump
+                    ctx.require(self, False, reason=self._last.get("reason", NO_ROOT))
+                s = xp.call(self._t_full_slide, th)
+                w = xp.cis(th)
+                analogs = slider_analogs(s, w, o, e, u, v, jb, jc)
+                if th == th:
+                    th = xp.call(self._t_accept_full, step, b_, c_, th, s, analogs[0], analogs[1], analogs[4])
+            if saved is not None:
+                self._last.clear()
+                self._last.update(saved)
+        else:
+            if ctx.seeds is None and np.ndim(phi) == 2:
+                raise _population_refused(self)
+            th, s, analogs = self._sweep(ctx, phi, jb, jc)
+            w = np.cos(th) + 1j * np.sin(th)
+        s1, t1, s2, t2, det = analogs
+        uw, vw = u * w, v * w
+        d = o + s * e
+        d1, d2 = s1 * e, s2 * e
+        vals[self.points[0]] = Jet(d, d1, d2)
+        for name, off in zip(self.points[1:], (uw, vw)):
+            vals[name] = Jet(d + off, d1 + 1j * off * t1, d2 + 1j * off * t2 - off * t1 * t1)
+        if self.joint is not None:
+            vals[self.joint] = Jet(th, t1, t2)
+        if self.slide is not None:
+            vals[self.slide] = Jet(s, s1, s2)
+        b, c = self.lengths
+        ctx.conditioning[self.name] = abs(det) / (b * c * (abs(u) + abs(v)))
+
+    def _sweep(self, ctx: Context, phi: Any, jb: Jet, jc: Jet) -> tuple[Any, Any, tuple[Any, ...]]:
+        """The followed root at every sample and its analogs: ``(θ, s, analogs)`` — through the
+        anchors' shortcut (solver.groups._slider_triad_sweep) where it holds, else every sample's
+        roots and the branch rule; a block of a longer sweep (solver.scene solves in blocks of
+        views into one array) continues from the previous block's last root."""
+        n = len(phi)
+        ph = np.asarray(phi, float).reshape(n, -1)
+        step = ph.sum(axis=1)
+        base = getattr(phi, "base", None)
+        key = None
+        if isinstance(phi, np.ndarray) and isinstance(base, np.ndarray) and base.size > phi.size:
+            offset = (phi.__array_interface__["data"][0] - base.__array_interface__["data"][0]) // phi.itemsize
+            key = (id(base), offset)
+        carry = self._last.get("block")
+        carry = carry if key is not None and carry is not None and carry["key"] == key else None
+        if carry is not None:
+            start, target = 0, carry["theta"] + carry["rate"] * (float(step[0]) - carry["phi"])
+        elif self.at is None or ph.shape[1] != 1:
+            start, target = 0, self.angle
+        else:
+            start, target = int(np.argmin(np.abs(_wrap(ph[:, 0] - self.at)))), self.angle
+        o, e, (u, v) = self.origin, self.direction, self.shape
+        with np.errstate(all="ignore"):
+            fast = _fast.fast_sweep(self, step, jb, jc, start, target)
+            if fast is not None:
+                th, s = fast.theta, fast.s
+                analogs = slider_analogs(s, np.cos(th) + 1j * np.sin(th), o, e, u, v, jb, jc)
+                if not fast.holds(analogs[4]):
+                    fast = None
+        if fast is None:
+            th, s = self._full_sweep(ctx, step, jb, jc, start, target)
+            with np.errstate(all="ignore"):
+                analogs = slider_analogs(s, np.cos(th) + 1j * np.sin(th), o, e, u, v, jb, jc)
+        if key is not None and np.isfinite(th[-1]):
+            self._last["block"] = {"key": (key[0], key[1] + n), "theta": float(th[-1]),
+                                   "rate": float(np.real(analogs[1][-1])), "phi": float(step[-1])}
+        return th, s, analogs
+
+    def _full_sweep(self, ctx: Context, step: np.ndarray, jb: Jet, jc: Jet, start: int,
+                    target: float) -> tuple[Any, Any]:
+        """Every sample's roots and the branch rule: ``(θ, s)`` of the followed root."""
+        n = len(step)
+        theta, ss = slider_roots(self.origin, self.direction, jb.value, jc.value, self.lengths, *self.shape)
+        theta, ss = np.broadcast_to(theta, (n, 6)), np.broadcast_to(ss, (n, 6))
+        ctx.require(self, np.isfinite(theta).any(axis=-1), reason=NO_ROOT)
+        u, v = self.shape
+
+        def col(x: Any) -> Any:
+            return np.asarray(x)[:, None] if np.ndim(x) == 1 else x
+        jets = [Jet(col(j.value), col(j.d1), col(j.d2)) for j in (jb, jc)]
+        with np.errstate(all="ignore"):
+            rate = np.real(slider_analogs(ss, np.cos(theta) + 1j * np.sin(theta), self.origin, self.direction,
+                                          u, v, *jets)[1])
+        slots, jumps = follow_roots(theta, rate, step, start, target)
+        if jumps.any():
+            ctx.require(self, ~jumps, reason=JUMP)
+        rows = np.arange(n)
+        pick = np.maximum(slots, 0)
+        return np.where(slots >= 0, theta[rows, pick], np.nan), np.where(slots >= 0, ss[rows, pick], np.nan)
+
+    # the per-tick follow's calls (solver.groups._slider_triad_tick), bound methods the compiled code calls
+    def _t_predict(self, step: float, b: complex, c: complex) -> float:
+        return _tick.predict(self, step, b, c)
+
+    def _t_predicted_slide(self, theta: float) -> float:
+        return _tick.predicted_slide(self, theta)
+
+    def _t_accept(self, step: float, b: complex, c: complex, pred: float, theta: float, s: float, s1: float,
+                  rate: float, det: float) -> float:
+        return _tick.accept(self, step, b, c, pred, theta, s, s1, rate, det)
+
+    def _t_full(self, step: float, b: complex, c: complex) -> float:
+        return _tick.full(self, step, b, c)
+
+    def _t_full_slide(self, theta: float) -> float:
+        return _tick.full_slide(self, theta)
+
+    def _t_accept_full(self, step: float, b: complex, c: complex, theta: float, s: float, s1: float, rate: float,
+                       det: float) -> float:
+        return _tick.accept_full(self, step, b, c, theta, s, s1, rate, det)
+
+    def assembly_residual(self, vals: Mapping[str, Jet]) -> tuple[Any, Any, Any]:
+        """``R = +1`` where a real mode exists, ``−1`` where none (its sign change is bisected by
+        solver.assembly), ``dR/dφ = 0``, scale 1."""
+        theta, _ = self.roots(vals)
+        r = np.where(np.isfinite(theta).any(axis=-1), 1.0, -1.0)
+        return r, np.zeros_like(r), 1.0
+
+    @classmethod
+    def from_entry(cls, e: Entry, units: Units, fixed: Mapping[str, Any]) -> SliderTriad:
+        """``{type: slider_triad, name, guide: {through, angle?, offset?}, ends: [B, C],
+        points: [D, E, F], lengths: [BE, CF], sides: [DE, EF, FD] with M | shape: {D, E, F},
+        angle: θ₀, at?: φ₀, joint?, slide?}``."""
+        name = e.name("name")
+        g = e.child("guide", e.raw("guide"))
+        through = g.name("through")
+        if through not in fixed:
+            raise g.error(f"the guide is fixed; '{through}' is not a fixed point", "through")
+        angle = g.angle("angle", units, 0.0)
+        offset = g.length("offset", units, positive=False, default=0.0)
+        g.done()
+        if isinstance(angle, np.ndarray) or isinstance(fixed[through], np.ndarray):
+            raise e.error(f"slider_triad '{name}': its values cannot vary in a synthesis template (only the "
+                          "RRR triad's do)", "guide")
+        direction = complex(math.cos(angle), math.sin(angle))
+        origin = complex(fixed[through]) + offset * 1j * direction
+        ends = e.names("ends", 2)
+        points = e.names("points", 3)
+        raw = e.raw("lengths")
+        if not isinstance(raw, (list, tuple)) or len(raw) != 2:
+            raise e.error(f"must be [|BE|, |CF|], got {raw!r}", "lengths")
+        sub = e.child("lengths", {"BE": raw[0], "CF": raw[1]})
+        lengths = (sub.length("BE", units), sub.length("CF", units))
+        if any(isinstance(x, np.ndarray) for x in lengths):
+            raise e.error(f"slider_triad '{name}': its values cannot vary in a synthesis template (only the "
+                          "RRR triad's do)", "lengths")
+        u, v = ternary_shape(e, points, units)
+        if isinstance(u, np.ndarray) or isinstance(v, np.ndarray):
+            raise e.error(f"slider_triad '{name}': its values cannot vary in a synthesis template (only the "
+                          "RRR triad's do)", "shape" if "shape" in e.data else "sides")
+        at = e.raw("at", None)
+        joint = e.raw("joint", None)
+        slide = e.raw("slide", None)
+        return cls(
+            name=name,
+            origin=origin,
+            direction=direction,
+            ends=(ends[0], ends[1]),
+            points=(points[0], points[1], points[2]),
+            lengths=lengths,
+            shape=(complex(u), complex(v)),
+            angle=e.angle("angle", units),
+            at=None if at is None else e.angle("at", units),
+            joint=None if joint is None else e.name("joint"),
+            slide=None if slide is None else e.name("slide"),
+        )
+
+
+def _population_refused(group: SliderTriad) -> Exception:
+    from ..errors import SceneError
+
+    return SceneError(f"slider_triad '{group.name}': a population of designs (synthesis) is not solved for the "
+                      "slider triad (only the RRR triad's)")

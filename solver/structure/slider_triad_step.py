@@ -1,0 +1,109 @@
+"""The slider-triad candidate of the decomposition (solver.structure.decompose): a ternary link
+none of whose points is placed, one of its points the point of a slide on a ground line, two
+others each pinned to a binary link whose other point is placed — the triad with one prismatic
+pair (solver.groups.slider_triad), emitted as ``slider_triad``.
+
+Taken after every dyad, as the RRR triad (solver.structure.triad_step). The slide's point must be
+on its line (``ON_LINE`` of the drawing's size); the mode is read off the drawn pose as the
+triad's: ``angle`` = the drawn arg(E − D), ``at`` = the drawn input (one input), and the real root
+nearest that angle must give the drawn D, E, F back (``DRAWN_MATCH``) — else the drawing is
+refused naming the group. One drawn at a dead point (conditioning below SINGULAR) is refused.
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+from collections.abc import Iterator
+from functools import partial
+from typing import Any
+
+import numpy as np
+
+from ..groups._slider_triad_math import slider_analogs, slider_roots
+from ..jet import Jet
+from .drawing import GROUND
+from .step import Step, dot
+from .step import refuse_toggle as _toggle
+from .triad_step import DRAWN_MATCH, _binary_partner
+
+__all__ = ["slider_triad_candidates"]
+
+
+def slider_triad_candidates(st: Any, link: str) -> Iterator[tuple[int, tuple[str, ...], Any]]:
+    """The slider triads that ``link`` (a binary link with one known point) belongs to."""
+    d = st.d
+    pts = d.links[link]
+    if link in st.placed or len(pts) != 2:
+        return
+    free = [q for q in pts if q not in st.known]
+    if len(free) != 1:
+        return
+    slides = {s.point: s for s in d.slides.values()
+              if s.on == GROUND and s.name not in st.done_slides and s.name not in st.flagged}
+    for ternary in st.point_links[free[0]]:
+        tp = d.links[ternary]
+        if ternary == link or ternary in st.placed or len(tp) < 3 or any(q in st.known for q in tp):
+            continue
+        for q in tp:
+            slide = slides.get(q)
+            if slide is None:
+                continue
+            arms: list[tuple[str, str, str]] = []
+            for r in tp:
+                if r == q:
+                    continue
+                hit = _binary_partner(st, r, ternary)
+                if hit is not None and hit[0] not in {a[1] for a in arms}:
+                    arms.append((r, hit[0], hit[1]))
+                if len(arms) == 2:
+                    yield 2, (ternary, slide.name), partial(_slider_triad, st, ternary, slide, tuple(arms))
+                    return
+
+
+def _slider_triad(st: Any, ternary: str, slide: Any, arms: tuple[tuple[str, str, str], ...]) -> None:
+    from .decompose import ON_LINE  # (decompose imports this module)
+
+    d = st.d
+    pd = slide.point
+    (pe, l2, b), (pf, l3, c) = arms
+    g0, g1 = slide.along
+    zg, e = d.points[g0], d.points[g1] - d.points[g0]
+    e /= abs(e)
+    zb, zc, zd, ze, zf = (d.points[q] for q in (b, c, pd, pe, pf))
+    miss = e.real * (zd - zg).imag - e.imag * (zd - zg).real
+    what = f"the slider triad {slide.name}, {l2}, {l3}, {ternary}"
+    if abs(miss) > ON_LINE * d.size:
+        raise d.error(f"{pd} is drawn {abs(miss):.3g} off the line {g0}–{g1} it slides on: move it onto the line",
+                      f"slides.{slide.name}.point")
+    lengths = (abs(ze - zb), abs(zf - zc))
+    theta = cmath.phase(ze - zd)
+    u, v = complex(abs(ze - zd), 0.0), (zf - zd) * cmath.exp(-1j * theta)
+    s_d = dot(e, zd - zg)
+    zero = Jet(0j, 0j, 0j)
+    *_, det = slider_analogs(s_d, cmath.exp(1j * theta), zg, e, u, v, zero._replace(value=zb),
+                             zero._replace(value=zc))
+    cond = abs(det) / (lengths[0] * lengths[1] * (abs(u) + abs(v)))
+    entry = f"links.{ternary}"
+    _toggle(st, cond, entry, f"{what} is drawn at a dead point (two of its modes merge there)")
+    roots, ss = slider_roots(zg, e, zb, zc, lengths, u, v)
+    real = np.isfinite(roots)
+    if not real.any():
+        raise d.error(f"{what} as drawn has no real assembly mode", entry)
+    k = int(np.flatnonzero(real)[np.argmin(np.abs(np.angle(np.exp(1j * (roots[real] - theta)))))])
+    if abs(ss[k] - s_d) > DRAWN_MATCH * d.size or abs(roots[k] - theta) * max(abs(u), abs(v)) > DRAWN_MATCH * d.size:
+        raise d.error(f"{what}: no assembly mode reproduces the drawn pose (nearest root "
+                      f"{abs(ss[k] - s_d):.3g} away)", entry)
+    drawn = [s.drawn for s in st.steps if s.drawn is not None]
+    fields: dict[str, Any] = {
+        "guide": {"through": g0, "angle": math.atan2(e.imag, e.real) / d.units.angle},
+        "ends": [b, c], "points": [pd, pe, pf], "lengths": list(lengths),
+        "shape": {q: [d.points[q].real, d.points[q].imag] for q in (pd, pe, pf)},
+        "angle": theta / d.units.angle,
+    }
+    if len(drawn) == 1 and len(d.inputs) == 1 and not d.actuators:
+        fields["at"] = float(drawn[0]) / d.units.angle
+    if slide.joint is not None:
+        fields["slide"] = slide.joint
+    st.done_slides.add(slide.name)
+    st.add(Step("slider_triad", st.unique(ternary), (l2, l3, ternary, slide.name), (pd, pe, pf), fields, None, cond))
