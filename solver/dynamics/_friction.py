@@ -140,6 +140,7 @@ class FrictionDynamics:
         #: the seal force (N) of a cylinder on the input's own stroke (a seal elsewhere moves no effort)
         self.seal = sum(s.force for s in rubbing.friction.spec.seals if s.joint == self.input)
         self._memo: tuple[Any, Any, Any] = (None, None, None)
+        self._rates: tuple[Any, list[tuple[float, float]]] = (None, [])
 
     @cached_property
     def _unit(self) -> Any:
@@ -170,11 +171,16 @@ class FrictionDynamics:
             i += m + 3
         out = (h, mass, other, r0, a, u, b, rates, cond)
         self._memo = (q, w, out)
+        self._rates = (q, rates)
         return out
 
     def analogs(self, q: float) -> list[tuple[float, float]]:
         """Each element's (v′, v″): the analogs of its relative velocity at ``q`` (v′'s zeros: where
-        it reverses while the input moves)."""
+        it reverses while the input moves). They depend on q alone: those of the last pass at this
+        q whatever its q̇ (a step's events read the state its last stage was evaluated at)."""
+        last = self._rates
+        if last[0] == q:
+            return list(last[1])
         return list(self._passes(q, 0.0)[7])
 
     def _directions(self, rates: list[tuple[float, float]], w: float, slip: float,

@@ -61,10 +61,13 @@ class FrictionEquation(Equation):
         self.override: dict[int, float] | None = None  # at the segment's start: element → d
         #: the segment's friction directions and motion's sign, held until its first switch
         self.mode: tuple[list[float], float] | None = None
+        #: the drive's effort on floats where it has one (solver.dynamics.drive: the same effort)
+        self._one: Callable[[float, float, float], float] | None = getattr(drive, "one", None)
 
     def _state(self, t: float, q: float, w: float) -> tuple[float, float, Any]:
         """(ε, Q_drive, the solved state) at the segment's local time ``t``."""
-        effort = float(self.drive(self.t0 + t, [q], [w])[0])
+        one = self._one
+        effort = one(self.t0 + t, q, w) if one is not None else float(self.drive(self.t0 + t, [q], [w])[0])
         st = self.friction.solve(q, w, effort, mode=self.mode)
         return st.epsilon, effort, st
 
