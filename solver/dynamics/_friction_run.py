@@ -68,8 +68,8 @@ class FrictionEquation(Equation):
         """(ε, Q_drive, the solved state) at the segment's local time ``t``."""
         one = self._one
         effort = one(self.t0 + t, q, w) if one is not None else float(self.drive(self.t0 + t, [q], [w])[0])
-        st = self.friction.solve(q, w, effort, mode=self.mode)
-        return st.epsilon, effort, st
+        st = self.friction.solve_rates(q, w, effort, mode=self.mode)
+        return st[0], effort, st
 
     def rates(self, t: float, y: list[float]) -> list[float]:
         """y' at (t, y) on plain lists, as :meth:`Equation.rates` (faults kept and counted)."""
@@ -82,8 +82,8 @@ class FrictionEquation(Equation):
             self.fault = (exc.group, exc.reason, [q])
             self.faults += 1
             raise
-        self.last_conditioning = st.conditioning
-        return [w, eps, effort * w, st.other * w, -st.loss]
+        self.last_conditioning = st[3]
+        return [w, eps, effort * w, st[2] * w, -st[1]]
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
         return np.array(self.rates(t, [float(v) for v in y]))
