@@ -157,8 +157,9 @@ class FrictionDynamics:
         start = size + len(unit.conditioning)
         m = len(self.elements)
         iu = [start + 3 + 2 * m + j * (m + 3) for j in range(m)]
-        fast = solve_flat(m, (start + 3, start + 3 + m, iu, [i + 1 for i in iu]))
-        return size, start, iu, [i + 1 + m for i in iu], fast
+        iv = [i + 1 + m for i in iu]
+        fast = solve_flat(m, (start + 3, start + 3 + m, iu, [i + 1 for i in iu], iv))
+        return size, start, iu, iv, fast
 
     def _flat(self, q: float, w: float) -> Any:
         """The compiled instant's flat output at (q, q̇, ε = 0) (the last one kept)."""
@@ -251,17 +252,21 @@ class FrictionDynamics:
         rest = (drive - flat[start] - self.seal * s) / mass
         # the reduced system R̃⁰ = R⁰ + A·rest, B̃_jk = B_jk − A_k·uⱼ/M, formed by the generated
         # Newton itself from the compiled output in place
-        x = fast(flat, dirs, self.c_list, rest, mass)
-        if x is None:
+        # and the sums Σ x·d·u, Σ x·d·v′
+        solved = fast(flat, dirs, self.c_list, rest, mass)
+        if solved is not None:
+            _, su, sv = solved
+        else:
             _, _, _, r0, a, u, b, _, _ = self._passes(q, w)
             m = len(dirs)
             rt = [r0[k] + a[k] * rest for k in range(m)]
             bt = [[b[j][k] - a[k] * (u[j] / mass) for k in range(m)] for j in range(m)]
             x = self._magnitudes(rt, bt, dirs, f"{self.input} = {q:.6g}")
-        xd = [xj * dj for xj, dj in zip(x, dirs)]
-        eps = rest - sum([v * flat[i] for v, i in zip(xd, iu)]) / mass
+            su = sum([xj * dj * flat[i] for xj, dj, i in zip(x, dirs, iu)])
+            sv = sum([xj * dj * flat[i] for xj, dj, i in zip(x, dirs, iv)])
+        eps = rest - su / mass
         # the power of the friction against the motion, −Σ x·d·v′·q̇ (= Σ x·|v′·q̇| in its own mode)
-        loss = -sum([v * flat[i] for v, i in zip(xd, iv)]) * w + self.seal * s * w
+        loss = -sv * w + self.seal * s * w
         return eps, loss, -flat[start + 2], (min(flat[size:start]) if start > size else 1.0)
 
     def holding(self, q: float) -> tuple[float, float]:

@@ -305,19 +305,21 @@ def solve_one(r0: Sequence[complex], b: Sequence[Sequence[complex]], dirs: Seque
 ONE_SAMPLE_STEPS = 6
 
 
-def solve_flat(m: int, layout: tuple[int, int, Sequence[int], Sequence[int]]) -> Any:
+def solve_flat(m: int, layout: tuple[int, int, Sequence[int], Sequence[int], Sequence[int]]) -> Any:
     """:func:`solve_one` with ``shift`` reading its inputs from one flat sequence (a compiled
     instant's output, solver.dynamics._friction): ``layout`` = (the index of R₀_0, of A_0, of each
-    uⱼ, of each B_j0; R₀_k, A_k, B_jk at k past them). The function returned,
-    ``f(flat, d, c, s, mass)``, is ``solve_one(R₀, B, d, c, shift=(A, s, [uⱼ/mass]))``
-    — the same generated source after its first lines (tests/friction/test_friction_solve.py
-    compares them to the bit) — without building those lists."""
-    ir, ia, iu, ib = layout
-    return _unrolled(m, (ir, ia, tuple(iu), tuple(ib)))
+    uⱼ, of each B_j0, of each element's v′ⱼ; R₀_k, A_k, B_jk at k past them). The function
+    returned, ``f(flat, d, c, s, mass)``, gives (x, Σⱼ xⱼ·dⱼ·uⱼ, Σⱼ xⱼ·dⱼ·v′ⱼ) with x =
+    ``solve_one(R₀, B, d, c, shift=(A, s, [uⱼ/mass]))`` — the same generated source after its first
+    lines (tests/friction/test_friction_solve.py compares them to the bit) — without building those
+    lists; None where that is None."""
+    ir, ia, iu, ib, iv = layout
+    return _unrolled(m, (ir, ia, tuple(iu), tuple(ib), tuple(iv)))
 
 
 @functools.cache
-def _unrolled(m: int, layout: tuple[int, int, tuple[int, ...], tuple[int, ...]] | None = None) -> Any:
+def _unrolled(m: int, layout: tuple[int, int, tuple[int, ...], tuple[int, ...], tuple[int, ...]] | None = None
+              ) -> Any:
     """:func:`solve_one` for m elements as one generated function on local variables (x_k, the
     reactions R_k, the system a_k_j·x_j = h_k of the Newton step); with ``layout``, the shifted
     system read from a flat sequence (:func:`solve_flat`)."""
@@ -339,7 +341,7 @@ def _unrolled(m: int, layout: tuple[int, int, tuple[int, ...], tuple[int, ...]] 
             *(f"        b{j}_{k} -= A{k} * v{j}" for j in rng for k in rng),
         ]
     else:  # the same shift, its inputs read from the flat sequence in place
-        ir, ia, iu, ib = layout
+        ir, ia, iu, ib, iv = layout
         lines = [
             "def solve_one(flat, d, c, s, mass):",
             *(f"    r{k} = flat[{ir + k}]" for k in rng),
@@ -377,9 +379,12 @@ def _unrolled(m: int, layout: tuple[int, int, tuple[int, ...], tuple[int, ...]] 
     lines += [f"{ind}R{k} = {reaction(k)}" for k in rng]
     lines += [f"{ind}n{k} = c{k} * abs(R{k})" for k in rng]
     news = ", ".join(f"n{k}" for k in rng)
+    ret = f"[{news}]"
+    if layout is not None:  # with the sums of x·d·u and x·d·v′ (as Python's sum of the products, to the bit)
+        ret += "".join(", " + " + ".join(f"n{j} * d{j} * flat[{i[j]}]" for j in rng) for i in (iu, iv))
     lines += [f"{ind}t = {float(CONVERGED)!r} * max({news}, 0.0)",
               f"{ind}if {' and '.join(f'-t <= n{k} - x{k} <= t' for k in rng)}:",
-              f"{ind}    return [{news}]",
+              f"{ind}    return {ret}",
               "    except ZeroDivisionError:",
               "        return None",
               "    return None"]

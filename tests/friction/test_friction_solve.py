@@ -5,7 +5,8 @@ pivoted per-sample Newton (``newton``, its fallback) and the one-sample straight
 (``solve_one``) agree to round-off, satisfy the equations to a few ulps, tell the same
 self-locking (a gain beyond 1: no solution), and the reduced system ``shift`` forms is the
 explicit one; ``solve_flat`` (the same generated Newton reading a compiled instant's flat output in
-place, the dynamics' right-hand side) is ``solve_one`` with ``shift`` to the bit.
+place, the dynamics' right-hand side) is ``solve_one`` with ``shift`` to the bit, and its sums of
+x·d·u and x·d·v′ are Python's sums of those products.
 """
 
 from __future__ import annotations
@@ -92,11 +93,15 @@ def test_flat_layout_is_the_shifted_solve_to_the_bit(seed: int, m: int, s: float
     iu = []
     for j in range(m):
         iu.append(len(flat))
-        flat += [u[j], *bs[j], 0.5, -0.5]
-    fast = solve_flat(m, (pad, pad + m, iu, [i + 1 for i in iu]))
+        flat += [u[j], *bs[j], float(rng.normal()), -0.5]
+    iv = [i + 1 + m for i in iu]
+    fast = solve_flat(m, (pad, pad + m, iu, [i + 1 for i in iu], iv))
     shifted = solve_one(r0s, bs, ds, cs, shift=(a, s, [uj / mass for uj in u]))
     assert shifted is not None
-    assert fast(tuple(flat), ds, cs, s, mass) == shifted
+    x, su, sv = fast(tuple(flat), ds, cs, s, mass)
+    assert x == shifted
+    assert su == sum([xj * dj * flat[i] for xj, dj, i in zip(x, ds, iu)])
+    assert sv == sum([xj * dj * flat[i] for xj, dj, i in zip(x, ds, iv)])
 
 
 def test_no_solution_is_self_locking_and_one_sample_gives_up() -> None:
