@@ -44,6 +44,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import DynamicsError
+from ..forces._friction_solve import solve_flat
 from ..forces.friction import solve_magnitudes, solve_one
 
 __all__ = ["FrictionDynamics", "FrictionLayer", "FrictionState", "magnitudes"]
@@ -140,21 +141,43 @@ class FrictionDynamics:
         #: the seal force (N) of a cylinder on the input's own stroke (a seal elsewhere moves no effort)
         self.seal = sum(s.force for s in rubbing.friction.spec.seals if s.joint == self.input)
         self._memo: tuple[Any, Any, Any] = (None, None, None)
+        self._last: tuple[Any, Any, Any] = (None, None, None)
 
     @cached_property
     def _unit(self) -> Any:
         return self.scene.compiled()
 
+    @cached_property
+    def _layout(self) -> tuple[int, int, list[int], list[int], Any]:
+        """(where the conditioning starts, where the layer's outputs start, the index of each uⱼ and
+        of each v′ⱼ in the compiled instant's flat output, the magnitudes' one-sample Newton reading
+        that output in place: solver.forces._friction_solve.solve_flat)."""
+        unit = self._unit
+        size = unit.size
+        start = size + len(unit.conditioning)
+        m = len(self.elements)
+        iu = [start + 3 + 2 * m + j * (m + 3) for j in range(m)]
+        iv = [i + 1 + m for i in iu]
+        fast = solve_flat(m, (start + 3, start + 3 + m, iu, [i + 1 for i in iu], iv))
+        return size, start, iu, iv, fast
+
+    def _flat(self, q: float, w: float) -> Any:
+        """The compiled instant's flat output at (q, q̇, ε = 0) (the last one kept)."""
+        last = self._last
+        if last[0] == q and last[1] == w:
+            return last[2]
+        flat = self._unit.function(q, w, 0.0)  # (``function`` is replaced on the first call: read it each time)
+        self._last = (q, w, flat)
+        return flat
+
     def _passes(self, q: float, w: float) -> tuple[Any, ...]:
-        """(h, M, Q_other, R⁰, A, u, B, analogs, conditioning) at (q, q̇): one compiled call (the
-        last one kept: the reversal events ask each element's analogs at the same q in turn)."""
+        """(h, M, Q_other, R⁰, A, u, B, analogs, conditioning) at (q, q̇) as lists: one compiled call
+        (the last one kept)."""
         memo = self._memo
         if memo[0] == q and memo[1] == w:
             return memo[2]  # type: ignore[no-any-return]
-        unit = self._unit
-        flat = unit.function(q, w, 0.0)
-        size = unit.size
-        start = size + len(unit.conditioning)
+        size, start = self._layout[:2]
+        flat = self._flat(q, w)
         cond = min(flat[size:start]) if start > size else 1.0
         m = len(self.elements)
         h, mass, other = flat[start], flat[start + 1], -flat[start + 2]
@@ -174,7 +197,12 @@ class FrictionDynamics:
 
     def analogs(self, q: float) -> list[tuple[float, float]]:
         """Each element's (v′, v″): the analogs of its relative velocity at ``q`` (v′'s zeros: where
-        it reverses while the input moves)."""
+        it reverses while the input moves). They depend on q alone: those of the last pass at this
+        q whatever its q̇ (a step's events read the state its last stage was evaluated at)."""
+        last = self._last
+        if last[0] == q:
+            flat = last[2]
+            return [(flat[i], flat[i + 1]) for i in self._layout[3]]
         return list(self._passes(q, 0.0)[7])
 
     def _directions(self, rates: list[tuple[float, float]], w: float, slip: float,
@@ -211,21 +239,35 @@ class FrictionDynamics:
         velocity is zero (a restart at its reversal); ``mode``: the directions and the motion's
         sign held fixed (a segment's: the equation stays smooth past a switch, which the
         segment's events then locate), else they follow (q, q̇)."""
-        h, mass, other, r0, a, u, b, rates, cond = self._passes(q, w)
-        dirs, s = mode if mode is not None else (self._directions(rates, w, slip, override), _sign(w) or slip)
-        rest = (drive - h - self.seal * s) / mass
-        m = len(dirs)
-        # the reduced system R̃⁰ = R⁰ + A·rest, B̃_jk = B_jk − A_k·uⱼ/M, formed by solve_one itself
-        x = solve_one(r0, b, dirs, self.c_list, shift=(a, rest, [uj / mass for uj in u]))
-        if x is None:
+        return FrictionState(*self.solve_rates(q, w, drive, slip=slip, override=override, mode=mode))
+
+    def solve_rates(self, q: float, w: float, drive: float, *, slip: float = 0.0,
+                    override: dict[int, float] | None = None,
+                    mode: tuple[list[float], float] | None = None) -> tuple[float, float, float, float]:
+        """:meth:`solve` as the tuple (ε, loss, other, conditioning) (the run's right-hand side)."""
+        size, start, iu, iv, fast = self._layout
+        flat = self._flat(q, w)
+        dirs, s = mode if mode is not None else self.mode(q, w, slip=slip, override=override)
+        mass = flat[start + 1]
+        rest = (drive - flat[start] - self.seal * s) / mass
+        # the reduced system R̃⁰ = R⁰ + A·rest, B̃_jk = B_jk − A_k·uⱼ/M, formed by the generated
+        # Newton itself from the compiled output in place
+        # and the sums Σ x·d·u, Σ x·d·v′
+        solved = fast(flat, dirs, self.c_list, rest, mass)
+        if solved is not None:
+            _, su, sv = solved
+        else:
+            _, _, _, r0, a, u, b, _, _ = self._passes(q, w)
+            m = len(dirs)
             rt = [r0[k] + a[k] * rest for k in range(m)]
             bt = [[b[j][k] - a[k] * (u[j] / mass) for k in range(m)] for j in range(m)]
             x = self._magnitudes(rt, bt, dirs, f"{self.input} = {q:.6g}")
-        xd = [xj * dj for xj, dj in zip(x, dirs)]
-        eps = rest - sum([v * uj for v, uj in zip(xd, u)]) / mass
+            su = sum([xj * dj * flat[i] for xj, dj, i in zip(x, dirs, iu)])
+            sv = sum([xj * dj * flat[i] for xj, dj, i in zip(x, dirs, iv)])
+        eps = rest - su / mass
         # the power of the friction against the motion, −Σ x·d·v′·q̇ (= Σ x·|v′·q̇| in its own mode)
-        loss = -sum([v * r[0] for v, r in zip(xd, rates)]) * w + self.seal * s * w
-        return FrictionState(eps, loss, other, cond)
+        loss = -sv * w + self.seal * s * w
+        return eps, loss, -flat[start + 2], (min(flat[size:start]) if start > size else 1.0)
 
     def holding(self, q: float) -> tuple[float, float]:
         """The breakaway interval (Q₋, Q₊) at rest at ``q``: the efforts of the input that hold the

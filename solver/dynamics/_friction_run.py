@@ -62,26 +62,24 @@ class FrictionEquation(Equation):
         self.override: dict[int, float] | None = None  # at the segment's start: element → d
         #: the segment's friction directions and motion's sign, held until its first switch
         self.mode: tuple[list[float], float] | None = None
-
-    def _state(self, t: float, q: float, w: float) -> tuple[float, float, Any]:
-        """(ε, Q_drive, the solved state) at the segment's local time ``t``."""
-        effort = float(self.drive(self.t0 + t, [q], [w])[0])
-        st = self.friction.solve(q, w, effort, mode=self.mode)
-        return st.epsilon, effort, st
+        #: the drive's effort on floats where it has one (solver.dynamics.drive: the same effort)
+        self._one: Callable[[float, float, float], float] | None = getattr(drive, "one", None)
 
     def rates(self, t: float, y: list[float]) -> list[float]:
-        """y' at (t, y) on plain lists, as :meth:`Equation.rates` (faults kept and counted)."""
+        """y' at (t, y) on plain lists, as :meth:`Equation.rates` (faults kept and counted); ``t`` is
+        the segment's local time (the drive reads t0 + t)."""
         if not all(map(math.isfinite, y[:2])):
             return [math.nan] * len(y)
         q, w = y[0], y[1]
+        one = self._one
         try:
-            eps, effort, st = self._state(t, q, w)
+            effort = one(self.t0 + t, q, w) if one is not None else float(self.drive(self.t0 + t, [q], [w])[0])
+            eps, loss, other, self.last_conditioning = self.friction.solve_rates(q, w, effort, mode=self.mode)
         except AssemblyError as exc:
             self.fault = (exc.group, exc.reason, [q])
             self.faults += 1
             raise
-        self.last_conditioning = st.conditioning
-        return [w, eps, effort * w, st.other * w, -st.loss]
+        return [w, eps, effort * w, other * w, -loss]
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
         return np.array(self.rates(t, [float(v) for v in y]))

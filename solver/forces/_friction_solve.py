@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["solve", "solve_one", "newton", "NEWTON_STEPS", "FAST_STEPS", "ONE_SAMPLE_STEPS", "CONVERGED",
+__all__ = ["solve", "solve_one", "solve_flat", "newton", "NEWTON_STEPS", "FAST_STEPS", "ONE_SAMPLE_STEPS", "CONVERGED",
            "STAGNANT", "KEPT"]
 
 #: Newton steps before a sample is declared self-locking (it converges quadratically: 3–6 steps).
@@ -305,25 +305,55 @@ def solve_one(r0: Sequence[complex], b: Sequence[Sequence[complex]], dirs: Seque
 ONE_SAMPLE_STEPS = 6
 
 
+def solve_flat(m: int, layout: tuple[int, int, Sequence[int], Sequence[int], Sequence[int]]) -> Any:
+    """:func:`solve_one` with ``shift`` reading its inputs from one flat sequence (a compiled
+    instant's output, solver.dynamics._friction): ``layout`` = (the index of R₀_0, of A_0, of each
+    uⱼ, of each B_j0, of each element's v′ⱼ; R₀_k, A_k, B_jk at k past them). The function
+    returned, ``f(flat, d, c, s, mass)``, gives (x, Σⱼ xⱼ·dⱼ·uⱼ, Σⱼ xⱼ·dⱼ·v′ⱼ) with x =
+    ``solve_one(R₀, B, d, c, shift=(A, s, [uⱼ/mass]))`` — the same generated source after its first
+    lines (tests/friction/test_friction_solve.py compares them to the bit) — without building those
+    lists; None where that is None."""
+    ir, ia, iu, ib, iv = layout
+    return _unrolled(m, (ir, ia, tuple(iu), tuple(ib), tuple(iv)))
+
+
 @functools.cache
-def _unrolled(m: int) -> Any:
+def _unrolled(m: int, layout: tuple[int, int, tuple[int, ...], tuple[int, ...], tuple[int, ...]] | None = None
+              ) -> Any:
     """:func:`solve_one` for m elements as one generated function on local variables (x_k, the
-    reactions R_k, the system a_k_j·x_j = h_k of the Newton step)."""
+    reactions R_k, the system a_k_j·x_j = h_k of the Newton step); with ``layout``, the shifted
+    system read from a flat sequence (:func:`solve_flat`)."""
     rng = range(m)
 
     def reaction(k: int) -> str:
         return f"r{k}" + "".join(f" + x{j} * b{j}_{k}" for j in rng)
 
-    lines = [
-        "def solve_one(r0, b, d, c, shift):",
-        f"    {''.join(f'r{k}, ' for k in rng)}= r0",
-        *(f"    {''.join(f'b{j}_{k}, ' for k in rng)}= b[{j}]" for j in rng),
-        f"    {''.join(f'd{j}, ' for j in rng)}= d",
-        f"    {''.join(f'c{k}, ' for k in rng)}= c",
-        "    if shift is not None:",  # R₀ + A·s, B_jk − A_k·vⱼ
-        f"        ({''.join(f'A{k}, ' for k in rng)}), s, ({''.join(f'v{j}, ' for j in rng)}) = shift",
-        *(f"        r{k} += A{k} * s" for k in rng),
-        *(f"        b{j}_{k} -= A{k} * v{j}" for j in rng for k in rng),
+    if layout is None:
+        lines = [
+            "def solve_one(r0, b, d, c, shift):",
+            f"    {''.join(f'r{k}, ' for k in rng)}= r0",
+            *(f"    {''.join(f'b{j}_{k}, ' for k in rng)}= b[{j}]" for j in rng),
+            f"    {''.join(f'd{j}, ' for j in rng)}= d",
+            f"    {''.join(f'c{k}, ' for k in rng)}= c",
+            "    if shift is not None:",  # R₀ + A·s, B_jk − A_k·vⱼ
+            f"        ({''.join(f'A{k}, ' for k in rng)}), s, ({''.join(f'v{j}, ' for j in rng)}) = shift",
+            *(f"        r{k} += A{k} * s" for k in rng),
+            *(f"        b{j}_{k} -= A{k} * v{j}" for j in rng for k in rng),
+        ]
+    else:  # the same shift, its inputs read from the flat sequence in place
+        ir, ia, iu, ib, iv = layout
+        lines = [
+            "def solve_one(flat, d, c, s, mass):",
+            *(f"    r{k} = flat[{ir + k}]" for k in rng),
+            *(f"    b{j}_{k} = flat[{ib[j] + k}]" for j in rng for k in rng),
+            f"    {''.join(f'd{j}, ' for j in rng)}= d",
+            f"    {''.join(f'c{k}, ' for k in rng)}= c",
+            *(f"    A{k} = flat[{ia + k}]" for k in rng),
+            *(f"    v{j} = flat[{iu[j]}] / mass" for j in rng),
+            *(f"    r{k} += A{k} * s" for k in rng),
+            *(f"    b{j}_{k} -= A{k} * v{j}" for j in rng for k in rng),
+        ]
+    lines += [
         *(f"    b{j}_{k} *= d{j}" for j in rng for k in rng),  # dⱼ·B_jk
         *(f"    x{k} = c{k} * abs(r{k})" for k in rng),
         *(f"    x{k} = c{k} * abs({reaction(k)})" for k in rng),  # one Gauss–Seidel sweep
@@ -349,9 +379,12 @@ def _unrolled(m: int) -> Any:
     lines += [f"{ind}R{k} = {reaction(k)}" for k in rng]
     lines += [f"{ind}n{k} = c{k} * abs(R{k})" for k in rng]
     news = ", ".join(f"n{k}" for k in rng)
+    ret = f"[{news}]"
+    if layout is not None:  # with the sums of x·d·u and x·d·v′ (as Python's sum of the products, to the bit)
+        ret += "".join(", " + " + ".join(f"n{j} * d{j} * flat[{i[j]}]" for j in rng) for i in (iu, iv))
     lines += [f"{ind}t = {float(CONVERGED)!r} * max({news}, 0.0)",
               f"{ind}if {' and '.join(f'-t <= n{k} - x{k} <= t' for k in rng)}:",
-              f"{ind}    return [{news}]",
+              f"{ind}    return {ret}",
               "    except ZeroDivisionError:",
               "        return None",
               "    return None"]

@@ -61,6 +61,23 @@ def test_each_state_solves_the_kinetostatics_with_friction(pendulum: Any) -> Non
         assert float(k.friction_power[0]) == pytest.approx(st.loss, rel=ROUNDING)
 
 
+def test_the_fallback_solve_gives_the_generated_ones_state(pendulum: Any, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Where the generated one-sample Newton gives up, the right-hand side takes the vectorised
+    solve on the lists of the same compiled pass: the same ε, loss and other effort to round-off."""
+    fd = reduced_model(pendulum).friction
+    rng = np.random.default_rng(30)
+    states = [(rng.uniform(-math.pi, math.pi), rng.uniform(-6.0, 6.0), rng.uniform(-0.5, 0.5)) for _ in range(10)]
+    fast = [fd.solve_rates(*state) for state in states]
+    size, start, iu, iv, _ = fd._layout
+    monkeypatch.setattr(fd, "_layout", (size, start, iu, iv, lambda *args: None))
+    for state, want in zip(states, fast):
+        fd._last = fd._memo = (None, None, None)
+        got = fd.solve_rates(*state)
+        assert got[0] == pytest.approx(want[0], rel=ROUNDING, abs=ROUNDING)
+        assert got[1] == pytest.approx(want[1], rel=ROUNDING, abs=ROUNDING)
+        assert got[2:] == want[2:]
+
+
 def test_the_holding_interval_is_the_kinetostatic_breakaway(pendulum: Any) -> None:
     fd = reduced_model(pendulum).friction
     for phi in (-2.5, -1.466, 0.3, 1.2, 2.9):

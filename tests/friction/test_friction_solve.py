@@ -4,7 +4,9 @@ x = c·|R₀ + Σⱼ xⱼ·dⱼ·B_j| on random systems of bounded gain: the col
 pivoted per-sample Newton (``newton``, its fallback) and the one-sample straight-line Newton
 (``solve_one``) agree to round-off, satisfy the equations to a few ulps, tell the same
 self-locking (a gain beyond 1: no solution), and the reduced system ``shift`` forms is the
-explicit one.
+explicit one; ``solve_flat`` (the same generated Newton reading a compiled instant's flat output in
+place, the dynamics' right-hand side) is ``solve_one`` with ``shift`` to the bit, and its sums of
+x·d·u and x·d·v′ are Python's sums of those products.
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from solver.forces._friction_solve import CONVERGED, newton, solve, solve_one
+from solver.forces._friction_solve import CONVERGED, newton, solve, solve_flat, solve_one
 
 #: agreement of two solvers of the same well-conditioned system (a few ulps, times 1/(1 − gain))
 AGREE = 64 * CONVERGED
@@ -73,6 +75,33 @@ def test_shift_forms_the_reduced_system(seed: int, m: int, s: float) -> None:
                          [[bs[j][k] - a[k] * v[j] for k in range(m)] for j in range(m)], ds, cs)
     assert shifted is not None and explicit is not None
     np.testing.assert_allclose(shifted, explicit, rtol=AGREE, atol=AGREE * max(explicit))
+
+
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), m=st.integers(1, 5), s=st.floats(-3.0, 3.0), mass=st.floats(0.01, 10.0),
+       pad=st.integers(0, 3))
+def test_flat_layout_is_the_shifted_solve_to_the_bit(seed: int, m: int, s: float, mass: float, pad: int) -> None:
+    r0, b, dirs, c = _system(seed, 1, m, 0.3)
+    rng = np.random.default_rng(seed + 2)
+    a = [complex(rng.normal(), rng.normal()) * 0.1 for _ in range(m)]
+    u = [float(rng.normal()) * 0.1 * mass for _ in range(m)]  # uⱼ/M ≈ 0.1: a solvable system
+    r0s, ds, cs = [complex(r[0]) for r in r0], [float(d[0]) for d in dirs], [float(x) for x in c]
+    bs = [[complex(bk[0]) for bk in bj] for bj in b]
+    # the dynamics' layout (solver.dynamics._friction.FrictionLayer): R₀, A, then per element uⱼ,
+    # B_j·, two analogs, behind ``pad`` other values
+    flat: list[complex | float] = [7.0] * pad + r0s + a
+    iu = []
+    for j in range(m):
+        iu.append(len(flat))
+        flat += [u[j], *bs[j], float(rng.normal()), -0.5]
+    iv = [i + 1 + m for i in iu]
+    fast = solve_flat(m, (pad, pad + m, iu, [i + 1 for i in iu], iv))
+    shifted = solve_one(r0s, bs, ds, cs, shift=(a, s, [uj / mass for uj in u]))
+    assert shifted is not None
+    x, su, sv = fast(tuple(flat), ds, cs, s, mass)
+    assert x == shifted
+    assert su == sum([xj * dj * flat[i] for xj, dj, i in zip(x, ds, iu)])
+    assert sv == sum([xj * dj * flat[i] for xj, dj, i in zip(x, ds, iv)])
 
 
 def test_no_solution_is_self_locking_and_one_sample_gives_up() -> None:
