@@ -58,10 +58,11 @@ def along(e: complex, v: Any) -> Any:
     """``e·v`` for a constant unit vector ``e`` (a Python complex) and a planar vector ``v``:
     Re(conj(e)·v), a zero coefficient skipped (a guide along an axis: one real product)."""
     x, y = e.real, e.imag
-    if y == 0.0:
-        return v.real * x
-    if x == 0.0:
-        return v.imag * y
+    if e.__class__ is complex:  # (a population's guides are (C, 1) arrays: no skip)
+        if y == 0.0:
+            return v.real * x
+        if x == 0.0:
+            return v.imag * y
     out = v.real * x
     out += v.imag * y  # in place on the fresh product
     return out

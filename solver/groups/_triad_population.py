@@ -1,4 +1,6 @@
 """A population of triads (solver.synthesis): C designs at once, each following its own mode.
+The RRR triad (solver.groups.triad) and the slider triad (solver.groups.slider_triad) share
+:func:`own_sweeps`; the batched short rows below are the RRR triad's.
 
 solver.synthesis evaluates C candidate designs in one pass of the plan: the input angles are a
 (C, S) array and every free parameter a (C, 1) array (solver.synthesis.template). A dyad's closed
@@ -6,9 +8,9 @@ form broadcasts over that leading axis; a triad's mode does not — it is a root
 the samples from θ₀ (the branch rule of solver.groups.triad) — so the branch rule runs per
 design, on that design's own roots, with the triad of design c's values (scalars):
 
-* **long rows** (the search's sweep, S ≥ ``LONG``): row c is solved exactly as design c's loaded
-  scene solves a sweep of those samples (the same lines: the anchors' shortcut where it holds,
-  else every sample's roots), one design at a time;
+* **long rows** (the search's sweep, S ≥ ``LONG``; the slider triad's every row): row c is
+  solved exactly as design c's loaded scene solves a sweep of those samples (the same lines: the
+  anchors' shortcut where it holds, else every sample's roots), one design at a time;
 * **short rows** (the polish's K phases, which a scene solves on its full path too): every real
   root of every sample of every design is one batched eigenvalue problem and Newton polish
   (:func:`~solver.groups.triad.triad_roots`, the parameters shaped (C, 1, 1)), then the branch
@@ -33,7 +35,7 @@ from ..jet import Jet
 from . import _triad_tick as _tick
 from .base import Context
 
-__all__ = ["solve_population"]
+__all__ = ["solve_population", "own_sweeps"]
 
 
 #: Rows of at least this many samples are solved one design at a time as its own scene's sweep
@@ -42,23 +44,45 @@ __all__ = ["solve_population"]
 LONG: int = 32
 
 
-def _own_sweeps(group: Any, ctx: Context, phi: np.ndarray) -> None:
-    """Row c solved by the triad of design c's values exactly as its loaded scene solves a sweep of
-    those samples (the same lines: the shortcut where it holds, else every sample's roots)."""
+def _design(group: Any, i: int, rows: int) -> Any:
+    """The group of design ``i``'s values (scalars: its lengths, shape and, for the slider triad,
+    its guide's origin and direction), its follow state fresh; None where a value is not finite
+    (no ternary link: the whole row is invalid)."""
+    changes: dict[str, Any] = {}
+    for key in _PARAMETERS:
+        if not hasattr(group, key):
+            continue
+        value = getattr(group, key)
+        items = value if isinstance(value, tuple) else (value,)
+        kind = complex if key in _COMPLEX else float
+        got = tuple(kind(_column(x, rows)[i, 0]) for x in items)
+        if not np.isfinite(np.array(got, complex)).all():
+            return None
+        changes[key] = got if isinstance(value, tuple) else got[0]
+    fresh: dict[str, dict[str, Any]] = {k: {} for k in ("_last", "_end_state") if hasattr(group, k)}
+    return replace(group, **changes, **fresh)
+
+
+#: The parameters a template may make (C, 1) arrays, by field of the triads' groups, and which are complex.
+_PARAMETERS: tuple[str, ...] = ("lengths", "shape", "origin", "direction")
+_COMPLEX: tuple[str, ...] = ("shape", "origin", "direction")
+
+
+def own_sweeps(group: Any, ctx: Context, phi: np.ndarray, *, reason: str = _tick.NO_ROOT) -> None:
+    """Row c solved by the group of design c's values exactly as its loaded scene solves a sweep of
+    those samples (the same lines: the shortcut where it holds, else every sample's roots). Shared
+    by the triads (solver.groups.triad's long rows, solver.groups.slider_triad's every row)."""
     n_rows, n_samples = phi.shape
-    lengths = [_column(x, n_rows) for x in group.lengths]
-    shape = [_column(x, n_rows).astype(complex) for x in group.shape]
-    names = (*group.points, *(() if group.joint is None else (group.joint,)))
+    joints = group.joints()
     out = {k: [np.full((n_rows, n_samples), np.nan, complex) for _ in range(3)] for k in group.points}
-    if group.joint is not None:
-        out[group.joint] = [np.full((n_rows, n_samples), np.nan) for _ in range(3)]
+    for k in joints:
+        out[k] = [np.full((n_rows, n_samples), np.nan) for _ in range(3)]
     cond = np.full((n_rows, n_samples), np.nan)
     ok = np.zeros((n_rows, n_samples), bool)
     for i in range(n_rows):
-        sizes = (*(float(x[i, 0]) for x in lengths), *(complex(x[i, 0]) for x in shape))
-        if not np.isfinite(np.array(sizes, complex)).all():
+        one = _design(group, i, n_rows)
+        if one is None:
             continue  # no ternary link: the whole row is invalid
-        one = replace(group, lengths=sizes[:3], shape=sizes[3:], _last={}, _end_state={})
         sub = Context(phi=np.array(phi[i]), xp=ctx.xp, mask=True, scene=ctx.scene)
         for n in group.ends:
             jet = ctx.values[n]
@@ -67,12 +91,12 @@ def _own_sweeps(group: Any, ctx: Context, phi: np.ndarray) -> None:
             one.solve(sub)
         good = ~np.broadcast_to(np.asarray(sub.invalid, bool), (n_samples,))
         ok[i] = good
-        for k in names:
+        for k in out:
             for m in range(3):
                 out[k][m][i] = np.where(good, sub.values[k][m], np.nan)
         cond[i] = np.where(good, sub.conditioning[group.name], np.nan)
-    ctx.require(group, ok, reason=_tick.NO_ROOT)
-    for k in names:
+    ctx.require(group, ok, reason=reason)
+    for k in out:
         ctx.values[k] = Jet(*out[k])
     ctx.conditioning[group.name] = cond
 
@@ -91,7 +115,7 @@ def solve_population(group: Any, ctx: Context) -> None:
     phi = np.asarray(ctx.phi, float)
     n_rows, n_samples = phi.shape
     if n_samples >= LONG:
-        _own_sweeps(group, ctx, phi)
+        own_sweeps(group, ctx, phi)
         return
     # the group's formulas take the (C, 1, 1) and (C, 1) parameters as they take scalars
     lengths: Any = tuple(_column(x, n_rows) for x in group.lengths)

@@ -61,6 +61,7 @@ from . import _slider_triad_sweep as _fast
 from . import _slider_triad_tick as _tick
 from ._slider_triad_math import follow_roots, slider_analogs, slider_polish, slider_roots
 from ._slider_triad_tick import JUMP, NO_ROOT
+from ._triad_population import own_sweeps
 from ._triad_tick import FOLLOW_DONE, FOLLOW_STEPS
 from .base import Context, Group
 from .triad import ternary_shape
@@ -71,6 +72,14 @@ __all__ = ["SliderTriad", "NO_ROOT", "JUMP"]
 
 def _wrap(x: Any) -> Any:
     return (x + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def _unit(angle: Any) -> Any:
+    """e^{j·angle} by math.cos and math.sin, elementwise for a population's (C, 1) array: a design's
+    guide direction has the bits of its own scene's (np.cos may differ from math.cos in the last bit)."""
+    if isinstance(angle, np.ndarray):
+        return np.vectorize(_unit, otypes=[complex])(angle)
+    return complex(math.cos(angle), math.sin(angle))
 
 
 @dataclass(frozen=True)
@@ -154,8 +163,9 @@ class SliderTriad(Group):
                 self._last.clear()
                 self._last.update(saved)
         else:
-            if ctx.seeds is None and np.ndim(phi) == 2:
-                raise _population_refused(self)
+            if ctx.seeds is None and np.ndim(phi) == 2:  # a population of designs (solver.synthesis)
+                own_sweeps(self, ctx, np.asarray(phi, float), reason=NO_ROOT)
+                return
             th, s, analogs = self._sweep(ctx, phi, jb, jc)
             w = np.cos(th) + 1j * np.sin(th)
         s1, t1, s2, t2, det = analogs
@@ -273,11 +283,10 @@ class SliderTriad(Group):
         angle = g.angle("angle", units, 0.0)
         offset = g.length("offset", units, positive=False, default=0.0)
         g.done()
-        if isinstance(angle, np.ndarray) or isinstance(fixed[through], np.ndarray):
-            raise e.error(f"slider_triad '{name}': its values cannot vary in a synthesis template (only the "
-                          "RRR triad's do)", "guide")
-        direction = complex(math.cos(angle), math.sin(angle))
-        origin = complex(fixed[through]) + offset * 1j * direction
+        direction: Any = _unit(angle)  # complex, or (C, 1) arrays in a population (solver.synthesis)
+        origin: Any = fixed[through] + offset * 1j * direction
+        if not isinstance(origin, np.ndarray):
+            origin = complex(origin)
         ends = e.names("ends", 2)
         points = e.names("points", 3)
         raw = e.raw("lengths")
@@ -285,13 +294,7 @@ class SliderTriad(Group):
             raise e.error(f"must be [|BE|, |CF|], got {raw!r}", "lengths")
         sub = e.child("lengths", {"BE": raw[0], "CF": raw[1]})
         lengths = (sub.length("BE", units), sub.length("CF", units))
-        if any(isinstance(x, np.ndarray) for x in lengths):
-            raise e.error(f"slider_triad '{name}': its values cannot vary in a synthesis template (only the "
-                          "RRR triad's do)", "lengths")
-        u, v = ternary_shape(e, points, units)
-        if isinstance(u, np.ndarray) or isinstance(v, np.ndarray):
-            raise e.error(f"slider_triad '{name}': its values cannot vary in a synthesis template (only the "
-                          "RRR triad's do)", "shape" if "shape" in e.data else "sides")
+        u, v = ternary_shape(e, points, units)  # (C, 1) arrays in a population, as the lengths may be
         at = e.raw("at", None)
         joint = e.raw("joint", None)
         slide = e.raw("slide", None)
@@ -302,16 +305,10 @@ class SliderTriad(Group):
             ends=(ends[0], ends[1]),
             points=(points[0], points[1], points[2]),
             lengths=lengths,
-            shape=(complex(u), complex(v)),
+            shape=(u, v),
             angle=e.angle("angle", units),
             at=None if at is None else e.angle("at", units),
             joint=None if joint is None else e.name("joint"),
             slide=None if slide is None else e.name("slide"),
         )
 
-
-def _population_refused(group: SliderTriad) -> Exception:
-    from ..errors import SceneError
-
-    return SceneError(f"slider_triad '{group.name}': a population of designs (synthesis) is not solved for the "
-                      "slider triad (only the RRR triad's)")

@@ -355,17 +355,14 @@ def ternary_shape(e: Entry, points: tuple[str, ...], units: Units) -> tuple[Any,
             raise e.error(f"must be [|DE|, |EF|, |FD|], got {raw!r}", "sides")
         ss = e.child("sides", {"DE": raw[0], "EF": raw[1], "FD": raw[2]})
         de, ef, fd = (ss.length(k, units) for k in ("DE", "EF", "FD"))
-        cos_d = (de * de + fd * fd - ef * ef) / (2.0 * de * fd)
-        if isinstance(cos_d, np.ndarray):  # a population (solver.synthesis): no triangle → NaN, rejected
-            with np.errstate(invalid="ignore"):
-                ang = e.mode() * np.arccos(np.where((cos_d > -1.0) & (cos_d < 1.0), cos_d, np.nan))
-            u, v = de + 0j, fd * (np.cos(ang) + 1j * np.sin(ang))
+        mode = e.mode()
+        if any(isinstance(x, np.ndarray) for x in (de, ef, fd)):  # a population: no triangle → NaN, rejected
+            u, v = _each(lambda a, b, c: _from_sides(a, b, c, mode), de, ef, fd)
         else:
-            if not -1.0 < cos_d < 1.0:
+            u, v = _from_sides(de, ef, fd, mode)
+            if u != u:
                 raise e.error(f"[{de:.6g}, {ef:.6g}, {fd:.6g}] is no triangle (each side shorter than the "
                               "other two)", "sides")
-            ang = e.mode() * math.acos(cos_d)
-            u, v = complex(de, 0.0), fd * complex(math.cos(ang), math.sin(ang))
     else:
         sh = e.child("shape", e.raw("shape"))
         pts: list[Any] = []
@@ -376,15 +373,38 @@ def ternary_shape(e: Entry, points: tuple[str, ...], units: Units) -> tuple[Any,
             pts.append(sh.length_value(sh.as_number(xy[0], k), k, units, positive=False)
                        + 1j * sh.length_value(sh.as_number(xy[1], k), k, units, positive=False))
         sh.done()
-        line = np.abs(cross(pts[1] - pts[0], pts[2] - pts[0])) <= 1e-12 * np.abs(pts[1] - pts[0]) ** 2
-        u, v = pts[1] - pts[0], pts[2] - pts[0]
-        if isinstance(line, np.ndarray):  # a population: three points on one line → NaN, rejected
-            u = np.where(line, np.nan, u)
-        elif line:
-            raise e.error("the ternary link's three points are on one line", "shape")
+        if any(isinstance(p, np.ndarray) for p in pts):  # a population: three points on one line → NaN, rejected
+            u, v = _each(_from_shape, *pts)
         else:
-            u, v = complex(u), complex(v)
-        u, v = np.abs(u) + 0j, v * np.conj(u) / np.abs(u)  # θ = arg(E − D) in both forms
-        if not isinstance(u, np.ndarray):
-            u, v = complex(u), complex(v)
+            u, v = _from_shape(*pts)
+            if u != u:
+                raise e.error("the ternary link's three points are on one line", "shape")
+    return u, v
+
+
+def _from_sides(de: float, ef: float, fd: float, mode: int) -> tuple[complex, complex]:
+    """``(u, v)`` of a ternary link from its sides and M; NaN where they make no triangle."""
+    cos_d = (de * de + fd * fd - ef * ef) / (2.0 * de * fd)
+    if not -1.0 < cos_d < 1.0:
+        return complex(math.nan, math.nan), complex(math.nan, math.nan)
+    ang = mode * math.acos(cos_d)
+    return complex(de, 0.0), fd * complex(math.cos(ang), math.sin(ang))
+
+
+def _from_shape(d: complex, e: complex, f: complex) -> tuple[complex, complex]:
+    """``(u, v)`` of a ternary link from its three points in any frame, turned so that θ =
+    arg(E − D); NaN where the points are on one line."""
+    u, v = complex(e - d), complex(f - d)
+    if abs(cross(u, v)) <= 1e-12 * abs(u) ** 2:
+        return complex(math.nan, math.nan), complex(math.nan, math.nan)
+    return complex(np.abs(u) + 0j), complex(v * np.conj(u) / np.abs(u))  # numpy scalars: the loader's bits
+
+
+def _each(formula: Any, *args: Any) -> tuple[Any, Any]:
+    """A scalar formula of two complex results applied to each design of a population's (C, 1)
+    arrays: each design's values have the bits of its own scene's (solver.synthesis compares them)."""
+    a = np.broadcast_arrays(*(np.asarray(x) for x in args))
+    out = [formula(*(x[i] for x in a)) for i in np.ndindex(a[0].shape)]
+    u = np.array([o[0] for o in out], complex).reshape(a[0].shape)
+    v = np.array([o[1] for o in out], complex).reshape(a[0].shape)
     return u, v

@@ -108,10 +108,14 @@ def solve(template: Template, x: np.ndarray, phi: np.ndarray, names: tuple[str, 
         return plan.run(Context(phi=phi, xp=NUMPY, mask=True)), plan, model
 
 
+#: The group kinds whose rigid pairs count in the link ratio.
+_LINKED = ("crank", "rrr", "rrp", "triad", "slider_triad")
+
+
 def link_ratio(plan: Plan, c: int) -> np.ndarray:
     """Longest link over shortest: the cranks', dyads' and sliders' lengths and the distances
     between the fixed pivots they use."""
-    lengths = [np.broadcast_to(length, (c, 1)) for g in plan.groups if g.kind in ("crank", "rrr", "rrp", "triad")
+    lengths = [np.broadcast_to(length, (c, 1)) for g in plan.groups if g.kind in _LINKED
                for _, _, length in g.rigid_pairs()]
     pivots = [np.broadcast_to(v, (c, 1)) for v in plan.fixed.values() if np.iscomplexobj(v)]
     for i in range(len(pivots)):

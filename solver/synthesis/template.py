@@ -5,7 +5,8 @@ A free value stands where a number may stand and is named by its place in the fi
 ``groups[1].lengths[0]`` (a dyad's link), ``groups[2].distance`` / ``groups[2].angle`` (an
 attached point), ``groups[3].guide.angle`` / ``groups[3].guide.offset`` (a slider's guide),
 ``groups[4].lengths[2]``, ``groups[4].sides[0]``, ``groups[4].shape.F[1]`` (a triad's binary link,
-ternary link side, shape point coordinate; its mode θ₀ stays given), in the scene's units.
+ternary link side, shape point coordinate; its mode θ₀ stays given; a slider triad's too, and its
+guide's ``guide.angle`` / ``guide.offset``), in the scene's units.
 Everything else of the file is an ordinary scene, validated on load with every free value at the
 middle of its range.
 
@@ -50,6 +51,8 @@ FREE_PLACES: dict[str, dict[str, str]] = {
     "rrp": {"length": "length", "guide.angle": "angle", "guide.offset": "signed"},
     "triad": {"lengths[0]": "length", "lengths[1]": "length", "lengths[2]": "length",
               "sides[0]": "length", "sides[1]": "length", "sides[2]": "length"},
+    "slider_triad": {"lengths[0]": "length", "lengths[1]": "length", "guide.angle": "angle",
+                     "guide.offset": "signed", "sides[0]": "length", "sides[1]": "length", "sides[2]": "length"},
 }
 
 
@@ -99,7 +102,7 @@ def _kind_of(path: tuple[Any, ...], data: Mapping[str, Any]) -> str | None:
         groups = data.get("groups")
         group = groups[path[1]] if isinstance(groups, list) and path[1] < len(groups) else None
         kind = group.get("type") if isinstance(group, Mapping) else None
-        if kind == "triad" and len(path) == 5 and path[2] == "shape" and path[4] in (0, 1):
+        if kind in ("triad", "slider_triad") and len(path) == 5 and path[2] == "shape" and path[4] in (0, 1):
             return "signed"  # groups[i].shape.D[0]: a ternary link's local point, x or y
         return FREE_PLACES.get(kind, {}).get(_place(path[2:])) if isinstance(kind, str) else None
     return None
@@ -189,11 +192,6 @@ class Template:
             frees.append(replace(_read_free(container[key], place, kind, file, line), path=path))
         if not frees:
             raise SceneError("a template needs at least one {free: [lo, hi]} value", file=file)
-        for i, group in enumerate(data.get("groups") or ()):
-            if isinstance(group, Mapping) and group.get("type") == "slider_triad":
-                raise SceneError(f"slider_triad '{group.get('name', '?')}': a template with a slider triad is not "
-                                 "synthesised yet (its designs would each follow their own mode as the RRR "
-                                 "triad's do; docs/synthesis.md#triads)", file=file, entry=f"groups[{i}]")
         self.free: tuple[Free, ...] = tuple(frees)
         self.lo = np.array([f.lo for f in frees])
         self.hi = np.array([f.hi for f in frees])
@@ -228,13 +226,15 @@ class Template:
         name = str(group.get("name", f"groups[{path[1]}]"))
         point = group.get("point", "?")
         key = _place(path[2:])
-        if group.get("type") == "triad":
+        if group.get("type") in ("triad", "slider_triad"):
+            slider = group.get("type") == "slider_triad"  # ends [B, C] to points E, F (D is on the guide)
             ends, pts = group.get("ends") or ["?"] * 3, group.get("points") or ["?"] * 3
             if key.startswith("lengths["):
-                return f"{name} {ends[path[3]]}–{pts[path[3]]}"
+                return f"{name} {ends[path[3]]}–{pts[path[3] + int(slider)]}"
             if key.startswith("sides["):
                 return f"{name} {pts[path[3]]}–{pts[(path[3] + 1) % 3]}"
-            return f"{name} {path[3]} {'xy'[path[4]]} (ternary link's frame)"
+            if key.startswith("shape."):
+                return f"{name} {path[3]} {'xy'[path[4]]} (ternary link's frame)"
         if key == "length" and group.get("type") == "crank":
             return f"{name} {group.get('center', '?')}–{point}"
         if key == "length":

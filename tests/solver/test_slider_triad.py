@@ -353,26 +353,6 @@ def test_scene_errors() -> None:
         build(scene({"ends": ["G", "C"]}))
 
 
-def test_synthesis_refuses_a_slider_triad_in_one_line() -> None:
-    """Synthesis does not vary a scene with a slider triad (docs/synthesis.md): one SceneError line,
-    whether the free value is the triad's own or elsewhere in the scene."""
-    import yaml
-
-    import solver
-
-    data = yaml.safe_load(Path(solver.find_scene("slider_triad_press")).read_text(encoding="utf-8"))
-    through = [[-0.39, 0.09], [-0.4, 0.1], [-0.41, 0.12]]
-    own = json.loads(json.dumps(data))
-    own["groups"][1]["lengths"][0] = {"free": [0.45, 0.55]}
-    with pytest.raises(SceneError, match=r"^groups\[1\]\.lengths\[0\]: a free value in a place that cannot vary"):
-        solver.synthesize(own, point="E", through=through)
-    pivot = json.loads(json.dumps(data))
-    pivot["fixed"]["C"] = [{"free": [0.35, 0.45]}, 0.5]
-    with pytest.raises(SceneError, match=r"^groups\[1\]: slider_triad 'triad': a template with a slider triad is not "
-                                         r"synthesised yet"):
-        solver.synthesize(pivot, point="E", through=through)
-
-
 def test_ticks_follow_by_newton_and_agree_with_the_sweep() -> None:
     """Tick by tick (1e-3 rad apart) the root is Newton's from the predicted one — every root
     (the eigenvalues) only at the first tick and while the compiled instant is traced (its eager
