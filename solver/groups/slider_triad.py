@@ -44,6 +44,10 @@ Branch rule (the mode): the RRR triad's. ``angle`` θ₀ names the mode: at the 
     root on anchors only and polishes the interpolated root between them under the same checks
     (solver.groups._slider_triad_sweep), else every sample's roots.
 Assembly fails where no real root exists (AssemblyError with the φ intervals).
+Population (solver.synthesis: parameters (C, 1) arrays, φ (C, S)): each design's row solved as
+    its own scene solves those samples, design by design (``own_sweeps``, shared with the RRR
+    triad, solver.groups._triad_population); the guide's direction computed per design by the
+    scalar formula (``_unit``) so that a design's values have its own scene's bits.
 """
 
 from __future__ import annotations
