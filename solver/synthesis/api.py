@@ -75,7 +75,8 @@ def synthesize(
     instantaneous efficiency over the range at ``speed``) (the template needs ``friction:``,
     docs/forces.md#friction); the polish still hits the targets. ``starts``: multi-start
     sweep length (stopped at the first start that gives an exact design); ``workers``: a
-    ``dask.distributed.Client`` that runs the starts (the result is the same); ``maxiter``:
+    number of local processes or a ``dask.distributed.Client`` that run the starts, as many at
+    once as there are (the result is the same as in one process: search._workers); ``maxiter``:
     generations of one start and ``starts`` the most starts (by default 35 and 64 where the task's
     zeros form a family — unknowns ≥ equations — and there are no force terms, else 300 and 32:
     search.short_starts). An expired
@@ -90,8 +91,10 @@ def synthesize(
         args.numbers("at", at, unit="rad")  # (its count against the targets: make_goal)
     seed = args.integer("seed", seed, low=0)
     time_limit = args.number("time_limit", time_limit, low=0.0, low_open=True, unit="s", none=True)
-    if workers is not None and not all(hasattr(workers, m) for m in ("submit", "gather", "scatter")):
-        args.fail("workers", workers, "must be a dask.distributed.Client or None")
+    if isinstance(workers, int) and not isinstance(workers, bool):
+        workers = args.integer("workers", workers, low=1)
+    elif workers is not None and not all(hasattr(workers, m) for m in ("submit", "cancel", "scatter")):
+        args.fail("workers", workers, "must be a number of local processes (≥ 1), a dask.distributed.Client or None")
     input_range = None if input_range is None else args.span("input_range", input_range, unit="rad")
     min_transmission = args.number("min_transmission", min_transmission, low=0.0, high=math.pi / 2, high_open=True,
                                    span="in [0, π/2)", unit="rad")
