@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import multiprocessing
 from pathlib import Path
 
 import numpy as np
@@ -39,3 +40,4 @@ def test_local_processes_same_result() -> None:
     assert pool.values == local.values and pool.starts == local.starts
     np.testing.assert_array_equal(pool.phases, local.phases)
     assert [d.values for d in pool.solutions] == [d.values for d in local.solutions]
+    assert multiprocessing.active_children() == []  # the pool's processes ended with the search
