@@ -33,8 +33,10 @@ SAMPLES = 180
 #: The same for a task of short starts without timing (search.short_starts: a family of zeros,
 #: no force terms; the input angles at the targets free): a target's miss is refined along the
 #: curve from its nearest sample (population._untimed), so a coarser sweep still scores an exact
-#: design near zero, and each generation costs 2/3. Issue 32's 20 seven-target instances: 120
-#: samples needed fewer starts than 180 (docs/synthesis.md, Figures), 90 more.
+#: design near zero, and each generation costs 2/3. Issue 32's 20 seven-target instances: 197
+#: starts in all with 120 samples against 272 with 180, a median of 2 against 5.5 (a few cases
+#: needed more: the luck of a start moves either way); 90 samples needed more on the first cases
+#: (docs/synthesis.md, Figures).
 SHORT_SAMPLES = 120
 #: Most starts of the multi-start sweep by default (each start is short: it ends when it stalls);
 #: twice as many where the starts are short (search.short_starts: 35 generations).
