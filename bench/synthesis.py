@@ -1,6 +1,6 @@
 """Synthesis figures (issue 23) for docs/synthesis.md: not timed tests, a report.
 
-    python -m bench.synthesis [five] [seven] [six] [ten] [population] [--cases=A-B] [--write]
+    python -m bench.synthesis [five] [seven] [six] [ten] [population] [--cases=A-B] [--workers=N] [--write]
 
 * **five** — path generation without timing, 5 targets on a crank-rocker's coupler curve, every
   dimension of config/templates/four_bar_path.yaml free: ``solver.synthesize``'s time and largest
@@ -9,8 +9,8 @@
   miss of the best of them: each target's distance to its coupler curve, 20,000 samples a turn).
 * **seven** — issue 32's benchmark: 20 path instances with an exact solution, 7 coupler points
   (sorted input angles) of random crank-rockers (fixed RNG), the default seed: wall and CPU time
-  (the machine is shared: the load average after each case is printed beside it), starts, the
-  largest miss solving the returned scene.
+  (the machine is shared: the load average after each case is printed beside it; CPU counts the
+  pool's processes with ``--workers=N``), starts, the largest miss solving the returned scene.
 * **six** — 6 coupler points of 4 random crank-rockers, seeds 0–4: the time by seed.
 * **ten** — 10 targets on the coupler curves of 3 random crank-rockers, 150 s each: the largest
   miss over the curve's size and whether it reached 1e-9 m.
@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 import os
+import resource
 import sys
 import time
 from pathlib import Path
@@ -176,31 +177,39 @@ def instances(count: int, targets: int, seed: int) -> list[tuple[np.ndarray, np.
     return out
 
 
-def _solve_case(targets: np.ndarray, seed: int) -> tuple[float, float, float, int]:
-    """(wall s, CPU s, largest miss m — inf when it raised —, starts) of one synthesize call."""
+def _cpu() -> float:
+    """CPU seconds of this process and of its ended children (the pool of ``workers=N``)."""
+    own, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
+
+
+def _solve_case(targets: np.ndarray, seed: int, workers: int | None = None) -> tuple[float, float, float, int]:
+    """(wall s, CPU s — with the pool's processes —, largest miss m — inf when it raised —,
+    starts read) of one synthesize call."""
     t = load_template(TEMPLATE)
-    w0, c0 = time.perf_counter(), time.process_time()
+    w0, c0 = time.perf_counter(), _cpu()
     try:
-        res = solver.synthesize(t, point="P", through=targets, seed=seed)
+        res = solver.synthesize(t, point="P", through=targets, seed=seed, workers=workers)
         got = res.scene.with_outputs(points=["P"], joints=[]).solve(res.phases).point("P").position
         miss, starts = float(np.hypot(*(got - targets).T).max()), res.starts
     except solver.SynthesisError:
         miss, starts = math.inf, 0
-    return time.perf_counter() - w0, time.process_time() - c0, miss, starts
+    return time.perf_counter() - w0, _cpu() - c0, miss, starts
 
 
 def _load() -> str:
     return " ".join(f"{v:.2f}" for v in os.getloadavg())
 
 
-def seven(count: int = 20, cases: range | None = None) -> str:
-    """Issue 32's benchmark: 20 random 7-point instances, the default seed (``cases``: a part)."""
+def seven(count: int = 20, cases: range | None = None, workers: int | None = None) -> str:
+    """Issue 32's benchmark: 20 random 7-point instances, the default seed (``cases``: a part;
+    ``workers``: local processes, synthesize's keyword)."""
     rows, walls, cpus, exact = [], [], [], 0
     chosen = cases or range(count)
     for case, (_, targets) in enumerate(instances(count, 7, 32)):
         if case not in chosen:
             continue
-        wall, cpu, miss, starts = _solve_case(targets, 0)
+        wall, cpu, miss, starts = _solve_case(targets, 0, workers)
         walls.append(wall)
         cpus.append(cpu)
         exact += miss <= 1e-9
@@ -216,13 +225,13 @@ def seven(count: int = 20, cases: range | None = None) -> str:
             ).replace(f"{exact} of {count}", f"{exact} of {len(rows)}")
 
 
-def six(count: int = 4, seeds: int = 5) -> str:
+def six(count: int = 4, seeds: int = 5, workers: int | None = None) -> str:
     """Six targets, seeds 0–4: the time by seed."""
     rows, worst = [], 0.0
     for case, (_, targets) in enumerate(instances(count, 6, 6)):
         cells = []
         for seed in range(seeds):
-            wall, cpu, miss, _ = _solve_case(targets, seed)
+            wall, cpu, miss, _ = _solve_case(targets, seed, workers)
             worst = max(worst, cpu)
             cells.append(f"{wall:.1f} / {cpu:.1f} s{'' if miss <= 1e-9 else f' ({miss:.0e} m)'}")
         rows.append(f"| {case} | " + " | ".join(cells) + f" | {_load()} |")
@@ -251,8 +260,10 @@ def main(argv: list[str]) -> int:
     chosen = [a for a in argv if not a.startswith("--")] or ["five", "seven", "six", "ten", "population"]
     part = next((a.split("=", 1)[1] for a in argv if a.startswith("--cases=")), None)  # e.g. --cases=10-19
     cases = None if part is None else range(int(part.split("-")[0]), int(part.split("-")[1]) + 1)
-    parts = [seven(cases=cases) if c == "seven" else
-             {"five": five, "six": six, "ten": ten, "population": population}[c]() for c in chosen]
+    count = next((a.split("=", 1)[1] for a in argv if a.startswith("--workers=")), None)  # local processes
+    workers = None if count is None else int(count)
+    parts = [seven(cases=cases, workers=workers) if c == "seven" else six(workers=workers) if c == "six" else
+             {"five": five, "ten": ten, "population": population}[c]() for c in chosen]
     m = machine()
     text = (f"## Figures\n\nMeasured with `python -m bench.synthesis --write` on {m['cpu']} ({m['cores']} cores, "
             f"shared with other work: load {m['load']}), Python {m['python']}, numpy {m['numpy']}, pylinkage "

@@ -83,8 +83,12 @@ def _parser() -> Parser:
                    "limit)")
     p.add_argument("--input-range", metavar="LO,HI",
                    help="the range the input must turn through, rad (default a full turn)")
-    p.add_argument("--dask", metavar="ADDRESS", help="run the starts on this dask.distributed scheduler (default: "
-                   "in this process)")
+    runs = p.add_mutually_exclusive_group()
+    runs.add_argument("--dask", metavar="ADDRESS", help="run the starts on this dask.distributed scheduler (default: "
+                      "in this process)")
+    runs.add_argument("--workers", type=count, default=None, metavar="N",
+                      help="run N starts at once on N local processes (default: one, in this process; the "
+                           "designs are the same)")
     p.add_argument("--all", action="store_true", help="list every distinct design found, not only the best")
     p.add_argument("--efficiency-weight", type=within(0.0, math.inf, "(a weight)"), default=0.0, metavar="W",
                    help="add W·(1 − the worst efficiency over the input range at --speed) to the search's figure "
@@ -165,7 +169,8 @@ def main(argv: Sequence[str] | None = None, *, rrd_writer: RrdWriter | None = No
         if args.dask:
             client = _client(args.dask)
         res = synthesize(
-            args.template, **task, seed=args.seed, time_limit=args.time_limit, workers=client, starts=args.starts,
+            args.template, **task, seed=args.seed, time_limit=args.time_limit,
+            workers=client if client is not None else args.workers, starts=args.starts,
             min_transmission=math.radians(args.min_transmission), max_ratio=args.max_ratio, progress=bar,
             efficiency_weight=args.efficiency_weight, speed=args.speed,
         )

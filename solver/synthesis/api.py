@@ -26,10 +26,18 @@ from .result import Design, SynthesisResult, check_design, distinct
 from .search import Options, StartResult, short_starts, sweep
 from .template import Template, load_template
 
-__all__ = ["synthesize", "SAMPLES"]
+__all__ = ["synthesize", "SAMPLES", "SHORT_SAMPLES"]
 
 #: Input angles per candidate in the global search (the sweep of the required range).
 SAMPLES = 180
+#: The same for a task of short starts without timing (search.short_starts: a family of zeros,
+#: no force terms; the input angles at the targets free): a target's miss is refined along the
+#: curve from its nearest sample (population._untimed), so a coarser sweep still scores an exact
+#: design near zero, and each generation costs 2/3. Issue 32's 20 seven-target instances: 197
+#: starts in all with 120 samples against 272 with 180, a median of 2 against 5.5 (a few cases
+#: needed more: the luck of a start moves either way); 90 samples needed more on the first cases
+#: (docs/synthesis.md, Figures).
+SHORT_SAMPLES = 120
 #: Most starts of the multi-start sweep by default (each start is short: it ends when it stalls);
 #: twice as many where the starts are short (search.short_starts: 35 generations).
 STARTS = 32
@@ -59,7 +67,7 @@ def synthesize(
     efficiency_weight: float = 0.0,
     speed: float = 1.0,
     starts: int | None = None,
-    samples: int = SAMPLES,
+    samples: int | None = None,
     popsize: int = 20,
     maxiter: int | None = None,
     progress: Callable[[int, int, float], None] | None = None,
@@ -75,7 +83,8 @@ def synthesize(
     instantaneous efficiency over the range at ``speed``) (the template needs ``friction:``,
     docs/forces.md#friction); the polish still hits the targets. ``starts``: multi-start
     sweep length (stopped at the first start that gives an exact design); ``workers``: a
-    ``dask.distributed.Client`` that runs the starts (the result is the same); ``maxiter``:
+    number of local processes or a ``dask.distributed.Client`` that run the starts, as many at
+    once as there are (the result is the same as in one process: search._workers); ``maxiter``:
     generations of one start and ``starts`` the most starts (by default 35 and 64 where the task's
     zeros form a family — unknowns ≥ equations — and there are no force terms, else 300 and 32:
     search.short_starts). An expired
@@ -90,8 +99,10 @@ def synthesize(
         args.numbers("at", at, unit="rad")  # (its count against the targets: make_goal)
     seed = args.integer("seed", seed, low=0)
     time_limit = args.number("time_limit", time_limit, low=0.0, low_open=True, unit="s", none=True)
-    if workers is not None and not all(hasattr(workers, m) for m in ("submit", "gather", "scatter")):
-        args.fail("workers", workers, "must be a dask.distributed.Client or None")
+    if isinstance(workers, int) and not isinstance(workers, bool):
+        workers = args.integer("workers", workers, low=1)
+    elif workers is not None and not all(hasattr(workers, m) for m in ("submit", "cancel", "scatter")):
+        args.fail("workers", workers, "must be a number of local processes (≥ 1), a dask.distributed.Client or None")
     input_range = None if input_range is None else args.span("input_range", input_range, unit="rad")
     min_transmission = args.number("min_transmission", min_transmission, low=0.0, high=math.pi / 2, high_open=True,
                                    span="in [0, π/2)", unit="rad")
@@ -101,16 +112,22 @@ def synthesize(
                                                 ("efficiency_weight", efficiency_weight)))
     speed = args.number("speed", speed, low=0.0)
     starts = None if starts is None else args.integer("starts", starts, low=1)
-    samples = args.integer("samples", samples, low=8)
+    samples = None if samples is None else args.integer("samples", samples, low=8)
     popsize = args.integer("popsize", popsize, low=1)
     maxiter = None if maxiter is None else args.integer("maxiter", maxiter, low=1)
     progress = args.function_("progress", progress)
     tpl = load_template(template)
-    goal = make_goal(tpl, point=point, through=through, at=at, joint=joint, pairs=pairs, poses=poses,
-                     input_range=input_range, min_transmission=min_transmission, max_ratio=max_ratio,
-                     samples=samples)
+
+    def goal_of(count: int) -> Goal:
+        return make_goal(tpl, point=point, through=through, at=at, joint=joint, pairs=pairs, poses=poses,
+                         input_range=input_range, min_transmission=min_transmission, max_ratio=max_ratio,
+                         samples=count)
+
+    goal = goal_of(samples or SAMPLES)
     if effort_weight or pin_weight or efficiency_weight:
         goal = _weighted(tpl, goal, effort_weight, pin_weight, speed, efficiency=efficiency_weight)
+    elif samples is None and goal.at is None and short_starts(tpl, goal):
+        goal = goal_of(SHORT_SAMPLES)  # short starts without timing: a coarser sweep (SHORT_SAMPLES)
     if starts is None:
         starts = 2 * STARTS if short_starts(tpl, goal) else STARTS
     options = Options(popsize=popsize, maxiter=maxiter, starts=starts)

@@ -8,16 +8,17 @@ the free values within their bounds, every generation's whole population one arr
 distinct members of its final population are polished (:func:`~.polish.polish`); where none
 ends exact and feasible, an exact but infeasible one slides along the task's family of zeros to a
 feasible zero (:func:`_slide`; the same for the trial polishes during the search). Starts run in
-order until one yields an exact design or ``starts`` are spent; on a Dask client
-(``workers=``) a batch of starts runs at once, and the results are read in start order with the
-same stopping rule, so whatever runs them the answer is the same (only an expiring time limit
-depends on the machine).
+order until one yields an exact design or ``starts`` are spent; on N local processes
+(``workers=N``) or a Dask client (``workers=client``) N starts run at once (:mod:`._workers`),
+and the results are read in start order with the same stopping rule, so whatever runs them the
+answer is the same (only an expiring time limit depends on the machine).
 """
 
 from __future__ import annotations
 
 import math
 import time
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -26,6 +27,7 @@ import numpy as np
 from scipy.optimize import differential_evolution
 
 from ..tolerances import EXACT_MISS
+from ._workers import runner
 from .batch import Batch, polish_batch
 from .polish import Polished, polish, residuals
 from .population import INFEASIBLE, Goal, evaluate, objective, run
@@ -317,33 +319,28 @@ def _exact_and_feasible(template: Template, goal: Goal, p: Polished) -> bool:
 def sweep(template: Template, goal: Goal, *, seed: int, options: Options, time_limit: float | None,
           workers: Any, done: Callable[[StartResult], bool],
           progress: Callable[[int, int, float], None] | None = None) -> list[StartResult]:
-    """Starts 0, 1, … in order until ``done(result)`` or ``options.starts`` (module docstring)."""
+    """Starts 0, 1, … in order until ``done(result)`` or ``options.starts`` (module docstring):
+    on ``workers`` (:mod:`._workers`: None this process, N local processes, a Dask client) as
+    many run at once as it has, and their results are read in start order."""
     t0 = time.monotonic()
     results: list[StartResult] = []
-    batch = 1 if workers is None else max(1, len(workers.scheduler_info().get("workers", {})))
-    i = 0
-    shared = None
-    while i < options.starts:
-        remaining = None if time_limit is None else time_limit - (time.monotonic() - t0)
-        if remaining is not None and remaining <= 0.0:
-            if results:
-                results[-1].expired = True
-            break
-        idx = list(range(i, min(i + batch, options.starts)))
-        if workers is None:
-            got = [run_start(template, goal, seed, j, options, remaining) for j in idx]
-        else:
-            if shared is None:
-                shared = workers.scatter([template, goal], broadcast=True)
-            futures = [workers.submit(run_start, shared[0], shared[1], seed, j, options, remaining, pure=False)
-                       for j in idx]
-            got = workers.gather(futures)
-        for r in got:
+    with runner(workers) as run:
+        pending: deque[Any] = deque()
+        i = 0
+        while True:
+            remaining = None if time_limit is None else time_limit - (time.monotonic() - t0)
+            out_of_time = remaining is not None and remaining <= 0.0
+            while i < options.starts and len(pending) < run.depth and not out_of_time:
+                pending.append(run.submit(run_start, template, goal, seed, i, options, remaining))
+                i += 1
+            if not pending:
+                if out_of_time and results:
+                    results[-1].expired = True
+                return results
+            r = pending.popleft().result()
             results.append(r)
             if progress is not None:
                 best = min((h for s in results for h in s.history[-1:]), default=float("inf"))
                 progress(len(results), options.starts, best)
             if r.expired or done(r):
                 return results
-        i += batch
-    return results

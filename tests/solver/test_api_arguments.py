@@ -152,7 +152,9 @@ SYNTHESIS = [
     ({"input_range": "0:1"}, r"synthesize: input_range must be \(lo, hi\), two finite numbers with lo < hi \(rad\), "
                              r"got '0:1' \(a str\)$"),
     ({"point": 3}, r"synthesize: point must be a name \(a str\) or None, got 3$"),
-    ({"workers": 4}, r"synthesize: workers must be a dask.distributed.Client or None, got 4$"),
+    ({"workers": 0}, r"synthesize: workers must be a whole number ≥ 1, got 0$"),
+    ({"workers": "4"}, r"synthesize: workers must be a number of local processes \(≥ 1\), a dask.distributed.Client "
+                       r"or None, got '4' \(a str\)$"),
     ({"at": "x"}, r"synthesize: at must be a number or an array of numbers \(rad\), got 'x' \(a str\)$"),
     ({"progress": "yes"}, r"synthesize: progress must be a function or None, got 'yes' \(a str\)$"),
 ]

@@ -11,7 +11,7 @@ import pytest
 
 import solver
 from solver.synthesis import load_template
-from solver.synthesis.api import make_goal
+from solver.synthesis.api import SHORT_SAMPLES, make_goal
 from solver.synthesis.batch import polish_batch
 from solver.synthesis.result import meets_constraints
 from solver.synthesis.search import start_box
@@ -79,6 +79,7 @@ def test_seven_points_end_exact_whatever_the_seed(seed: int) -> None:
     got = _points(t, res.best.x, res.phases)
     assert np.abs(got - targets).max() <= EXACT_MISS and res.exact
     assert meets_constraints(res.scene, res.goal) is None
+    assert res.goal.sweep.size == SHORT_SAMPLES  # short starts without timing: the coarser sweep
 
 
 @pytest.mark.parametrize(("count", "slack", "short"), [(5, 4, True), (7, 2, True), (9, 0, True), (10, -1, False)])

@@ -37,6 +37,20 @@ def test_cli_writes_a_scene_and_says_exact(tmp_path: Path, capsys: pytest.Captur
     assert np.abs(got - xy).max() < 1e-8  # the summary prints phases to 1e-9 rad
 
 
+def test_cli_workers_same_summary(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``--workers 2``: the starts on two local processes, the same design as in one process."""
+    csv, _ = _targets(tmp_path)
+    assert main([str(SLIDER), "--point", "P", "--through", str(csv)]) == 0
+    one = capsys.readouterr().out
+    assert main([str(SLIDER), "--point", "P", "--through", str(csv), "--workers", "2"]) == 0
+    two = capsys.readouterr().out
+
+    def timeless(text: str) -> str:
+        return re.sub(r"\d+\.\d+ s\b", "T s", text)
+
+    assert timeless(two) == timeless(one) and "exact" in one
+
+
 @pytest.mark.parametrize(
     ("args", "content", "message"),
     [
