@@ -165,6 +165,9 @@ class _DynamicLaw:
         self._stepper = self._new_stepper(phi0, omega, float(t0))
         #: run time over wall time of the last full window (inf before the first); "" or why it is behind
         self.realtime_factor = math.inf
+        #: the share of the ``rate_hz`` ticks the node asked for over the last full window (nan
+        #: before the first): its own count of ticks skipped, beside what a subscriber receives
+        self.tick_share = math.nan
         self.behind = ""
         self._window = (float(t0), 0.0, 0)  # (run time at its start, wall seconds spent, ticks)
         #: the law's own time is the run time less ``_offset``: the time it let slip where a tick
@@ -208,7 +211,7 @@ class _DynamicLaw:
             return
         self._window = (t, 0.0, 0)
         self.realtime_factor = span / busy if busy > 0 else math.inf
-        share = ticks / (span * self.rate)
+        share = self.tick_share = ticks / (span * self.rate)
         if self.realtime_factor < 1.0 or share < TICKS_WANTED:
             behind = (f"dynamics fall behind real time: {self.realtime_factor:.2f}× real time, {100 * share:.1f} % "
                       f"of the {self.rate:g} Hz ticks over the last {span:.2f} s")
