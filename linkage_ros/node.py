@@ -6,8 +6,8 @@
 Declares the parameters of :data:`linkage_ros.parameters.PARAMETERS` with descriptors, ticks a
 timer at ``rate_hz`` with t from the node clock (``use_sim_time`` works), publishes the CDR bytes
 the runtime renders (``Publisher.publish(bytes)``; QoS depth 10, reliable; a topic without a
-subscriber is not published — which topics have one is read every 50 ms,
-:data:`SUBSCRIBERS_CHECK_NS` — while the recording gets every topic) and validates
+subscriber is neither published nor, on an ordinary tick, rendered — which topics have one is
+read every 50 ms, :data:`SUBSCRIBERS_CHECK_NS` — while the recording gets every topic) and validates
 parameter changes in a callback. Integer values for double parameters (``-p omega:=2``, or
 ``ros2 param set ... omega 3``) are converted to doubles, at start and at run time. Every
 rejected change is logged, rclpy's own descriptor checks included; so are the start and the end
@@ -116,7 +116,8 @@ WARNING_THROTTLE_S = 1.0
 SPIN_TIMEOUT_S = 0.1
 #: How often (ns of monotonic time, checked per tick) the node reads which of its topics have a
 #: subscriber (``Publisher.get_subscription_count``, ≈ 3 µs each): a topic nobody subscribes to is
-#: rendered (the recording has it) but not published, which saves ≈ 8 µs a topic and tick at 1 kHz.
+#: not published (≈ 8 µs a topic and tick at 1 kHz) and, but while recording, not rendered on an
+#: ordinary tick (:meth:`Runtime.publish_only <linkage_ros.runtime.Runtime.publish_only>`).
 #: A subscriber matched meanwhile gets its first message at most this long after discovery.
 SUBSCRIBERS_CHECK_NS = 50_000_000
 
@@ -468,8 +469,10 @@ class MechanismNode(Node):
     def _check_subscribers(self) -> None:
         """Publish (from the next tick on) the topics with a subscriber; drop the rest unsent."""
         self._next_check_ns = time.monotonic_ns() + SUBSCRIBERS_CHECK_NS
-        self._publish = {topic: publisher.publish if publisher.get_subscription_count() else _unread
+        read = {topic for topic, publisher in self._topic_publishers.items() if publisher.get_subscription_count()}
+        self._publish = {topic: publisher.publish if topic in read else _unread
                          for topic, publisher in self._topic_publishers.items()}
+        self.runtime.publish_only(read)  # an ordinary tick renders those only (every topic while recording)
 
     def _sync_input(self) -> None:
         """Topic mode: the input subscription, no timer; clock mode: the timer, no subscription."""
