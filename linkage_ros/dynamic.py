@@ -170,6 +170,7 @@ class _DynamicLaw:
         self.tick_share = math.nan
         self.behind = ""
         self._window = (float(t0), 0.0, 0)  # (run time at its start, wall seconds spent, ticks)
+        self._counted = float(t0)  # the run time of the last tick counted
         #: the law's own time is the run time less ``_offset``: the time it let slip where a tick
         #: found it more than MAX_GAP_TICKS ticks behind (it never catches up by ever longer ticks)
         self._offset = 0.0
@@ -190,6 +191,10 @@ class _DynamicLaw:
             self._expire(law, t)
             self._advance(law)
             self._count(t, time.perf_counter() - start)
+            self._counted = t
+        elif self._held and t > self._counted:  # a hold's ticks count too (tick_share), at no cost
+            self._count(t, 0.0)
+            self._counted = t
         return self._state
 
     def _law_time(self, t: float) -> float:

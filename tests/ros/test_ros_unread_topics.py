@@ -118,3 +118,16 @@ def test_the_dynamic_node_s_ordinary_tick_renders_joint_states_alone() -> None:
     runtime.publish_only(set())
     lengths = [len(runtime.tick(T0 + k * NS // 1000)) for k in range(1200)]
     assert lengths.count(1) >= 1190 and max(lengths) == len(runtime.topics)
+
+
+def test_a_held_law_s_ticks_count_in_its_tick_share() -> None:
+    from linkage_ros.runtime import Runtime
+
+    runtime = Runtime({"scene": "tipper", "mode": "dynamic", "rate_hz": 1000.0, "phi0": 1.0, "omega": 0.0})
+    law = runtime.engine.motion
+    for k in range(2100):  # it reaches the closed end of its stroke within 0.3 s and holds there
+        runtime.tick(T0 + k * NS // 1000)
+    assert law._held and law.tick_share == 1.0 and law.behind == ""
+    for k in range(2100, 4300, 2):  # every other tick
+        runtime.tick(T0 + k * NS // 1000)
+    assert law.tick_share == 0.5 and "50.0 % of the 1000 Hz ticks" in law.behind
