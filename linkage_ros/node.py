@@ -120,6 +120,10 @@ SPIN_TIMEOUT_S = 0.1
 #: ordinary tick (:meth:`Runtime.publish_only <linkage_ros.runtime.Runtime.publish_only>`).
 #: A subscriber matched meanwhile gets its first message at most this long after discovery.
 SUBSCRIBERS_CHECK_NS = 50_000_000
+#: A new publisher (at start, a change of scene or points) is published for this long (ns)
+#: whatever its subscriber count: discovery matches the subscribers already there meanwhile, so
+#: they get its first messages as before (not up to 50 ms later, one topic after another).
+FRESH_PUBLISHER_NS = 2_000_000_000
 
 _PARAMETER_TYPES = {
     "string": ParameterType.PARAMETER_STRING,
@@ -278,6 +282,8 @@ class MechanismNode(Node):
         #: :func:`_unread` while nobody subscribes to it (:meth:`_check_subscribers`)
         self._publish: dict[str, Callable[[Any], None]] = {}
         self._next_check_ns = 0
+        #: topic → until when (monotonic ns) its new publisher is published whatever its count
+        self._fresh: dict[str, int] = {}
         self._sync_publishers()
         self._description_publisher = self.create_publisher(String, DESCRIPTION_TOPIC, description_qos_profile())
         self._description: str | None = None
@@ -459,17 +465,23 @@ class MechanismNode(Node):
         classes = message_classes(sorted(set(wanted.values())))
         for topic in [t for t in self._topic_publishers if t not in wanted]:
             self.destroy_publisher(self._topic_publishers.pop(topic))
+        now = time.monotonic_ns()
         for topic, typename in wanted.items():
             if topic not in self._topic_publishers:
                 self._topic_publishers[topic] = self.create_publisher(
                     classes[typename], topic, self._qos_profile
                 )
+                self._fresh[topic] = now + FRESH_PUBLISHER_NS
         self._check_subscribers()
 
     def _check_subscribers(self) -> None:
         """Publish (from the next tick on) the topics with a subscriber; drop the rest unsent."""
-        self._next_check_ns = time.monotonic_ns() + SUBSCRIBERS_CHECK_NS
-        read = {topic for topic, publisher in self._topic_publishers.items() if publisher.get_subscription_count()}
+        now = time.monotonic_ns()
+        self._next_check_ns = now + SUBSCRIBERS_CHECK_NS
+        if self._fresh:  # a new publisher's subscribers are still being discovered: published meanwhile
+            self._fresh = {topic: until for topic, until in self._fresh.items() if until > now}
+        read = {topic for topic, publisher in self._topic_publishers.items()
+                if topic in self._fresh or publisher.get_subscription_count()}
         self._publish = {topic: publisher.publish if topic in read else _unread
                          for topic, publisher in self._topic_publishers.items()}
         self.runtime.publish_only(read)  # an ordinary tick renders those only (every topic while recording)
