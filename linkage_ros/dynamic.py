@@ -218,7 +218,8 @@ class _DynamicLaw:
         self.realtime_factor = span / busy if busy > 0 else math.inf
         share = self.tick_share = ticks / (span * self.rate)
         if self.realtime_factor < 1.0 or share < TICKS_WANTED:
-            behind = (f"dynamics fall behind real time: {self.realtime_factor:.2f}× real time, {100 * share:.1f} % "
+            factor = f"{self.realtime_factor:.2f}× real time, " if math.isfinite(self.realtime_factor) else ""
+            behind = (f"dynamics fall behind real time: {factor}{100 * share:.1f} % "
                       f"of the {self.rate:g} Hz ticks over the last {span:.2f} s")
             if not self.behind:
                 self.events.append(behind)
