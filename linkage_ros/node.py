@@ -121,8 +121,10 @@ SPIN_TIMEOUT_S = 0.1
 #: A subscriber matched meanwhile gets its first message at most this long after discovery.
 SUBSCRIBERS_CHECK_NS = 50_000_000
 #: A new publisher (at start, a change of scene or points) is published for this long (ns)
-#: whatever its subscriber count: discovery matches the subscribers already there meanwhile, so
-#: they get its first messages as before (not up to 50 ms later, one topic after another).
+#: whatever its subscriber count, and every publisher for this long from the run's first tick
+#: (under ``use_sim_time`` the first /clock may come much later): discovery matches the
+#: subscribers already there meanwhile, so they get the first messages as before (not up to
+#: 50 ms later, one topic after another).
 FRESH_PUBLISHER_NS = 2_000_000_000
 
 _PARAMETER_TYPES = {
@@ -283,7 +285,9 @@ class MechanismNode(Node):
         self._publish: dict[str, Callable[[Any], None]] = {}
         self._next_check_ns = 0
         #: topic → until when (monotonic ns) its new publisher is published whatever its count
+        #: (armed again at the run's first tick: the time before a first /clock does not count)
         self._fresh: dict[str, int] = {}
+        self._first_tick = True
         self._sync_publishers()
         self._description_publisher = self.create_publisher(String, DESCRIPTION_TOPIC, description_qos_profile())
         self._description: str | None = None
@@ -324,8 +328,12 @@ class MechanismNode(Node):
         runtime = self.runtime
         if time.monotonic_ns() >= self._next_check_ns:
             self._check_subscribers()
+        messages = runtime.tick(now_ns)
+        if self._first_tick and messages:  # the run's first tick (under use_sim_time: the first /clock)
+            self._first_tick = False
+            self._freshen()
         publish = self._publish
-        for topic, data in runtime.tick(now_ns):
+        for topic, data in messages:
             publish[topic](data)
         if runtime.events:
             for event in runtime.take_events():
@@ -472,6 +480,12 @@ class MechanismNode(Node):
                     classes[typename], topic, self._qos_profile
                 )
                 self._fresh[topic] = now + FRESH_PUBLISHER_NS
+        self._check_subscribers()
+
+    def _freshen(self) -> None:
+        """Every topic published for FRESH_PUBLISHER_NS from now on, whatever its count."""
+        until = time.monotonic_ns() + FRESH_PUBLISHER_NS
+        self._fresh = dict.fromkeys(self._topic_publishers, until)
         self._check_subscribers()
 
     def _check_subscribers(self) -> None:

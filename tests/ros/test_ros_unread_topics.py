@@ -1,4 +1,5 @@
-"""mechanism_node publishes only the topics somebody subscribes to, and an ordinary tick renders
+"""mechanism_node publishes only the topics somebody subscribes to (every one for its first 2 s
+and the run's first 2 s), and an ordinary tick renders
 only those (issue 32: the dynamic node at 1 kHz); the recording keeps every topic. In process: a
 MechanismNode in a context of its own, and the Runtime alone."""
 
@@ -55,6 +56,10 @@ def test_a_topic_without_subscribers_is_not_published(context: Any) -> None:
         while not publisher.get_subscription_count() and time.monotonic() < deadline:
             time.sleep(0.01)
         assert publisher.get_subscription_count() == 1
+        node._on_timer()  # the run's first tick: every topic published for FRESH_PUBLISHER_NS again
+        assert not any(p is node_module._unread for p in node._publish.values())
+        assert not node._first_tick and min(node._fresh.values()) > time.monotonic_ns()
+        node._fresh.clear()
         node._next_check_ns = 0  # the next tick reads the subscriber counts again
         before = time.monotonic_ns()
         node._on_timer()
