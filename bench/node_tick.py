@@ -28,6 +28,8 @@ s, in a ROS domain of their own, with nobody subscribed:
   (``perf_counter`` around it, in the running process), ``callback`` the time in the timer
   callback (the clock read, the tick, the publishes), ``cpu`` the process's CPU time (every
   thread: rclpy's, DDS's) per timer tick;
+  (Since issue 32's last round a node with nobody subscribed renders, after its first 2 s, joint_states alone on an
+  ordinary tick and publishes nothing: ``node`` here is that.)
 * ``floor``: the same node with its timer callback replaced by publishing the node's own
   bytes (rendered before it starts; joint_states stamped per tick), what ``bench.node_floor``'s
   floor does;

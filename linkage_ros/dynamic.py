@@ -165,8 +165,12 @@ class _DynamicLaw:
         self._stepper = self._new_stepper(phi0, omega, float(t0))
         #: run time over wall time of the last full window (inf before the first); "" or why it is behind
         self.realtime_factor = math.inf
+        #: the share of the ``rate_hz`` ticks the node asked for over the last full window (nan
+        #: before the first): its own count of ticks skipped, beside what a subscriber receives
+        self.tick_share = math.nan
         self.behind = ""
         self._window = (float(t0), 0.0, 0)  # (run time at its start, wall seconds spent, ticks)
+        self._counted = float(t0)  # the run time of the last tick counted
         #: the law's own time is the run time less ``_offset``: the time it let slip where a tick
         #: found it more than MAX_GAP_TICKS ticks behind (it never catches up by ever longer ticks)
         self._offset = 0.0
@@ -187,6 +191,10 @@ class _DynamicLaw:
             self._expire(law, t)
             self._advance(law)
             self._count(t, time.perf_counter() - start)
+            self._counted = t
+        elif self._held and t > self._counted:  # a hold's ticks count too (tick_share), at no cost
+            self._count(t, 0.0)
+            self._counted = t
         return self._state
 
     def _law_time(self, t: float) -> float:
@@ -208,9 +216,10 @@ class _DynamicLaw:
             return
         self._window = (t, 0.0, 0)
         self.realtime_factor = span / busy if busy > 0 else math.inf
-        share = ticks / (span * self.rate)
+        share = self.tick_share = ticks / (span * self.rate)
         if self.realtime_factor < 1.0 or share < TICKS_WANTED:
-            behind = (f"dynamics fall behind real time: {self.realtime_factor:.2f}× real time, {100 * share:.1f} % "
+            factor = f"{self.realtime_factor:.2f}× real time, " if math.isfinite(self.realtime_factor) else ""
+            behind = (f"dynamics fall behind real time: {factor}{100 * share:.1f} % "
                       f"of the {self.rate:g} Hz ticks over the last {span:.2f} s")
             if not self.behind:
                 self.events.append(behind)

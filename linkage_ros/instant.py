@@ -58,6 +58,7 @@ from .engine import Engine, every_output
 from .frame import Frame
 from .messages import NS_PER_S, MessageBuilder
 from .serialize import STAMP_SLOTS, Packer, Serializer, Slot
+from .topics import DIAGNOSTICS, JOINT_STATES
 
 __all__ = ["Emit", "FastPath", "compiled_tree", "emit_source", "flat_solver"]
 
@@ -258,6 +259,12 @@ class FastPath:
         #: the generated tick (:meth:`emitter`), bound on the first fast tick; None: not (yet) bound
         self._emit: Emit | None = None
         self._sample: tuple[Any, ...] | None = None  # the numbers of the first fast tick
+        #: the generated tick of every per-tick topic, the arguments of its first tick, the topics
+        #: asked for (:meth:`want`) and the generated ticks of such subsets, by their topics
+        self._every: Emit | None = None
+        self._first_args: tuple[Any, Any, Any, int] | None = None
+        self._wanted: frozenset[str] | None = None
+        self._subsets: dict[tuple[str, ...], Emit | None] = {}
 
     def tick(self, t: float, stamp_ns: int) -> list[tuple[str, bytes]] | None:
         state = self.engine.motion.moving_state(t) if self.enabled else None
@@ -378,8 +385,41 @@ class FastPath:
         self._sample = values
         emit = self.emitter()
         if emit is not None and emit(phi, omega, epsilon, stamp_ns) == messages:
-            self._emit = emit
+            self._emit = self._every = emit
+            self._first_args = (phi, omega, epsilon, stamp_ns)
+            self._subset()
         return messages
+
+    def want(self, topics: frozenset[str] | None) -> None:
+        """From the next tick on, the generated tick renders only ``topics`` (with
+        ``joint_states``, whose bytes carry the guards' verdict as the others do) — the node's
+        topics with a subscriber, none recorded — or, None, every per-tick topic. A subset's tick
+        is bound once it gave the full tick's bytes of those topics at the first fast tick's
+        instant; until then, or where it cannot be built, every topic is rendered."""
+        if topics != self._wanted:
+            self._wanted = topics
+            self._subset()
+
+    def _subset(self) -> None:
+        every = self._every
+        if every is None:
+            return
+        wanted = self._wanted
+        all_topics = [t for t in self.serializer.types if t != DIAGNOSTICS]
+        chosen = all_topics if wanted is None else [t for t in all_topics if t in wanted or t == JOINT_STATES]
+        key = tuple(chosen)
+        if key == tuple(all_topics):
+            self._emit = every
+            return
+        if key not in self._subsets:
+            emit = self.emitter(chosen)
+            args = self._first_args
+            if emit is not None and args is not None:
+                full = every(*args)
+                if full is None or emit(*args) != [m for m in full if m[0] in key]:
+                    emit = None
+            self._subsets[key] = emit
+        self._emit = self._subsets[key] or every
 
 
 #: The generated tick (:meth:`FastPath.emitter`).
@@ -435,8 +475,31 @@ def emit_source(path: FastPath, shape: _Shape, values: tuple[Any, ...],
     if conditioning:
         lowest = conditioning[0] if len(conditioning) == 1 else f"min({', '.join(conditioning)})"
         lines.append(f"if {lowest} < _near: return None")
-    used = packer.reads()
+    used = set(packer.reads())
     reads = Counter(int(i) for i in re.findall(r"\bx(\d+)\b", " ".join(packer.source(lambda i: f"x{i}")[0])))
+    tree, tips = path._derived
+
+    def local(i: int) -> str:
+        return f"x{i}"
+
+    pieces = []
+    if tree:
+        pieces.append(tree_code(path.engine.scene, path.order, values, read=local, prefix="T_"))
+    if tips:
+        assert path._view is not None
+        pieces.append(view_code(path.builder.load_tips, path._view, values, read=local, prefix="L_"))
+    if any(code is None for code in pieces):
+        return None
+    where = 2 + n + len(shape.reader)
+    spans = []  # per piece: the slots of its outputs, and whether the pack reads one of them
+    for code in pieces:
+        assert code is not None
+        outputs = range(where, where + len(code.outputs))
+        where += len(code.outputs)
+        wanted = not used.isdisjoint(outputs)  # e.g. not the arrow tips when only joint_states is packed
+        spans.append((outputs, wanted))
+        if wanted:  # the numbers its lines read (a load under an arrow's tip) are needed as locals too
+            used.update(int(i) for i in re.findall(r"\bx(\d+)\b", " ".join(code.lines)))
     terms: list[str] = []  # values()'s finiteness check's sum less its + 0.0 (finite iff the sum is)
     named: dict[int, str] = {}  # numbers the pack reads as an expression, not a local x{i}
     for i, expr in enumerate(shape.reader, start=2 + n):
@@ -451,24 +514,9 @@ def emit_source(path: FastPath, shape: _Shape, values: tuple[Any, ...],
               f"x0, x1 = divmod(stamp_ns, {NS_PER_S})"]
     namespace: dict[str, Any] = {"_unit": unit, "_near": shape.near, "_isfinite": math.isfinite, "_sum": sum,
                                  "complex": complex, "float": float, "min": min, "divmod": divmod}
-    tree, tips = path._derived
-    where = 2 + n + len(shape.reader)
-
-    def local(i: int) -> str:
-        return f"x{i}"
-
-    pieces = []
-    if tree:
-        pieces.append(tree_code(path.engine.scene, path.order, values, read=local, prefix="T_"))
-    if tips:
-        assert path._view is not None
-        pieces.append(view_code(path.builder.load_tips, path._view, values, read=local, prefix="L_"))
-    for code in pieces:
-        if code is None:
-            return None
-        outputs = range(where, where + len(code.outputs))
-        where += len(code.outputs)
-        if used.isdisjoint(outputs):  # e.g. the arrow tips when only joint_states is packed
+    for code, (outputs, wanted) in zip(pieces, spans):
+        assert code is not None
+        if not wanted:
             continue
         lines += code.lines
         named.update((i, e) for i, e in zip(outputs, code.outputs) if _NAMED.fullmatch(e) or reads[i] == 1)

@@ -410,6 +410,9 @@ class MessageBuilder:
         factor = getattr(self.engine.motion, "realtime_factor", None)
         if factor is not None:
             values.append(KV(key="compute_factor", value=f"{factor:.3g}"))
+            # and the share of the rate_hz ticks it was asked for over that window (the node's own count)
+            share = getattr(self.engine.motion, "tick_share", math.nan)
+            values.append(KV(key="tick_share", value=f"{share:.4f}"))
         if self.diagnostic_values is not None:  # e.g. the dynamic mode's drive state (runtime)
             values += [KV(key=key, value=value) for key, value in self.diagnostic_values()]
         status = S(

@@ -5,7 +5,9 @@
 
 Declares the parameters of :data:`linkage_ros.parameters.PARAMETERS` with descriptors, ticks a
 timer at ``rate_hz`` with t from the node clock (``use_sim_time`` works), publishes the CDR bytes
-the runtime renders (``Publisher.publish(bytes)``; QoS depth 10, reliable) and validates
+the runtime renders (``Publisher.publish(bytes)``; QoS depth 10, reliable; a topic without a
+subscriber is neither published nor, on an ordinary tick, rendered — which topics have one is
+read every 50 ms, :data:`SUBSCRIBERS_CHECK_NS` — while the recording gets every topic) and validates
 parameter changes in a callback. Integer values for double parameters (``-p omega:=2``, or
 ``ros2 param set ... omega 3``) are converted to doubles, at start and at run time. Every
 rejected change is logged, rclpy's own descriptor checks included; so are the start and the end
@@ -112,6 +114,18 @@ EFFORT_QOS_DEPTH = 10
 WARNING_THROTTLE_S = 1.0
 #: Longest wait of the spin loop (s): how soon a signal is acted on when no timer is due.
 SPIN_TIMEOUT_S = 0.1
+#: How often (ns of monotonic time, checked per tick) the node reads which of its topics have a
+#: subscriber (``Publisher.get_subscription_count``, ≈ 3 µs each): a topic nobody subscribes to is
+#: not published (≈ 8 µs a topic and tick at 1 kHz) and, but while recording, not rendered on an
+#: ordinary tick (:meth:`Runtime.publish_only <linkage_ros.runtime.Runtime.publish_only>`).
+#: A subscriber matched meanwhile gets its first message at most this long after discovery.
+SUBSCRIBERS_CHECK_NS = 50_000_000
+#: A new publisher (at start, a change of scene or points) is published for this long (ns)
+#: whatever its subscriber count, and every publisher for this long from the run's first tick
+#: (under ``use_sim_time`` the first /clock may come much later): discovery matches the
+#: subscribers already there meanwhile, so they get the first messages as before (not up to
+#: 50 ms later, one topic after another).
+FRESH_PUBLISHER_NS = 2_000_000_000
 
 _PARAMETER_TYPES = {
     "string": ParameterType.PARAMETER_STRING,
@@ -266,8 +280,14 @@ class MechanismNode(Node):
         self.declare_parameter("points", points, descriptor(SPECS["points"]), ignore_override=True)
         self._qos_profile = qos_profile()
         self._topic_publishers: dict[str, Any] = {}
-        #: topic → its publisher's bound ``publish`` (one look-up per message and tick)
+        #: topic → its publisher's bound ``publish`` (one look-up per message and tick), or
+        #: :func:`_unread` while nobody subscribes to it (:meth:`_check_subscribers`)
         self._publish: dict[str, Callable[[Any], None]] = {}
+        self._next_check_ns = 0
+        #: topic → until when (monotonic ns) its new publisher is published whatever its count
+        #: (armed again at the run's first tick: the time before a first /clock does not count)
+        self._fresh: dict[str, int] = {}
+        self._first_tick = True
         self._sync_publishers()
         self._description_publisher = self.create_publisher(String, DESCRIPTION_TOPIC, description_qos_profile())
         self._description: str | None = None
@@ -306,8 +326,14 @@ class MechanismNode(Node):
         with handle:
             now_ns = handle.get_now().nanoseconds
         runtime = self.runtime
+        if time.monotonic_ns() >= self._next_check_ns:
+            self._check_subscribers()
+        messages = runtime.tick(now_ns)
+        if self._first_tick and messages:  # the run's first tick (under use_sim_time: the first /clock)
+            self._first_tick = False
+            self._freshen()
         publish = self._publish
-        for topic, data in runtime.tick(now_ns):
+        for topic, data in messages:
             publish[topic](data)
         if runtime.events:
             for event in runtime.take_events():
@@ -331,6 +357,8 @@ class MechanismNode(Node):
         runtime = self.runtime
         if runtime.recorder is not None:
             runtime.record_input(INPUT_TOPIC, fields[3], data)
+        if time.monotonic_ns() >= self._next_check_ns:
+            self._check_subscribers()
         publish = self._publish
         for topic, payload in runtime.answer(*fields):
             publish[topic](payload)
@@ -445,12 +473,32 @@ class MechanismNode(Node):
         classes = message_classes(sorted(set(wanted.values())))
         for topic in [t for t in self._topic_publishers if t not in wanted]:
             self.destroy_publisher(self._topic_publishers.pop(topic))
+        now = time.monotonic_ns()
         for topic, typename in wanted.items():
             if topic not in self._topic_publishers:
                 self._topic_publishers[topic] = self.create_publisher(
                     classes[typename], topic, self._qos_profile
                 )
-        self._publish = {topic: publisher.publish for topic, publisher in self._topic_publishers.items()}
+                self._fresh[topic] = now + FRESH_PUBLISHER_NS
+        self._check_subscribers()
+
+    def _freshen(self) -> None:
+        """Every topic published for FRESH_PUBLISHER_NS from now on, whatever its count."""
+        until = time.monotonic_ns() + FRESH_PUBLISHER_NS
+        self._fresh = dict.fromkeys(self._topic_publishers, until)
+        self._check_subscribers()
+
+    def _check_subscribers(self) -> None:
+        """Publish (from the next tick on) the topics with a subscriber; drop the rest unsent."""
+        now = time.monotonic_ns()
+        self._next_check_ns = now + SUBSCRIBERS_CHECK_NS
+        if self._fresh:  # a new publisher's subscribers are still being discovered: published meanwhile
+            self._fresh = {topic: until for topic, until in self._fresh.items() if until > now}
+        read = {topic for topic, publisher in self._topic_publishers.items()
+                if topic in self._fresh or publisher.get_subscription_count()}
+        self._publish = {topic: publisher.publish if topic in read else _unread
+                         for topic, publisher in self._topic_publishers.items()}
+        self.runtime.publish_only(read)  # an ordinary tick renders those only (every topic while recording)
 
     def _sync_input(self) -> None:
         """Topic mode: the input subscription, no timer; clock mode: the timer, no subscription."""
@@ -492,6 +540,10 @@ class MechanismNode(Node):
 #: Environment variable that chooses the executor: ``events`` (default) or ``single``.
 EXECUTOR_ENV = "LINKAGE_ROS_EXECUTOR"
 EXECUTORS = ("events", "single")
+
+
+def _unread(data: Any) -> None:
+    """What a tick's message on a topic without subscribers is handed to: nothing."""
 
 
 def make_executor(kind: str | None = None) -> Any:

@@ -32,7 +32,7 @@ of clock time; the markers carry the paths on the first tick and then once per
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Collection, Mapping, Sequence
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -43,7 +43,7 @@ from ._runtime_dynamic import DriveState, energy_values
 from ._runtime_topic import DIAGNOSTICS_PERIOD_S, TopicAnswers
 from .dynamic import RESTARTING, drive_reason, dynamic_law, mode_reason
 from .engine import Engine
-from .frame import STATUS_OK, STATUS_UNASSEMBLABLE, Frame
+from .frame import STATUS_BEHIND, STATUS_OK, STATUS_UNASSEMBLABLE, Frame
 from .instant import FastPath
 from .messages import MessageBuilder, MessageTypes
 from .motion import SEGMENT_HOLD, Motion, Motions
@@ -72,8 +72,13 @@ NS_PER_S = 1_000_000_000
 #: assembled (``on_unassemblable: stop``), even when the value does not change.
 RESUMING = frozenset({"omega", "epsilon", "input_omegas", "input_epsilons", "on_unassemblable"})
 
-#: The diagnostics key of an ordinary frame: the fast path runs while it is the last one sent.
-_ORDINARY = (STATUS_OK, "")
+#: The diagnostics keys of an ordinary frame: the fast path runs while one of them is the last
+#: one sent. ``behind`` (a dynamic law slower than real time) changes the diagnostics only, not a
+#: tick's other bytes: its ticks keep the fast path — on the Frame path every tick (2–3× the
+#: cost) a law just behind real time fell further behind (issue 32) — and the change back to ok,
+#: as the change to behind, shows in the next periodic diagnostics (at most a second later; the
+#: law's own window is a second of run time).
+_ORDINARY = frozenset({(STATUS_OK, ""), (STATUS_BEHIND, "")})
 
 
 class Recorder(Protocol):
@@ -134,6 +139,8 @@ class Runtime(TopicAnswers):
         self._last_ns: int | None = None
         self._last_frame: Frame | FastPath | None = None
         self._fast_path: FastPath | None = None
+        #: the topics somebody reads (:meth:`publish_only`; None: every topic)
+        self._wanted: frozenset[str] | None = None
         self._last_event = ""
         self.events: list[str] = []
         self.input_warnings: list[str] = []
@@ -211,6 +218,14 @@ class Runtime(TopicAnswers):
                 self._record_energies(now_ns, t)
         return messages
 
+    def publish_only(self, topics: Collection[str] | None) -> None:
+        """The topics the caller publishes (those with a subscriber; None: every topic): an
+        ordinary tick renders only those (and joint_states), unless a recording is open, which
+        gets every topic (:meth:`linkage_ros.instant.FastPath.want`). The ticks of the Frame path
+        (the first, a change of status, the path markers and diagnostics about once a second)
+        render every topic."""
+        self._wanted = None if topics is None else frozenset(topics)
+
     def command_efforts(self, values: Sequence[float], now_ns: int) -> str | None:
         """Dynamic mode: an effort command (``effort_commands``, one value per input) from clock
         time ``now_ns`` on; the one-line reason it is refused (the last good command stays in
@@ -247,12 +262,13 @@ class Runtime(TopicAnswers):
         """The bytes of an ordinary instant from the fast path (:mod:`linkage_ros.instant`) when
         the status is ok and neither diagnostics nor the path markers are due; None: take the
         Frame path."""
-        if (self._diagnostics_key != _ORDINARY or self.builder.wants_paths(t)
+        if (self._diagnostics_key not in _ORDINARY or self.builder.wants_paths(t)
                 or not 0 <= stamp_ns - self._diagnostics_ns < DIAGNOSTICS_PERIOD_S * NS_PER_S):
             return None
         fast = self._fast_path
         if fast is None or fast.serializer is not self.wire:
             fast = self._fast_path = FastPath(self.engine, self.builder, self.wire)
+        fast.want(self._wanted if self.recorder is None else None)
         if reading is None:
             messages = fast.tick(t, stamp_ns)
         else:

@@ -267,6 +267,7 @@ class Integrator:
         y, fy = self.y, self.fy
         fault: tuple[str, str] = ("?", "the step size fell below the spacing of floats")
         tries = 0
+        landed = False
         while True:
             if h < self._min_step(t):
                 raise StepFailure(t, y, *fault)
@@ -297,10 +298,11 @@ class Integrator:
                 continue
             # the kink passed, or reached within DYNAMICS_KINK_MISS of the move (landed on it)
             crossing = self._crossing(y_new, slack=DYNAMICS_KINK_MISS)
-            if crossing is None or tries:
+            if crossing is None:
                 break
             i, bound = crossing
-            if abs(y_new[i] - bound) <= DYNAMICS_KINK_MISS * abs(y_new[i] - y[i]):
+            landed = abs(y_new[i] - bound) <= DYNAMICS_KINK_MISS * abs(y_new[i] - y[i])
+            if landed or tries:
                 break  # landed on the kink (the interpolant's crossing is needed only where it missed)
             cubic = hermite(t, h, y, y_new, fy, f_new)
             tau = _root(lambda s, cubic=cubic, i=i, bound=bound: cubic.component(t + s, i) - bound, h)
@@ -309,7 +311,10 @@ class Integrator:
             h, tries, end = tau, 1, None  # once more, from the interpolant's crossing
         t_new = t + h if end is None else end
         if crossing is not None:
-            self._advance(t_new, y_new, crossed=crossing)
+            # landed: f_new, evaluated on the piece left, is f on the next one (the tables are
+            # continuous at their kinks) within DYNAMICS_KINK_MISS of the move times the change of
+            # slope, as DOP853's landing step reuses it; otherwise f is evaluated anew there
+            self._advance(t_new, y_new, f_new=f_new if landed else None, crossed=crossing)
         else:
             self._advance(t_new, y_new, f_new=f_new)
         return _LazyHermite(t, h, y, y_new, fy, self.fy if crossing is not None else f_new)

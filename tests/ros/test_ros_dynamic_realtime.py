@@ -111,8 +111,15 @@ def test_a_law_that_falls_behind_says_so_once_and_reports_its_factor(monkeypatch
     assert diagnostics.level == type(diagnostics).WARN and diagnostics.message == events[0]
     values = {kv.key: kv.value for kv in diagnostics.values}
     assert float(values["compute_factor"]) == pytest.approx(law.realtime_factor, rel=1e-2)
+    assert float(values["tick_share"]) == pytest.approx(law.tick_share, abs=1e-4) and law.tick_share < 0.99
+    # behind changes the diagnostics alone: its ticks keep the fast path (the Frame path every tick
+    # would cost a law just behind real time more again)
+    from linkage_ros.instant import FastPath
+
+    fast = [isinstance(rt._last_frame, FastPath) for i in range(2300, 2350, 10) if rt.tick(start + i * NS // 1000)]
+    assert law.behind and sum(fast) >= 4
     clock.cost = 1e-5  # keeping up again clears it (and says nothing more)
-    ticks(2300, 4600)
+    ticks(2350, 4600)
     assert law.behind == "" and law.realtime_factor > 1.0 and not rt.take_events()
     assert rt.engine.frame(4.6).status == "ok"
 
