@@ -45,6 +45,7 @@ setup(
         "view": ["rerun-sdk>=0.41,<0.42"],
         "test": [
             "pytest>=8",
+            "pytest-xdist>=3",
             "hypothesis>=6.100",
             "mpmath>=1.3",
             "ruff>=0.6",

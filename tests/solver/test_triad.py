@@ -505,6 +505,11 @@ def test_a_shortcut_refused_at_its_determinant_check_tries_the_narrower_anchors(
     _against_full_path(scene, phi, k, 1.5)
 
 
+#: Random triads swept in the test below (40 when it was written; 687 more in a one-off check,
+#: docs/stability.md): kept small for CI's time budget.
+RANDOM_SWEEPS = 16
+
+
 def test_random_triads_the_shortcut_gives_the_full_path_s_roots_and_refusals() -> None:
     """Random drawn triads (seeded), swept over half a radian to a turn around the drawn input:
     wherever the full path (every sample's roots and the branch rule) solves, the sweep with its
@@ -516,7 +521,7 @@ def test_random_triads_the_shortcut_gives_the_full_path_s_roots_and_refusals() -
 
     rng = np.random.default_rng(28)
     taken = solved = 0
-    for _ in range(40):
+    for _ in range(RANDOM_SWEEPS):
         r = rng.uniform(0.05, 0.2)
         b_, c_, d, e, f = (complex(*rng.uniform(-0.8, 0.8, 2)) for _ in range(5))
         phi0 = rng.uniform(0.0, 2.0 * np.pi)
@@ -547,4 +552,4 @@ def test_random_triads_the_shortcut_gives_the_full_path_s_roots_and_refusals() -
             got, ref = k.point(name), full.point(name)  # type: ignore[union-attr]
             assert np.abs(got.position - ref.position).max() <= TOL_POS * size, name
             assert np.abs(got.velocity - ref.velocity).max() <= TOL_VEL * size, name
-    assert solved >= 15 and taken >= 0.8 * solved, (solved, taken)
+    assert solved >= RANDOM_SWEEPS // 4 and taken >= 0.8 * solved, (solved, taken)

@@ -107,24 +107,6 @@ def test_synthesis_recovers_the_slider_triad_press_from_its_ram_stroke_function(
     assert "triad B–E" in res.summary() and "C x" in res.summary()
 
 
-@pytest.mark.slow
-def test_synthesis_recovers_the_slider_triad_press_from_a_timed_path_of_a_ternary_link_point() -> None:
-    """F's path of slider_triad_press at five given crank angles; the guide's angle and offset,
-    |BE|, |CF| and F's place on the ternary link free: the search ends at the press (guide at 90°
-    through G, F = (−0.06, 0.3) in the drawn frame), every target met to ≤ 1e-9 m on the design's
-    own scene."""
-    press = solver.load_scene("slider_triad_press")
-    phi = np.radians([10.0, 80.0, 150.0, 230.0, 300.0])
-    xy = press.with_outputs(points=["F"], forces=False).solve(phi).point("F").position
-    res = solver.synthesize(PATH, point="F", through=xy, at=phi, seed=0, samples=90, time_limit=300)
-    assert res.error <= EXACT_MISS
-    got = np.array(list(res.values.values()))
-    want = np.array([90.0, 0.0, *PRESS[2:], -0.06, 0.3])
-    assert np.abs(got - want).max() <= 1e-8 * 90.0  # the angle in degrees, the rest in m
-    np.testing.assert_allclose(res.phases, phi)
-    assert "triad guide angle" in res.summary()
-
-
 def _function_goal(tpl: Any) -> Any:
     phi = np.radians([0.0, 90.0, 180.0])
     q = solver.load_scene("slider_triad_press").with_outputs(joints=["ram"], forces=False).solve(phi)
