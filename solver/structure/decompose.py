@@ -46,17 +46,13 @@ from typing import Any, TypeVar
 from .drawing import GROUND, Drawing
 from .graph import body_points
 from .slider_triad_step import slider_triad_candidates
-from .step import Step, cross, dot
+from .step import ON_LINE, Step, cross, dot
 from .step import refuse_toggle as _toggle
 from .triad_step import triad_candidates
 
 __all__ = ["Step", "Stall", "decompose", "cross", "dot", "ON_LINE"]
 
 T = TypeVar("T")
-
-#: A slide's point farther than this from its line, relative to the drawing's size, is off it.
-ON_LINE = 1e-9
-
 
 @dataclass
 class Stall:

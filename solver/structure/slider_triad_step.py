@@ -23,7 +23,7 @@ import numpy as np
 from ..groups._slider_triad_math import slider_analogs, slider_roots
 from ..jet import Jet
 from .drawing import GROUND
-from .step import Step, dot
+from .step import ON_LINE, Step, dot
 from .step import refuse_toggle as _toggle
 from .triad_step import DRAWN_MATCH, _binary_partner
 
@@ -62,7 +62,6 @@ def slider_triad_candidates(st: Any, link: str) -> Iterator[tuple[int, tuple[str
 
 
 def _slider_triad(st: Any, ternary: str, slide: Any, arms: tuple[tuple[str, str, str], ...]) -> None:
-    from .decompose import ON_LINE  # (decompose imports this module)
 
     d = st.d
     pd = slide.point

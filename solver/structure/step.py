@@ -9,7 +9,11 @@ from typing import Any
 
 from ..tolerances import SINGULAR
 
-__all__ = ["Step", "cross", "dot", "refuse_toggle"]
+#: A slide's point farther than this from its line, relative to the drawing's size, is off it
+#: (the drawn form's slides and the slider triad's guide).
+ON_LINE = 1e-9
+
+__all__ = ["ON_LINE", "Step", "cross", "dot", "refuse_toggle"]
 
 
 def cross(a: complex, b: complex) -> float:
