@@ -71,21 +71,29 @@ def _terms(friction: Any, e: Any, values: Any, xp: Any) -> tuple[Any, Any]:
     return values[e.point].d2, (0j if ln.along is None else values[ln.along[0]].d2)
 
 
-class StateLayer:
-    """The force layer of the compiled pass at (q, q̇, ε = 0) of a several-input scene with
-    friction: h, the other loads' efforts, R⁰ at the carriers, each element's unit load (uⱼ, B_jk)
-    and its relative velocity and acceleration (the jets carry the real motion: ω = 1, ε = 0)."""
+class _Layer:
+    """What both layers below set alike: the friction's force model ``rubbing``, its targets,
+    inputs and elements, and each element's carrier (its pin's or slide's place in the base
+    layout)."""
 
     #: as a force layer's: solved here, not by the kinetostatics' friction
     friction = None
 
-    def __init__(self, rubbing: Any, other: Any) -> None:
-        self.rubbing, self.other = rubbing, other
-        self.targets = rubbing.targets
-        self.inputs = rubbing.inputs
+    def __init__(self, rubbing: Any) -> None:
+        self.rubbing, self.targets, self.inputs = rubbing, rubbing.targets, rubbing.inputs
         index = rubbing.base_index
         self.elements = rubbing.friction.elements
         self.carriers = [index[("pin" if e.kind == "pin" else "slide"), e.index] for e in self.elements]
+
+
+class StateLayer(_Layer):
+    """The force layer of the compiled pass at (q, q̇, ε = 0) of a several-input scene with
+    friction: h, the other loads' efforts, R⁰ at the carriers, each element's unit load (uⱼ, B_jk)
+    and its relative velocity and acceleration (the jets carry the real motion: ω = 1, ε = 0)."""
+
+    def __init__(self, rubbing: Any, other: Any) -> None:
+        super().__init__(rubbing)
+        self.other = other
         k, m = len(self.inputs), len(self.carriers)
         parts = [(f"h.{i}", False) for i in range(k)] + [(f"other.{i}", False) for i in range(k)]
         parts += [(f"R0.{c}", True) for c in range(m)]
@@ -110,19 +118,13 @@ class StateLayer:
         return tuple(out)
 
 
-class InertiaLayer:
+class InertiaLayer(_Layer):
     """The force layer of the compiled pass at (q, 0, eᵢ): the bodies' inertia alone — M's and A's
     column i — and each element's relative acceleration there, Gⱼᵢ = ∂vⱼ/∂qᵢ."""
 
-    friction = None
-
     def __init__(self, rubbing: Any, inertia: Any) -> None:
-        self.rubbing, self.inertia = rubbing, inertia
-        self.targets = rubbing.targets
-        self.inputs = rubbing.inputs
-        index = rubbing.base_index
-        self.elements = rubbing.friction.elements
-        self.carriers = [index[("pin" if e.kind == "pin" else "slide"), e.index] for e in self.elements]
+        super().__init__(rubbing)
+        self.inertia = inertia
         k, m = len(self.inputs), len(self.carriers)
         parts = [(f"M.{i}", False) for i in range(k)] + [(f"A.{c}", True) for c in range(m)]
         parts += [(f"G.{j}", False) for j in range(m)]

@@ -25,7 +25,7 @@ from ..jet import Jet
 from .drawing import GROUND
 from .step import ON_LINE, Step, dot
 from .step import refuse_toggle as _toggle
-from .triad_step import DRAWN_MATCH, _binary_partner
+from .triad_step import DRAWN_MATCH, _binary_partner, free_end
 
 __all__ = ["slider_triad_candidates"]
 
@@ -33,12 +33,10 @@ __all__ = ["slider_triad_candidates"]
 def slider_triad_candidates(st: Any, link: str) -> Iterator[tuple[int, tuple[str, ...], Any]]:
     """The slider triads that ``link`` (a binary link with one known point) belongs to."""
     d = st.d
-    pts = d.links[link]
-    if link in st.placed or len(pts) != 2:
+    end = free_end(st, link)
+    if end is None:
         return
-    free = [q for q in pts if q not in st.known]
-    if len(free) != 1:
-        return
+    free = [end]
     slides = {s.point: s for s in d.slides.values()
               if s.on == GROUND and s.name not in st.done_slides and s.name not in st.flagged}
     for ternary in st.point_links[free[0]]:

@@ -23,7 +23,7 @@ from ..jet import Jet
 from .step import Step
 from .step import refuse_toggle as _toggle
 
-__all__ = ["triad_candidates", "DRAWN_MATCH"]
+__all__ = ["triad_candidates", "free_end", "DRAWN_MATCH"]
 
 #: The drawn D, E, F and the nearest real root's agree to this fraction of the drawing's size.
 DRAWN_MATCH: float = 1e-9
@@ -42,15 +42,23 @@ def _binary_partner(st: Any, q: str, ternary: str) -> tuple[str, str] | None:
     return None
 
 
+def free_end(st: Any, link: str) -> str | None:
+    """The one unknown point of ``link`` where it is an unplaced binary link with one known point
+    (the arm a triad or a slider triad starts from), else None."""
+    pts = st.d.links[link]
+    if link in st.placed or len(pts) != 2:
+        return None
+    free = [q for q in pts if q not in st.known]
+    return free[0] if len(free) == 1 else None
+
+
 def triad_candidates(st: Any, link: str) -> Iterator[tuple[int, tuple[str, ...], Any]]:
     """The triads that ``link`` (a binary link with one known point) belongs to."""
     d = st.d
-    pts = d.links[link]
-    if link in st.placed or len(pts) != 2:
+    end = free_end(st, link)
+    if end is None:
         return
-    free = [q for q in pts if q not in st.known]
-    if len(free) != 1:
-        return
+    free = [end]
     for ternary in st.point_links[free[0]]:
         tp = d.links[ternary]
         if ternary == link or ternary in st.placed or len(tp) < 3 or any(q in st.known for q in tp):
