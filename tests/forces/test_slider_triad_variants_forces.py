@@ -11,13 +11,11 @@ tests/solver/test_slider_triad_variants.py with masses, inertias, gravity and lo
 
 from __future__ import annotations
 
-import json
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
-from scene_builders import build
+from scene_builders import build, slider_triad_variant_cases
 
 from solver._backend import NUMPY
 from solver.forces.frames import body_motion
@@ -25,8 +23,6 @@ from solver.forces.spec import PointForce, Torque
 from solver.forces.virtual import virtual_efforts
 from solver.groups import Context
 from solver.tolerances import EPS
-
-DATA = Path(__file__).resolve().parents[1] / "data" / "reference_slider_triad_variants.json"
 
 #: route 1 against route 2, relative to the largest effort of the sweep
 ROUTES_AGREE = 1e-12
@@ -42,7 +38,7 @@ def _c(pair: list[str]) -> complex:
 
 
 def _cases() -> list[dict]:
-    return json.loads(DATA.read_text())["cases"]  # type: ignore[no-any-return]
+    return slider_triad_variant_cases()
 
 
 def loaded(kind: str) -> tuple[Any, float]:

@@ -23,7 +23,8 @@ from typing import Any
 
 import numpy as np
 import pytest
-from scene_builders import build
+from scene_builders import build, slider_triad_variant_cases
+from scene_builders import slider_triad_variant as variant_scene
 from scipy.optimize import least_squares
 
 from solver.errors import AssemblyError, SceneError
@@ -43,40 +44,11 @@ def _c(pair: list[str]) -> complex:
 
 
 def _cases() -> list[dict]:
-    return json.loads(DATA.read_text())["cases"]  # type: ignore[no-any-return]
+    return slider_triad_variant_cases()
 
 
 def _size(case: dict) -> float:
     return float(case["r"]) + abs(_c(case["O"])) + abs(_c(case["C"])) + 0.6 + max(float(x) for x in case["lengths"])
-
-
-def variant_scene(case: dict, *, angle: float | None = None, at: float | None = None) -> Any:
-    """The reference's scene (module docstring of tests/reference/slider_triad_variants_mp.py)
-    from its stored doubles."""
-    kind = case["kind"]
-    fixed: dict[str, Any] = {"O": [float(x) for x in case["O"]], "C": [float(x) for x in case["C"]]}
-    drawn = {k: _c(case["drawn"][k]) for k in "DEF"}
-    tri: dict[str, Any] = {
-        "type": "slider_triad", "name": "tri", "ends": ["B", "C"], "points": ["D", "E", "F"],
-        "lengths": [float(x) for x in case["lengths"]], "shape": {k: [z.real, z.imag] for k, z in drawn.items()},
-        "angle": float(np.angle(drawn["E"] - drawn["D"])) if angle is None else angle,
-        "at": float(case["phi_d"]) if at is None else at, "joint": "ternary", "slide": "s"}
-    guide = {"angle": float(case["angle"]), "offset": float(case["offset"])}
-    if kind == "swing_fixed":
-        fixed["A"] = [float(x) for x in case["A"]]
-        tri.update(block_at="A", guide=guide)
-    elif kind == "swing_moving":
-        tri.update(block_at="H", guide=guide)
-    else:
-        tri["guide"] = {"on": ["O", "B"], **guide}
-    return build({
-        "scene": "slider_triad_variant_ref", "units": {"length": "m", "angle": "rad"}, "fixed": fixed,
-        "groups": [{"type": "crank", "name": "crank", "center": "O", "point": "B", "length": float(case["r"])},
-                   {"type": "attached", "name": "h", "point": "H", "base": "O", "along": ["O", "B"],
-                    "distance": float(case["rho_h"]), "angle": float(case["beta_h"])},
-                   tri],
-        "outputs": {"points": ["D", "E", "F"], "joints": ["ternary", "s"]},
-    })
 
 
 def test_reference_file_has_provenance_and_every_kind() -> None:
