@@ -19,7 +19,7 @@ import numpy as np
 from .._backend import NUMPY, Backend, abs2, cross, dot
 from ..jet import Jet
 from ..tolerances import EPS
-from ._triad_math import ON_CIRCLE, POLISH_STEPS, RESIDUAL_ROUNDING, SAME_ROOT
+from ._triad_math import ON_CIRCLE, POLISH_DONE, POLISH_STEPS, RESIDUAL_ROUNDING, SAME_ROOT
 
 __all__ = ["slider_coefficients", "slider_start", "slider_polish", "slider_roots", "slider_analogs",
            "follow_roots", "DEGREE", "DEGREE_DROP"]
@@ -94,9 +94,10 @@ def _solve2(e: complex, q: Any, r: Any, g: Any, h: Any, r1: Any, r2: Any) -> tup
 def slider_polish(s: Any, theta: Any, o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float],
                   u: complex, v: complex, *, steps: int, xp: Backend, until: float | None = None,
                   ) -> tuple[Any, Any, Any, Any, Any]:
-    """Up to ``steps`` Newton steps on the two loop equations from (s, θ) — per tick also ended by
-    a step |Δθ| ≤ ``until`` — : ``(s, θ, e^{jθ}, closed, |Δθ| of the last step)``, ``closed``
-    where both residuals are within ``RESIDUAL_ROUNDING``·EPS·size²."""
+    """Up to ``steps`` Newton steps on the two loop equations from (s, θ) — also ended by a step
+    |Δθ| ≤ ``until`` (on arrays, once no sample's step exceeds it, NaN counting as done) — :
+    ``(s, θ, e^{jθ}, closed, |Δθ| of the last step)``, ``closed`` where both residuals are within
+    ``RESIDUAL_ROUNDING``·EPS·size²."""
     dt: Any = 0.0
     for _ in range(steps):
         w = xp.cis(theta)
@@ -107,8 +108,12 @@ def slider_polish(s: Any, theta: Any, o: Any, e: complex, b_: Any, c_: Any, leng
         ds, dt, _ = _solve2(e, q, r, g, h, -0.5 * f1, -0.5 * f2)
         s = s + ds
         theta = theta + dt
-        if until is not None and abs(dt) <= until:
-            break
+        if until is not None:
+            if isinstance(dt, np.ndarray):
+                if not (np.abs(dt) > until).any():
+                    break
+            elif abs(dt) <= until:
+                break
     w = xp.cis(theta)
     *_, f1, f2 = _residuals(s, w, o, e, b_, c_, lengths, u, v)
     size = abs(o) + abs(b_) + abs(c_) + sum(lengths) + abs(u) + abs(v) + abs(s)
@@ -143,7 +148,7 @@ def slider_roots(o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, flo
         w = np.where(near, w / np.abs(w), np.nan)
         s = slider_start(w, o, e, b_, c_, lengths, u, v)
         s, theta, w, good, _ = slider_polish(s, np.angle(w), o, e, b_, c_, lengths, u, v, steps=POLISH_STEPS,
-                                             xp=NUMPY)
+                                             xp=NUMPY, until=POLISH_DONE)
         good = good & np.isfinite(s)
     theta = np.where(good, np.angle(w), np.nan)
     order = np.argsort(theta, axis=-1)  # NaN last
@@ -151,6 +156,8 @@ def slider_roots(o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, flo
     s = np.take_along_axis(np.where(good, s, np.nan), order, axis=-1)
     same = np.zeros(theta.shape, bool)
     same[..., 1:] = np.abs(np.diff(theta, axis=-1)) <= SAME_ROOT
+    if not same.any():  # no double root: sorted already
+        return theta, s
     theta[same] = np.nan
     s[same] = np.nan
     order = np.argsort(theta, axis=-1)

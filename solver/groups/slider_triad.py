@@ -59,6 +59,7 @@ from typing import Any
 
 import numpy as np
 
+from .._backend import NUMPY
 from .._fields import Entry, Units
 from ..jet import Jet
 from . import _slider_triad_sweep as _fast
@@ -71,11 +72,6 @@ from .base import Context, Group
 from .triad import ternary_shape
 
 __all__ = ["SliderTriad", "NO_ROOT", "JUMP"]
-
-
-
-def _wrap(x: Any) -> Any:
-    return (x + np.pi) % (2.0 * np.pi) - np.pi
 
 
 def _unit(angle: Any) -> Any:
@@ -170,8 +166,7 @@ class SliderTriad(Group):
             if ctx.seeds is None and np.ndim(phi) == 2:  # a population of designs (solver.synthesis)
                 own_sweeps(self, ctx, np.asarray(phi, float), reason=NO_ROOT)
                 return
-            th, s, analogs = self._sweep(ctx, phi, jb, jc)
-            w = np.cos(th) + 1j * np.sin(th)
+            th, s, w, analogs = self._sweep(ctx, phi, jb, jc)
         s1, t1, s2, t2, det = analogs
         uw, vw = u * w, v * w
         d = o + s * e
@@ -186,8 +181,8 @@ class SliderTriad(Group):
         b, c = self.lengths
         ctx.conditioning[self.name] = abs(det) / (b * c * (abs(u) + abs(v)))
 
-    def _sweep(self, ctx: Context, phi: Any, jb: Jet, jc: Jet) -> tuple[Any, Any, tuple[Any, ...]]:
-        """The followed root at every sample and its analogs: ``(θ, s, analogs)`` — through the
+    def _sweep(self, ctx: Context, phi: Any, jb: Jet, jc: Jet) -> tuple[Any, Any, Any, tuple[Any, ...]]:
+        """The followed root at every sample and its analogs: ``(θ, s, e^{jθ}, analogs)`` — through the
         anchors' shortcut (solver.groups._slider_triad_sweep) where it holds, else every sample's
         roots and the branch rule; a block of a longer sweep (solver.scene solves in blocks of
         views into one array) continues from the previous block's last root."""
@@ -206,23 +201,27 @@ class SliderTriad(Group):
         elif self.at is None or ph.shape[1] != 1:
             start, target = 0, self.angle
         else:
-            start, target = int(np.argmin(np.abs(_wrap(ph[:, 0] - self.at)))), self.angle
+            off = ph[:, 0] - self.at
+            off -= (2.0 * np.pi) * np.round(off * (0.5 / np.pi))  # wrapped (cheaper than a remainder)
+            start, target = int(np.argmin(np.abs(off))), self.angle
         o, e, (u, v) = self.origin, self.direction, self.shape
         with np.errstate(all="ignore"):
             fast = _fast.fast_sweep(self, step, jb, jc, start, target)
-            if fast is not None:
-                th, s = fast.theta, fast.s
-                analogs = slider_analogs(s, np.cos(th) + 1j * np.sin(th), o, e, u, v, jb, jc)
-                if not fast.holds(analogs[4]):
-                    fast = None
+            while fast is not None:  # refused at the determinant check: the narrower anchors, then none
+                th, s, w = fast.theta, fast.s, fast.w
+                analogs = slider_analogs(s, w, o, e, u, v, jb, jc)
+                if fast.holds(analogs[4]):
+                    break
+                fast = _fast.fast_sweep(self, step, jb, jc, start, target, spans=fast.narrower)
         if fast is None:
             th, s = self._full_sweep(ctx, step, jb, jc, start, target)
             with np.errstate(all="ignore"):
-                analogs = slider_analogs(s, np.cos(th) + 1j * np.sin(th), o, e, u, v, jb, jc)
+                w = NUMPY.cis(th)
+                analogs = slider_analogs(s, w, o, e, u, v, jb, jc)
         if key is not None and np.isfinite(th[-1]):
             self._last["block"] = {"key": (key[0], key[1] + n), "theta": float(th[-1]),
                                    "rate": float(np.real(analogs[1][-1])), "phi": float(step[-1])}
-        return th, s, analogs
+        return th, s, w, analogs
 
     def _full_sweep(self, ctx: Context, step: np.ndarray, jb: Jet, jc: Jet, start: int,
                     target: float) -> tuple[Any, Any]:
