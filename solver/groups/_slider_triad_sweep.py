@@ -20,9 +20,10 @@ the full path (every sample's roots), so the result never depends on the shortcu
   its Jacobian determinant has the anchors' sign and at least ``FOLLOW_DET`` of the smaller of
   their sizes: a branch point is never passed unseen.
 
-Where the time goes (``python -m bench.triad``, 3600 samples a turn): the anchors' eigenvalue
-problems and root polish cost a fixed ~0.3 ms a call plus ~20 µs an anchor, the polish of every
-sample ~0.1 µs a sample a step; hence wide anchors first and two steps (not three).
+Where the time goes (``python -m bench.triad``, 3600 samples a turn of the shipped press): the
+anchors' roots (a batched 6×6 eigenvalue problem and its polish) a fixed ~0.3 ms plus ~20 µs an
+anchor, the Newton steps at every sample ~0.1 µs a sample a step (a third of it the sine and
+cosine), the analogs ~0.1 µs a sample: hence anchors wide apart and two steps, not three.
 """
 
 from __future__ import annotations
@@ -40,14 +41,17 @@ from ._triad_tick import FOLLOW_DET, FOLLOW_DONE, FOLLOW_SHARE
 __all__ = ["SPANS", "STRIDE", "MIN_STRIDE", "SWEEP_STEPS", "EXTRA_STEPS", "Shortcut", "fast_sweep"]
 
 #: The anchors' spans tried in turn (rad of the input; the sum of the inputs with several): the
-#: wide one first (few eigenvalue problems), the narrow one where its checks fail, then the full path.
-SPANS: tuple[float, ...] = (0.8, 0.2)
+#: wide one first (few eigenvalue problems; on the shipped press its quintic interpolation is
+#: ≲ 2e-5 rad off, two Newton steps reach round-off everywhere — at 0.8 rad, 1.5e-4 rad off, a
+#: tenth of the samples need a third step, which costs more than the three anchors saved), the
+#: narrow one where its checks fail, then the full path.
+SPANS: tuple[float, ...] = (0.6, 0.2)
 #: Samples from one anchor to the next at most.
 STRIDE: int = 1024
 #: Fewer samples than this between anchors: no shortcut.
 MIN_STRIDE: int = 4
-#: Newton steps from the interpolated root at every sample (its error ≲ 1e-5 rad at the wide
-#: span falls below round-off in two quadratic steps).
+#: Newton steps from the interpolated root at every sample (its error ≲ 2e-5 rad at the wide
+#: span falls below round-off in two quadratic steps: the last one ≲ 1e-8 rad, ``FOLLOW_DONE``).
 SWEEP_STEPS: int = 2
 #: Further Newton steps at most, only at the samples whose last step was above ``FOLLOW_DONE``.
 EXTRA_STEPS: int = 3

@@ -415,6 +415,131 @@ def test_reference_in_a_dense_sweep_through_the_anchors_shortcut(i: int) -> None
         assert np.abs(got - full.point(name).position @ [1, 1j]).max() <= TOL_POS * size, name
 
 
+def _spans_taken(scene: Any, phi: np.ndarray) -> tuple[Any, list[tuple[int, bool]]]:
+    """The scene solved over ``phi``, and each anchors' stride the shortcut tried with its verdict."""
+    from unittest import mock
+
+    from solver.groups import _slider_triad_sweep
+
+    seen: list[tuple[int, bool]] = []
+    real = _slider_triad_sweep._through_anchors
+
+    def spy(group: Any, step: Any, stride: int, *rest: Any) -> Any:
+        out = real(group, step, stride, *rest)
+        seen.append((stride, out is not None))
+        return out
+    with mock.patch.object(_slider_triad_sweep, "_through_anchors", spy):
+        k = scene.solve(phi)
+    return k, seen
+
+
+def test_a_turn_of_the_shipped_press_takes_the_wide_anchors() -> None:
+    """3600 samples over a turn: anchors SPANS[0] apart, two Newton steps from the quintic
+    interpolation and no further step anywhere; the same roots as every sample's eigenvalues."""
+    from unittest import mock
+
+    import solver
+    from solver.groups import _slider_triad_math, _slider_triad_sweep
+
+    scene = solver.load_scene("slider_triad_press")
+    phi = np.linspace(0.0, 2.0 * np.pi, 3600)
+    steps: list[int] = []
+    real = _slider_triad_math.slider_polish
+
+    def spy(*args: Any, **kw: Any) -> Any:
+        if np.size(args[1]) == phi.size or kw["steps"] == _slider_triad_sweep.EXTRA_STEPS:
+            steps.append(kw["steps"])
+        return real(*args, **kw)
+    with mock.patch.object(_slider_triad_sweep, "slider_polish", spy):
+        k, seen = _spans_taken(scene, phi)
+    assert seen == [(int(_slider_triad_sweep.SPANS[0] / (phi[1] - phi[0])), True)]
+    assert steps == [_slider_triad_sweep.SWEEP_STEPS]
+    with mock.patch.object(_slider_triad_sweep, "fast_sweep", lambda *a, **kw: None):
+        full = scene.solve(phi)
+    for name in "DEF":
+        assert np.abs(k.point(name).position - full.point(name).position).max() <= TOL_POS, name
+        assert np.abs(k.point(name).velocity - full.point(name).velocity).max() <= TOL_VEL, name
+    np.testing.assert_allclose(k.joint("ram").position, full.joint("ram").position, rtol=0, atol=TOL_POS)
+
+
+def test_a_shortcut_refused_at_its_determinant_check_tries_the_narrower_anchors() -> None:
+    """Refused at the group's determinant check (once its analogs are in), the sweep tries the
+    next span of SPANS before every sample's eigenvalues."""
+    from unittest import mock
+
+    import solver
+    from solver.groups import _slider_triad_sweep
+
+    scene = solver.load_scene("slider_triad_press")
+    phi = np.linspace(0.0, 2.0 * np.pi, 3600)
+    real = _slider_triad_sweep.Shortcut.holds
+    verdicts: list[bool] = []
+
+    def holds(self: Any, det: np.ndarray) -> bool:
+        ok = real(self, det) and bool(verdicts)  # the first one refused
+        verdicts.append(ok)
+        return ok
+    with mock.patch.object(_slider_triad_sweep.Shortcut, "holds", holds):
+        k, seen = _spans_taken(scene, phi)
+    pitch = phi[1] - phi[0]
+    assert verdicts == [False, True]
+    assert seen == [(int(span / pitch), True) for span in _slider_triad_sweep.SPANS]
+    full = scene.solve(phi)
+    assert np.abs(k.point("F").position - full.point("F").position).max() <= TOL_POS
+
+
+#: Random slider triads swept in the test below (kept small for CI's time budget).
+RANDOM_SWEEPS = 16
+
+
+def test_random_slider_triads_the_shortcut_gives_the_full_path_s_roots_and_refusals() -> None:
+    """Random drawn slider triads (seeded), swept over half a radian to a turn around the drawn
+    input: wherever the full path (every sample's roots and the branch rule) solves, the sweep
+    with its anchors' shortcut gives the same roots (≤ 1e-12 of the size; analogs ≤ 1e-9), and
+    where the full path refuses (no real root, a mode jump) so does the sweep; the shortcut is
+    taken often."""
+    from unittest import mock
+
+    from solver.groups import _slider_triad_sweep
+
+    rng = np.random.default_rng(28)
+    taken = solved = 0
+    for _ in range(RANDOM_SWEEPS):
+        r = float(rng.uniform(0.05, 0.2))
+        c, g = (complex(*rng.uniform(-0.8, 0.8, 2)) for _ in range(2))
+        gamma = float(rng.uniform(0.0, np.pi))
+        drawn = {"D": g + float(rng.uniform(-0.5, 0.5)) * complex(np.exp(1j * gamma)),
+                 "E": complex(*rng.uniform(-0.8, 0.8, 2)), "F": complex(*rng.uniform(-0.8, 0.8, 2))}
+        phi_d = float(rng.uniform(0.0, 2.0 * np.pi))
+        b = r * complex(np.exp(1j * phi_d))
+        d, e, f = drawn["D"], drawn["E"], drawn["F"]
+        if min(abs(e - b), abs(f - c), abs(e - d), abs(f - e), abs(d - f)) < 0.05:
+            continue
+        span = float(rng.choice([0.5, 1.0, 2.0 * np.pi]))
+        phi = np.linspace(phi_d - span / 2, phi_d + span / 2, 1200)
+        scene = slider_scene(r=r, c=c, g=g, gamma=gamma, drawn=drawn, phi_d=phi_d)
+        try:
+            k, seen = _spans_taken(scene, phi)
+        except AssemblyError:
+            k, seen = None, []
+        try:
+            with mock.patch.object(_slider_triad_sweep, "fast_sweep", lambda *a, **kw: None):
+                full = slider_scene(r=r, c=c, g=g, gamma=gamma, drawn=drawn, phi_d=phi_d).solve(phi)
+        except AssemblyError:
+            full = None
+        assert (k is None) == (full is None)
+        if full is None:
+            continue
+        solved += 1
+        taken += any(ok for _, ok in seen)
+        size = r + max(abs(c), abs(g)) + 0.5 + max(abs(e - b), abs(f - c))
+        for name in "DEF":
+            got, ref = k.point(name), full.point(name)
+            assert np.abs(got.position - ref.position).max() <= TOL_POS * size, name
+            assert np.abs(got.velocity - ref.velocity).max() <= TOL_VEL * size, name
+    assert solved >= RANDOM_SWEEPS // 4 and taken >= 0.8 * solved, (solved, taken)
+
+
 def test_a_sweep_longer_than_one_block_follows_its_mode_across_blocks() -> None:
     """The scene solves 8192 samples a block: the second block continues the first's root."""
     import solver
