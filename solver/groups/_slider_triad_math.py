@@ -22,7 +22,7 @@ from ..tolerances import EPS
 from ._triad_math import ON_CIRCLE, POLISH_DONE, POLISH_STEPS, RESIDUAL_ROUNDING, SAME_ROOT
 
 __all__ = ["slider_coefficients", "slider_start", "slider_polish", "slider_roots", "slider_analogs",
-           "follow_roots", "DEGREE", "DEGREE_DROP"]
+           "follow_roots", "pick", "closest", "spread", "mode_distance", "DEGREE", "DEGREE_DROP"]
 
 #: The degree of the loop polynomial in w (w³·G(w), G a Laurent polynomial of w^{−3} … w³).
 DEGREE: int = 6
@@ -59,18 +59,24 @@ def slider_coefficients(o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[flo
     return np.concatenate([f[..., 4:], f[..., :4]], axis=-1)
 
 
-def slider_start(w: Any, o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float], u: complex,
-                 v: complex) -> Any:
-    """The slide s at the unit complex w: the root of the first circle's quadratic in s that
-    best closes the second (robust where Dn, the divisor of s = N/Dn, is small): the Newton start."""
+def _quadratic_slides(w: Any, o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float], u: complex,
+                      v: complex) -> tuple[Any, Any, Any, Any]:
+    """Both roots of the first circle's quadratic in s at the unit complex w and how far each
+    leaves the second circle: ``(s_a, s_b, |r_a|, |r_b|)``."""
     b, c = lengths
     p1 = o - b_ + u * w
     p2 = o - c_ + v * w
     ep = dot(e, p1)
     disc = np.sqrt(np.maximum(ep * ep - (abs2(p1) - b * b), 0.0))
     s_a, s_b = -ep + disc, -ep - disc
-    r_a = np.abs(abs2(p2 + s_a * e) - c * c)
-    r_b = np.abs(abs2(p2 + s_b * e) - c * c)
+    return s_a, s_b, np.abs(abs2(p2 + s_a * e) - c * c), np.abs(abs2(p2 + s_b * e) - c * c)
+
+
+def slider_start(w: Any, o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float], u: complex,
+                 v: complex) -> Any:
+    """The slide s at the unit complex w: the root of the first circle's quadratic in s that
+    best closes the second (robust where Dn, the divisor of s = N/Dn, is small): the Newton start."""
+    s_a, s_b, r_a, r_b = _quadratic_slides(w, o, e, b_, c_, lengths, u, v)
     return np.where(r_a <= r_b, s_a, s_b)
 
 
@@ -124,7 +130,14 @@ def slider_polish(s: Any, theta: Any, o: Any, e: complex, b_: Any, c_: Any, leng
 def slider_roots(o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float], u: complex,
                  v: complex) -> tuple[np.ndarray, np.ndarray]:
     """Every real assembly mode at each sample: ``(θ, s)``, shape (..., 6), NaN where a slot holds
-    no real root; θ in (−π, π] sorted ascending per sample; polished by Newton to round-off."""
+    no real root; θ in (−π, π] sorted ascending per sample (two modes of one θ in either order);
+    polished by Newton to round-off.
+
+    Each root w on the circle starts Newton from the root s of the first circle's quadratic that
+    best closes the second, and from the other one too where it closes the second within
+    ``ON_CIRCLE``·size² (the two quadratics one: N = Dn = 0, a double root w of the polynomial
+    with two modes of one θ, told apart by s); candidates within ``SAME_ROOT`` in θ and
+    ``SAME_ROOT``·(|u| + |v|) in s are one root."""
     b_, c_ = (np.asarray(x, complex) for x in (b_, c_))
     shape = np.broadcast_shapes(b_.shape, c_.shape)
     b_, c_ = (np.broadcast_to(x, shape)[..., None] for x in (b_, c_))
@@ -146,22 +159,26 @@ def slider_roots(o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, flo
         w[~ok] = np.nan
         near = np.abs(np.abs(w) - 1.0) <= ON_CIRCLE
         w = np.where(near, w / np.abs(w), np.nan)
-        s = slider_start(w, o, e, b_, c_, lengths, u, v)
-        s, theta, w, good, _ = slider_polish(s, np.angle(w), o, e, b_, c_, lengths, u, v, steps=POLISH_STEPS,
-                                             xp=NUMPY, until=POLISH_DONE)
+        s_a, s_b, r_a, r_b = _quadratic_slides(w, o, e, b_, c_, lengths, u, v)
+        best = np.where(r_a <= r_b, s_a, s_b)
+        other = np.where(np.maximum(r_a, r_b) <= ON_CIRCLE * size[..., None] ** 2, np.where(r_a <= r_b, s_b, s_a),
+                         np.nan)
+        s, theta, w, good, _ = slider_polish(np.concatenate([best, other], axis=-1), np.tile(np.angle(w), 2), o, e,
+                                             b_, c_, lengths, u, v, steps=POLISH_STEPS, xp=NUMPY, until=POLISH_DONE)
         good = good & np.isfinite(s)
     theta = np.where(good, np.angle(w), np.nan)
     order = np.argsort(theta, axis=-1)  # NaN last
     theta = np.take_along_axis(theta, order, axis=-1)
     s = np.take_along_axis(np.where(good, s, np.nan), order, axis=-1)
-    same = np.zeros(theta.shape, bool)
-    same[..., 1:] = np.abs(np.diff(theta, axis=-1)) <= SAME_ROOT
-    if not same.any():  # no double root: sorted already
-        return theta, s
-    theta[same] = np.nan
-    s[same] = np.nan
+    if not (np.abs(np.diff(theta, axis=-1)) <= SAME_ROOT).any():  # no two candidates of one θ: sorted already
+        return theta[..., :DEGREE], s[..., :DEGREE]
+    same = ((np.abs(theta[..., :, None] - theta[..., None, :]) <= SAME_ROOT)
+            & (np.abs(s[..., :, None] - s[..., None, :]) <= SAME_ROOT * (abs(u) + abs(v))))
+    dup = np.triu(same, k=1).any(axis=-2)  # the same root as an earlier candidate
+    theta[dup] = np.nan
+    s[dup] = np.nan
     order = np.argsort(theta, axis=-1)
-    return np.take_along_axis(theta, order, axis=-1), np.take_along_axis(s, order, axis=-1)
+    return np.take_along_axis(theta, order, axis=-1)[..., :DEGREE], np.take_along_axis(s, order, axis=-1)[..., :DEGREE]
 
 
 def slider_analogs(s: Any, w: Any, o: Any, e: complex, u: complex, v: complex, jb: Jet,
@@ -198,25 +215,61 @@ def gap_of(roots: list[float], k: int) -> float:
     return min((abs(_wrap(t - roots[k])) for m, t in enumerate(roots) if m != k), default=math.inf)
 
 
-def follow_roots(theta: np.ndarray, rate: np.ndarray, step: np.ndarray, start: int,
-                 target: float) -> tuple[np.ndarray, np.ndarray]:
+def pick(roots: list[float], slides: list[float], target: float, slide: float | None, scale: float) -> int:
+    """The mode rule at the reference sample. With the drawn slide s₀ (``slide``; the scene's
+    ``angle`` is the drawn one): the root nearest the drawn pose (θ₀, s₀) by
+    :func:`mode_distance` — the root nearest θ₀ but where two modes are close in θ (two modes of
+    one θ differ in s only). Without: the root nearest θ₀ (``target``) on the circle, roots of
+    one θ (their distances within ``SAME_ROOT`` of the nearest's) told apart by the lower s."""
+    if slide is not None:
+        return closest(roots, slides, target, slide, scale)[0]
+    dist = [abs(_wrap(t - target)) for t in roots]
+    low = min(dist)
+    return min((k for k, x in enumerate(dist) if x <= low + SAME_ROOT), key=lambda k: slides[k])
+
+
+def mode_distance(theta: float, s: float, theta_to: float, s_to: float, scale: float) -> float:
+    """How far two modes (θ, s) are apart for following one: |Δθ| on the circle + |Δs| / ``scale``
+    (|u| + |v|, the ternary link's size: a slide as far as its points swing for that angle)."""
+    return abs(_wrap(theta - theta_to)) + abs(s - s_to) / scale
+
+
+def closest(roots: list[float], slides: list[float], theta_to: float, s_to: float, scale: float) -> tuple[int, float]:
+    """The index of the root nearest (θ, s) = (``theta_to``, ``s_to``) by :func:`mode_distance`, and its distance."""
+    dist = [mode_distance(t, s, theta_to, s_to, scale) for t, s in zip(roots, slides)]
+    k = min(range(len(dist)), key=dist.__getitem__)
+    return k, dist[k]
+
+
+def spread(roots: list[float], slides: list[float], k: int, scale: float) -> float:
+    """Root k's :func:`mode_distance` to its nearest other root (inf when alone)."""
+    return min((mode_distance(t, s, roots[k], slides[k], scale) for m, (t, s) in enumerate(zip(roots, slides))
+                if m != k), default=math.inf)
+
+
+def follow_roots(theta: np.ndarray, slide: np.ndarray, rate: np.ndarray, slide_rate: np.ndarray, step: np.ndarray,
+                 start: int, target: float, *, slide0: float | None, scale: float) -> tuple[np.ndarray, np.ndarray]:
     """The branch rule over a sweep (solver.groups.slider_triad): the slot followed at each sample
-    (−1: no real root) and where following it jumps mode. ``theta`` (n, 6) every real root (NaN
-    last), ``rate`` (n, 6) their θ', ``step`` (n,) the input; the mode at the first sample with a
-    root from ``start`` is the root nearest ``target``; then each neighbour takes the root nearest
-    the previous one carried forward by θ'·Δφ; a match farther than half the previous root's
-    distance to its nearest other root, where the count of real roots drops, is a jump."""
+    (−1: no real root) and where following it jumps mode. ``theta``, ``slide`` (n, 6) every real
+    root (NaN last), ``rate``, ``slide_rate`` (n, 6) their θ' and s', ``step`` (n,) the input; the
+    mode at the first sample with a root from ``start`` is :func:`pick`'s (θ₀ = ``target``, s₀ =
+    ``slide0``); then each neighbour takes the root nearest the previous one carried forward by
+    (θ', s')·Δφ (:func:`closest`, ``scale`` = |u| + |v|); a match farther than half the previous
+    root's distance to its nearest other root (:func:`spread`), where the count of real roots
+    drops, is a jump."""
     n = len(theta)
     out = [-1] * n
     jump = [False] * n
-    rows = [[t for t in r if t == t] for r in theta.tolist()]
+    rows = [[t for t in r if t == t] for r in theta.tolist()]  # NaN last: a list's index is the slot
+    slides = [r[:len(q)] for r, q in zip(slide.tolist(), rows)]
     rates = rate.tolist()
+    s_rates = slide_rate.tolist()
     st = step.tolist()
     with_root = [i for i in range(start, n) if rows[i]]
     if not with_root:
         return np.array(out), np.array(jump)
     i0 = with_root[0]
-    out[i0] = nearest(rows[i0], target)[0]
+    out[i0] = pick(rows[i0], slides[i0], target, slide0, scale)
     for direction in (1, -1):
         i = i0
         while 0 <= i + direction < n:
@@ -224,11 +277,13 @@ def follow_roots(theta: np.ndarray, rate: np.ndarray, step: np.ndarray, start: i
             r = rows[j]
             if r:
                 k = out[i]
-                if k < 0:  # restart after a gap: nearest θ₀ again
-                    out[j] = nearest(r, target)[0]
+                if k < 0:  # restart after a gap: the mode rule again
+                    out[j] = pick(r, slides[j], target, slide0, scale)
                 else:
-                    m, dist = nearest(r, rows[i][k] + rates[i][k] * (st[j] - st[i]))
+                    dphi = st[j] - st[i]
+                    m, dist = closest(r, slides[j], rows[i][k] + rates[i][k] * dphi,
+                                      slides[i][k] + s_rates[i][k] * dphi, scale)
                     out[j] = m
-                    jump[j] = dist > 0.5 * gap_of(rows[i], k) and len(r) < len(rows[i])
+                    jump[j] = dist > 0.5 * spread(rows[i], slides[i], k, scale) and len(r) < len(rows[i])
             i = j
     return np.array(out), np.array(jump)

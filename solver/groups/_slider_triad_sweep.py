@@ -77,11 +77,12 @@ class Shortcut:
         return bool(np.all(det * self._sign > 0.0) and np.all(np.abs(det) >= self._floor))
 
 
-def fast_sweep(group: Any, step: np.ndarray, jb: Jet, jc: Jet, start: int, target: float, *,
+def fast_sweep(group: Any, step: np.ndarray, jb: Jet, jc: Jet, start: int, target: float, slide0: float | None, *,
                spans: tuple[float, ...] = SPANS) -> Shortcut | None:
     """The sweep through anchors ``spans`` apart, each tried in turn (module docstring), or None
     where the full path must decide; ``step`` the input (the sum of the inputs) at each sample,
-    the mode the root nearest ``target`` at the first sample from ``start`` (the group's branch rule)."""
+    the mode at the first sample from ``start`` the mode rule's for θ₀ = ``target`` and s₀ =
+    ``slide0`` (solver.groups._slider_triad_math.pick)."""
     n = len(step)
     if n < 2 * MIN_STRIDE:
         return None
@@ -93,7 +94,7 @@ def fast_sweep(group: Any, step: np.ndarray, jb: Jet, jc: Jet, start: int, targe
         stride = min(STRIDE, int(span / pitch))
         if stride < MIN_STRIDE:
             return None
-        out = _through_anchors(group, step, stride, jb, jc, start, target)
+        out = _through_anchors(group, step, stride, jb, jc, start, target, slide0)
         if out is not None:
             out.narrower = spans[i + 1:]
             return out
@@ -101,7 +102,7 @@ def fast_sweep(group: Any, step: np.ndarray, jb: Jet, jc: Jet, start: int, targe
 
 
 def _through_anchors(group: Any, step: np.ndarray, stride: int, jb: Jet, jc: Jet, start: int,
-                     target: float) -> Shortcut | None:
+                     target: float, slide0: float | None) -> Shortcut | None:
     """The shortcut with anchors ``stride`` samples apart, or None where a check fails."""
     n = len(step)
     anchors = np.unique(np.concatenate([np.arange(start, -1, -stride), np.arange(start, n, stride), [0, n - 1]]))
@@ -119,8 +120,8 @@ def _through_anchors(group: Any, step: np.ndarray, stride: int, jb: Jet, jc: Jet
         return np.asarray(x)[:, None] if np.ndim(x) == 1 else x
     cols = [Jet(col(j.value), col(j.d1), col(j.d2)) for j in sub]
     slot = slider_analogs(ss, np.cos(theta) + 1j * np.sin(theta), o, e, u, v, *cols)  # every slot's
-    slots, jumps = follow_roots(theta, np.real(slot[1]), step[anchors], int(np.searchsorted(anchors, start)),
-                                target)
+    slots, jumps = follow_roots(theta, ss, np.real(slot[1]), np.real(slot[0]), step[anchors],
+                                int(np.searchsorted(anchors, start)), target, slide0=slide0, scale=abs(u) + abs(v))
     if jumps.any() or (slots < 0).any():
         return None
     rows = np.arange(len(anchors))

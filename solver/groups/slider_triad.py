@@ -52,6 +52,7 @@ Population (solver.synthesis: parameters (C, 1) arrays, φ (C, S)): each design'
 
 from __future__ import annotations
 
+import cmath
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -66,6 +67,7 @@ from . import _slider_triad_sweep as _fast
 from . import _slider_triad_tick as _tick
 from ._slider_triad_math import follow_roots, slider_analogs, slider_polish, slider_roots
 from ._slider_triad_tick import JUMP, NO_ROOT
+from ._triad_math import SAME_ROOT
 from ._triad_population import own_sweeps
 from ._triad_tick import FOLLOW_DONE, FOLLOW_STEPS
 from .base import Context, Group
@@ -82,6 +84,22 @@ def _unit(angle: Any) -> Any:
     return complex(math.cos(angle), math.sin(angle))
 
 
+def _drawn_slide(e: Entry, points: tuple[str, ...], units: Units, origin: Any, direction: Any,
+                 angle: float) -> float | None:
+    """s₀ = e·(D − O) of the drawn D where ``angle`` names the drawn mode (``shape:`` given, checked
+    by ternary_shape, and θ₀ = its arg(E − D) within ``SAME_ROOT``); else None (``sides:``, another
+    mode named, a population of designs)."""
+    if "shape" not in e.data or any(isinstance(x, np.ndarray) for x in (origin, direction)):
+        return None
+    sh = e.child("shape", e.raw("shape"))
+    d, p = (complex(*(sh.length_value(sh.as_number(c, k), k, units, positive=False) for c in sh.raw(k)))
+            for k in points[:2])
+    if abs(math.remainder(cmath.phase(p - d) - angle, 2.0 * math.pi)) > SAME_ROOT:
+        return None
+    off = d - origin
+    return float(off.real * direction.real + off.imag * direction.imag)
+
+
 @dataclass(frozen=True)
 class SliderTriad(Group):
     kind = "slider_triad"
@@ -93,6 +111,7 @@ class SliderTriad(Group):
     shape: tuple[complex, complex]  # u = E − D, v = F − D in the ternary link's frame
     angle: float  # θ₀
     at: float | None = None
+    slide0: float | None = None  # s₀, the drawn D's slide: the tie-break between two modes of one θ₀
     joint: str | None = None  # θ published as a joint coordinate
     slide: str | None = None  # s published as a joint coordinate (m)
     #: the per-tick path's previous tick (φ, θ, θ', gap, count) and a block's carry
@@ -196,8 +215,11 @@ class SliderTriad(Group):
             key = (id(base), offset)
         carry = self._last.get("block")
         carry = carry if key is not None and carry is not None and carry["key"] == key else None
+        slide0 = self.slide0
         if carry is not None:
-            start, target = 0, carry["theta"] + carry["rate"] * (float(step[0]) - carry["phi"])
+            dphi = float(step[0]) - carry["phi"]
+            start, target = 0, carry["theta"] + carry["rate"] * dphi
+            slide0 = carry["s"] + carry["s_rate"] * dphi
         elif self.at is None or ph.shape[1] != 1:
             start, target = 0, self.angle
         else:
@@ -206,25 +228,26 @@ class SliderTriad(Group):
             start, target = int(np.argmin(np.abs(off))), self.angle
         o, e, (u, v) = self.origin, self.direction, self.shape
         with np.errstate(all="ignore"):
-            fast = _fast.fast_sweep(self, step, jb, jc, start, target)
+            fast = _fast.fast_sweep(self, step, jb, jc, start, target, slide0)
             while fast is not None:  # refused at the determinant check: the narrower anchors, then none
                 th, s, w = fast.theta, fast.s, fast.w
                 analogs = slider_analogs(s, w, o, e, u, v, jb, jc)
                 if fast.holds(analogs[4]):
                     break
-                fast = _fast.fast_sweep(self, step, jb, jc, start, target, spans=fast.narrower)
+                fast = _fast.fast_sweep(self, step, jb, jc, start, target, slide0, spans=fast.narrower)
         if fast is None:
-            th, s = self._full_sweep(ctx, step, jb, jc, start, target)
+            th, s = self._full_sweep(ctx, step, jb, jc, start, target, slide0)
             with np.errstate(all="ignore"):
                 w = NUMPY.cis(th)
                 analogs = slider_analogs(s, w, o, e, u, v, jb, jc)
         if key is not None and np.isfinite(th[-1]):
             self._last["block"] = {"key": (key[0], key[1] + n), "theta": float(th[-1]),
-                                   "rate": float(np.real(analogs[1][-1])), "phi": float(step[-1])}
+                                   "rate": float(np.real(analogs[1][-1])), "phi": float(step[-1]),
+                                   "s": float(s[-1]), "s_rate": float(np.real(analogs[0][-1]))}
         return th, s, w, analogs
 
     def _full_sweep(self, ctx: Context, step: np.ndarray, jb: Jet, jc: Jet, start: int,
-                    target: float) -> tuple[Any, Any]:
+                    target: float, slide0: float | None) -> tuple[Any, Any]:
         """Every sample's roots and the branch rule: ``(θ, s)`` of the followed root."""
         n = len(step)
         theta, ss = slider_roots(self.origin, self.direction, jb.value, jc.value, self.lengths, *self.shape)
@@ -236,9 +259,10 @@ class SliderTriad(Group):
             return np.asarray(x)[:, None] if np.ndim(x) == 1 else x
         jets = [Jet(col(j.value), col(j.d1), col(j.d2)) for j in (jb, jc)]
         with np.errstate(all="ignore"):
-            rate = np.real(slider_analogs(ss, np.cos(theta) + 1j * np.sin(theta), self.origin, self.direction,
-                                          u, v, *jets)[1])
-        slots, jumps = follow_roots(theta, rate, step, start, target)
+            s_rate, rate = slider_analogs(ss, np.cos(theta) + 1j * np.sin(theta), self.origin, self.direction,
+                                          u, v, *jets)[:2]
+        slots, jumps = follow_roots(theta, ss, np.real(rate), np.real(s_rate), step, start, target, slide0=slide0,
+                                    scale=abs(u) + abs(v))
         if jumps.any():
             ctx.require(self, ~jumps, reason=JUMP)
         rows = np.arange(n)
@@ -298,6 +322,8 @@ class SliderTriad(Group):
         sub = e.child("lengths", {"BE": raw[0], "CF": raw[1]})
         lengths = (sub.length("BE", units), sub.length("CF", units))
         u, v = ternary_shape(e, points, units)  # (C, 1) arrays in a population, as the lengths may be
+        theta0 = e.angle("angle", units)
+        slide0 = _drawn_slide(e, points, units, origin, direction, theta0)
         at = e.raw("at", None)
         joint = e.raw("joint", None)
         slide = e.raw("slide", None)
@@ -309,8 +335,9 @@ class SliderTriad(Group):
             points=(points[0], points[1], points[2]),
             lengths=lengths,
             shape=(u, v),
-            angle=e.angle("angle", units),
+            angle=theta0,
             at=None if at is None else e.angle("at", units),
+            slide0=slide0,
             joint=None if joint is None else e.name("joint"),
             slide=None if slide is None else e.name("slide"),
         )

@@ -540,6 +540,72 @@ def test_random_slider_triads_the_shortcut_gives_the_full_path_s_roots_and_refus
     assert solved >= RANDOM_SWEEPS // 4 and taken >= 0.8 * solved, (solved, taken)
 
 
+#: Two slider triads drawn where two of their modes share θ (found by a seeded search; below):
+#: (slide apart δ, E's and F's offsets across the guide t_E, t_F, C, D), the crank at φ = 0.7.
+SHARED = [(0.4, 0.35, -0.2, complex(-0.09, -0.69), complex(-0.21, 0.72)),   # these two modes only
+          (0.37, -0.31, 0.29, complex(0.28, 0.29), complex(-0.06, -0.44))]  # and four more
+PHI_SHARED = 0.7
+
+
+def _shared(case: tuple[float, float, float, complex, complex], mode: int) -> tuple[dict[str, complex], Any]:
+    """Two modes of one θ by construction: the guide vertical through D, mode 2 mode 1 slid up by δ
+    (D, E, F all + jδ); B (the crank pin at φ = 0.7) on the perpendicular bisector of E₁E₂ (E₁ = B
+    − t_E − jδ/2), C on that of F₁F₂ (F₁ = C − t_F − jδ/2), so that |BE| and |CF| are the same in
+    both: the two circles' quadratics in s are one there (N = Dn = 0). The scene drawn in ``mode``."""
+    delta, t_e, t_f, c, d = case
+    b = 0.1 * complex(math.cos(PHI_SHARED), math.sin(PHI_SHARED))
+    up = 0.0 if mode == 1 else delta * 1j
+    drawn = {"D": d + up, "E": b - t_e - 0.5j * delta + up, "F": c - t_f - 0.5j * delta + up}
+    return drawn, slider_scene(r=0.1, c=c, g=d, gamma=math.pi / 2, drawn=drawn, phi_d=PHI_SHARED)
+
+
+@pytest.mark.parametrize("mode", [1, 2])
+@pytest.mark.parametrize("case", range(len(SHARED)))
+def test_two_modes_of_one_theta_the_drawn_one_is_returned_and_followed(case: int, mode: int) -> None:
+    """Both modes of one θ are roots (the polynomial's double root polished from both roots of the
+    quadratic in s); the mode rule names the drawn one (nearest the drawn pose: the drawn slide
+    tells them apart) on every path, and a sweep through the shared pose follows it continuously
+    (the full path: the anchors' shortcut refuses next to a θ so close to another), with its grid
+    through that pose or not; ticks from the drawn input outwards follow it too."""
+    from unittest import mock
+
+    from solver.groups import _slider_triad_sweep
+
+    drawn, scene = _shared(SHARED[case], mode)
+    delta, c_ = SHARED[case][0], SHARED[case][3]
+    tri = next(grp for grp in scene.plan.groups if grp.kind == "slider_triad")
+    theta, s = slider_roots(tri.origin, tri.direction, 0.1 * np.exp(1j * PHI_SHARED), c_, tri.lengths, *tri.shape)
+    real = np.isfinite(theta)
+    assert real.sum() == (2 if case == 0 else 6)
+    pair = np.flatnonzero(np.abs(theta - tri.angle) <= 1e-12)
+    assert len(pair) == 2 and abs(abs(s[pair[0]] - s[pair[1]]) - delta) <= 1e-12
+    assert tri.slide0 == pytest.approx(0.0 if mode == 1 else delta, abs=1e-15)
+    want = np.array([drawn["D"].real, drawn["D"].imag])
+    np.testing.assert_allclose(scene.solve(np.array([PHI_SHARED])).point("D").position[0], want, atol=1e-14)
+    np.testing.assert_allclose(np.asarray(_shared(SHARED[case], mode)[1].solve(PHI_SHARED).point("D").position),
+                               want, atol=1e-14)  # one instant (compiled)
+    for shift in (0.0, 0.37e-3):  # the grid through the shared pose, and past it
+        phi = np.linspace(PHI_SHARED - 0.3, PHI_SHARED + 0.3, 601) + shift
+        k = scene.solve(phi)
+        with mock.patch.object(_slider_triad_sweep, "fast_sweep", lambda *a, **kw: None):
+            full = _shared(SHARED[case], mode)[1].solve(phi)
+        assert np.abs(k.point("D").position - full.point("D").position).max() <= TOL_POS
+        slide = k.joint("s").position
+        assert np.abs(np.diff(slide)).max() < 2e-4 and np.abs(np.diff(k.joint("ternary").position)).max() < 2e-4
+        i = int(np.argmin(np.abs(phi - PHI_SHARED)))
+        assert abs(slide[i] - tri.slide0) < 1e-3  # the drawn mode, not the other one δ away
+        e_ = k.point("E").position @ [1, 1j]
+        assert np.abs(np.abs(e_ - 0.1 * np.exp(1j * phi)) - tri.lengths[0]).max() <= 1e-14
+        assert np.abs(np.abs((k.point("F").position @ [1, 1j]) - c_) - tri.lengths[1]).max() <= 1e-14
+    phi = np.linspace(PHI_SHARED - 0.3, PHI_SHARED + 0.3, 601)
+    ticks = []
+    for part in (phi[300::-1], phi[300:]):  # from the drawn input outwards, each way a fresh scene
+        tick = _shared(SHARED[case], mode)[1]
+        ticks.append([float(tick.solve(float(p)).joint("s").position) for p in part])
+    got = np.array(ticks[0][::-1] + ticks[1][1:])
+    assert np.abs(got - scene.solve(phi).joint("s").position).max() <= 1e-13
+
+
 def test_a_sweep_longer_than_one_block_follows_its_mode_across_blocks() -> None:
     """The scene solves 8192 samples a block: the second block continues the first's root."""
     import solver
