@@ -23,8 +23,10 @@ Univariate polynomial (exact elimination; no search)
     companion matrix (batched over samples); real modes are the roots on |w| = 1.
 Polish
     Each root on the circle (within ``ON_CIRCLE``) gives s as the root of the first quadratic
-    that best closes the second (robust where Dn is small), then Newton on the two loop
-    equations (the 2×2 system below) to round-off; roots within ``SAME_ROOT`` are one.
+    that best closes the second (robust where Dn is small) — and the other root too where it
+    closes the second within ``ON_CIRCLE``·size² (two modes of one θ) —, then Newton on the two
+    loop equations (the 2×2 system below) to round-off; roots within ``SAME_ROOT`` in θ and
+    ``SAME_ROOT``·(|u| + |v|) in s are one.
 Derivatives (exact): with q = E − B, r = F − C, g = −(q × u·w), h = −(r × v·w):
         (e·q)·s' + g·θ' = B'·q,     (e·r)·s' + h·θ' = C'·r,
     second order: the same matrix with right-hand sides
@@ -34,15 +36,21 @@ Linear system: the 2×2 above by Cramer; its determinant det = (e·q)·h − (e�
 Conditioning
     |det| / (b·c·(|u| + |v|)) ∈ [0, 1]: 0 where the guide's normal at D and the lines of the two
     binary links meet in one point (a dead point: two assembly modes merge).
-Branch rule (the mode): the RRR triad's. ``angle`` θ₀ names the mode: at the reference sample
-    (nearest ``at``, else a sweep's first) the real root whose θ is nearest θ₀; every other sample
-    the root nearest the previous one carried forward by θ'·Δφ; a match farther than half the
+Branch rule (the mode): the RRR triad's, with the slide beside the angle. ``angle`` θ₀ names the
+    mode: at the reference sample (nearest ``at``, else a sweep's first) the real root whose θ is
+    nearest θ₀ — where θ₀ is the drawn one (``shape:`` given and θ₀ its arg(E − D)), the root
+    nearest the drawn pose (θ₀, s₀), s₀ = e·(D − O) the drawn slide, by |Δθ| + |Δs|/(|u| + |v|):
+    the same root but where two modes are close in θ, and the drawn one of two modes of one θ
+    (a double root w of the polynomial where N = Dn = 0: both roots of the quadratic in s close
+    the loop; without s₀ the lower s of them). Every other sample the root nearest the previous
+    (θ, s) carried forward by (θ', s')·Δφ, by the same distance; a match farther than half the
     previous root's distance to its nearest other root where the count of real roots drops is a
     mode jump (a branch point between the samples): refused naming the φ. Per tick the previous
     tick plays the previous sample: Newton from the root it predicts, kept when unambiguous, else
     every root and the rule (solver.groups._slider_triad_tick); a dense monotone sweep finds every
     root on anchors only and polishes the interpolated root between them under the same checks
-    (solver.groups._slider_triad_sweep), else every sample's roots.
+    (solver.groups._slider_triad_sweep), else every sample's roots (next to two modes of one θ
+    the checks, in θ alone, refuse: every sample's roots and the rule decide).
 Assembly fails where no real root exists (AssemblyError with the φ intervals).
 Population (solver.synthesis: parameters (C, 1) arrays, φ (C, S)): each design's row solved as
     its own scene solves those samples, design by design (``own_sweeps``, shared with the RRR
