@@ -26,10 +26,10 @@ import numpy as np
 from .._backend import NUMPY, Backend, abs2, cross, dot
 from ..jet import Jet
 from ..tolerances import EPS
-from ._triad_math import ON_CIRCLE, POLISH_STEPS, RESIDUAL_ROUNDING, SAME_ROOT
+from ._triad_math import ON_CIRCLE, POLISH_DONE, POLISH_STEPS, RESIDUAL_ROUNDING, SAME_ROOT
 
 __all__ = ["slider_coefficients", "slider_start", "slider_polish", "slider_roots", "slider_analogs", "slider_jets",
-           "follow_roots", "DEGREE", "DEGREE_DROP", "Line"]
+           "follow_roots", "pick", "closest", "spread", "mode_distance", "DEGREE", "DEGREE_DROP", "Line"]
 
 #: The degree of the loop polynomial in w (w³·G(w), G a Laurent polynomial of w^{−3} … w³).
 DEGREE: int = 6
@@ -91,10 +91,10 @@ def slider_coefficients(o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[flo
     return np.concatenate([f[..., 4:], f[..., :4]], axis=-1)
 
 
-def slider_start(w: Any, o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float], u: complex,
-                 v: complex, *, line: Line = None) -> Any:
-    """The slide s at the unit complex w: the root of the first circle's quadratic in s that
-    best closes the second (robust where Dn, the divisor of s = N/Dn, is small): the Newton start."""
+def _quadratic_slides(w: Any, o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float], u: complex,
+                      v: complex, line: Line = None) -> tuple[Any, Any, Any, Any]:
+    """Both roots of the first circle's quadratic in s at the unit complex w and how far each
+    leaves the second circle: ``(s_a, s_b, |r_a|, |r_b|)``."""
     b, c = lengths
     o, e = _at(o, e, w, line)
     p1 = o - b_ + u * w
@@ -102,8 +102,14 @@ def slider_start(w: Any, o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[fl
     ep = dot(e, p1)
     disc = np.sqrt(np.maximum(ep * ep - (abs2(p1) - b * b), 0.0))
     s_a, s_b = -ep + disc, -ep - disc
-    r_a = np.abs(abs2(p2 + s_a * e) - c * c)
-    r_b = np.abs(abs2(p2 + s_b * e) - c * c)
+    return s_a, s_b, np.abs(abs2(p2 + s_a * e) - c * c), np.abs(abs2(p2 + s_b * e) - c * c)
+
+
+def slider_start(w: Any, o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float], u: complex,
+                 v: complex, *, line: Line = None) -> Any:
+    """The slide s at the unit complex w: the root of the first circle's quadratic in s that
+    best closes the second (robust where Dn, the divisor of s = N/Dn, is small): the Newton start."""
+    s_a, s_b, r_a, r_b = _quadratic_slides(w, o, e, b_, c_, lengths, u, v, line)
     return np.where(r_a <= r_b, s_a, s_b)
 
 
@@ -128,9 +134,10 @@ def _solve2(e: complex, q: Any, r: Any, g: Any, h: Any, r1: Any, r2: Any) -> tup
 def slider_polish(s: Any, theta: Any, o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float],
                   u: complex, v: complex, *, steps: int, xp: Backend, until: float | None = None,
                   line: Line = None) -> tuple[Any, Any, Any, Any, Any]:
-    """Up to ``steps`` Newton steps on the two loop equations from (s, θ) — per tick also ended by
-    a step |Δθ| ≤ ``until`` — : ``(s, θ, e^{jθ}, closed, |Δθ| of the last step)``, ``closed``
-    where both residuals are within ``RESIDUAL_ROUNDING``·EPS·size²."""
+    """Up to ``steps`` Newton steps on the two loop equations from (s, θ) — also ended by a step
+    |Δθ| ≤ ``until`` (on arrays, once no sample's step exceeds it, NaN counting as done) — :
+    ``(s, θ, e^{jθ}, closed, |Δθ| of the last step)``, ``closed`` where both residuals are within
+    ``RESIDUAL_ROUNDING``·EPS·size²."""
     dt: Any = 0.0
     for _ in range(steps):
         w = xp.cis(theta)
@@ -141,8 +148,12 @@ def slider_polish(s: Any, theta: Any, o: Any, e: complex, b_: Any, c_: Any, leng
         ds, dt, _ = _solve2(_at(o, e, w, line)[1], q, r, g, h, -0.5 * f1, -0.5 * f2)
         s = s + ds
         theta = theta + dt
-        if until is not None and abs(dt) <= until:
-            break
+        if until is not None:
+            if isinstance(dt, np.ndarray):
+                if not (np.abs(dt) > until).any():
+                    break
+            elif abs(dt) <= until:
+                break
     w = xp.cis(theta)
     *_, f1, f2 = _residuals(s, w, o, e, b_, c_, lengths, u, v, line)
     size = abs(o) + abs(b_) + abs(c_) + sum(lengths) + abs(u) + abs(v) + abs(s)
@@ -153,7 +164,14 @@ def slider_polish(s: Any, theta: Any, o: Any, e: complex, b_: Any, c_: Any, leng
 def slider_roots(o: Any, e: Any, b_: Any, c_: Any, lengths: tuple[float, float], u: complex,
                  v: complex, *, line: Line = None) -> tuple[np.ndarray, np.ndarray]:
     """Every real assembly mode at each sample: ``(θ, s)``, shape (..., 6), NaN where a slot holds
-    no real root; θ in (−π, π] sorted ascending per sample; polished by Newton to round-off.
+    no real root; θ in (−π, π] sorted ascending per sample (two modes of one θ in either order);
+    polished by Newton to round-off.
+
+    Each root w on the circle starts Newton from the root s of the first circle's quadratic that
+    best closes the second, and from the other one too where it closes the second within
+    ``ON_CIRCLE``·size² (the two quadratics one: N = Dn = 0, a double root w of the polynomial
+    with two modes of one θ, told apart by s); candidates within ``SAME_ROOT`` in θ and
+    ``SAME_ROOT``·(|u| + |v|) in s are one root.
     ``o``, ``e`` the guide at each sample (constants, or arrays for a moving guide)."""
     b_, c_ = (np.asarray(x, complex) for x in (b_, c_))
     shape = np.broadcast_shapes(b_.shape, c_.shape, np.shape(o), np.shape(e))
@@ -179,20 +197,27 @@ def slider_roots(o: Any, e: Any, b_: Any, c_: Any, lengths: tuple[float, float],
         near = np.abs(np.abs(w) - 1.0) <= ON_CIRCLE
         w = np.where(near, w / np.abs(w), np.nan)
         oc, ec = _column(o), _column(e)
-        s = slider_start(w, oc, ec, b_, c_, lengths, u, v, line=line)
-        s, theta, w, good, _ = slider_polish(s, np.angle(w), oc, ec, b_, c_, lengths, u, v, steps=POLISH_STEPS,
-                                             xp=NUMPY, line=line)
+        s_a, s_b, r_a, r_b = _quadratic_slides(w, oc, ec, b_, c_, lengths, u, v, line)
+        best = np.where(r_a <= r_b, s_a, s_b)
+        other = np.where(np.maximum(r_a, r_b) <= ON_CIRCLE * size[..., None] ** 2, np.where(r_a <= r_b, s_b, s_a),
+                         np.nan)
+        s, theta, w, good, _ = slider_polish(np.concatenate([best, other], axis=-1), np.tile(np.angle(w), 2), oc, ec,
+                                             b_, c_, lengths, u, v, steps=POLISH_STEPS, xp=NUMPY, until=POLISH_DONE,
+                                             line=line)
         good = good & np.isfinite(s)
     theta = np.where(good, np.angle(w), np.nan)
     order = np.argsort(theta, axis=-1)  # NaN last
     theta = np.take_along_axis(theta, order, axis=-1)
     s = np.take_along_axis(np.where(good, s, np.nan), order, axis=-1)
-    same = np.zeros(theta.shape, bool)
-    same[..., 1:] = np.abs(np.diff(theta, axis=-1)) <= SAME_ROOT
-    theta[same] = np.nan
-    s[same] = np.nan
+    if not (np.abs(np.diff(theta, axis=-1)) <= SAME_ROOT).any():  # no two candidates of one θ: sorted already
+        return theta[..., :DEGREE], s[..., :DEGREE]
+    same = ((np.abs(theta[..., :, None] - theta[..., None, :]) <= SAME_ROOT)
+            & (np.abs(s[..., :, None] - s[..., None, :]) <= SAME_ROOT * (abs(u) + abs(v))))
+    dup = np.triu(same, k=1).any(axis=-2)  # the same root as an earlier candidate
+    theta[dup] = np.nan
+    s[dup] = np.nan
     order = np.argsort(theta, axis=-1)
-    return np.take_along_axis(theta, order, axis=-1), np.take_along_axis(s, order, axis=-1)
+    return np.take_along_axis(theta, order, axis=-1)[..., :DEGREE], np.take_along_axis(s, order, axis=-1)[..., :DEGREE]
 
 
 def slider_analogs(s: Any, w: Any, o: Any, e: complex, u: complex, v: complex, jb: Jet,
@@ -267,25 +292,61 @@ def gap_of(roots: list[float], k: int) -> float:
     return min((abs(_wrap(t - roots[k])) for m, t in enumerate(roots) if m != k), default=math.inf)
 
 
-def follow_roots(theta: np.ndarray, rate: np.ndarray, step: np.ndarray, start: int,
-                 target: float) -> tuple[np.ndarray, np.ndarray]:
+def pick(roots: list[float], slides: list[float], target: float, slide: float | None, scale: float) -> int:
+    """The mode rule at the reference sample. With the drawn slide s₀ (``slide``; the scene's
+    ``angle`` is the drawn one): the root nearest the drawn pose (θ₀, s₀) by
+    :func:`mode_distance` — the root nearest θ₀ but where two modes are close in θ (two modes of
+    one θ differ in s only). Without: the root nearest θ₀ (``target``) on the circle, roots of
+    one θ (their distances within ``SAME_ROOT`` of the nearest's) told apart by the lower s."""
+    if slide is not None:
+        return closest(roots, slides, target, slide, scale)[0]
+    dist = [abs(_wrap(t - target)) for t in roots]
+    low = min(dist)
+    return min((k for k, x in enumerate(dist) if x <= low + SAME_ROOT), key=lambda k: slides[k])
+
+
+def mode_distance(theta: float, s: float, theta_to: float, s_to: float, scale: float) -> float:
+    """How far two modes (θ, s) are apart for following one: |Δθ| on the circle + |Δs| / ``scale``
+    (|u| + |v|, the ternary link's size: a slide as far as its points swing for that angle)."""
+    return abs(_wrap(theta - theta_to)) + abs(s - s_to) / scale
+
+
+def closest(roots: list[float], slides: list[float], theta_to: float, s_to: float, scale: float) -> tuple[int, float]:
+    """The index of the root nearest (θ, s) = (``theta_to``, ``s_to``) by :func:`mode_distance`, and its distance."""
+    dist = [mode_distance(t, s, theta_to, s_to, scale) for t, s in zip(roots, slides)]
+    k = min(range(len(dist)), key=dist.__getitem__)
+    return k, dist[k]
+
+
+def spread(roots: list[float], slides: list[float], k: int, scale: float) -> float:
+    """Root k's :func:`mode_distance` to its nearest other root (inf when alone)."""
+    return min((mode_distance(t, s, roots[k], slides[k], scale) for m, (t, s) in enumerate(zip(roots, slides))
+                if m != k), default=math.inf)
+
+
+def follow_roots(theta: np.ndarray, slide: np.ndarray, rate: np.ndarray, slide_rate: np.ndarray, step: np.ndarray,
+                 start: int, target: float, *, slide0: float | None, scale: float) -> tuple[np.ndarray, np.ndarray]:
     """The branch rule over a sweep (solver.groups.slider_triad): the slot followed at each sample
-    (−1: no real root) and where following it jumps mode. ``theta`` (n, 6) every real root (NaN
-    last), ``rate`` (n, 6) their θ', ``step`` (n,) the input; the mode at the first sample with a
-    root from ``start`` is the root nearest ``target``; then each neighbour takes the root nearest
-    the previous one carried forward by θ'·Δφ; a match farther than half the previous root's
-    distance to its nearest other root, where the count of real roots drops, is a jump."""
+    (−1: no real root) and where following it jumps mode. ``theta``, ``slide`` (n, 6) every real
+    root (NaN last), ``rate``, ``slide_rate`` (n, 6) their θ' and s', ``step`` (n,) the input; the
+    mode at the first sample with a root from ``start`` is :func:`pick`'s (θ₀ = ``target``, s₀ =
+    ``slide0``); then each neighbour takes the root nearest the previous one carried forward by
+    (θ', s')·Δφ (:func:`closest`, ``scale`` = |u| + |v|); a match farther than half the previous
+    root's distance to its nearest other root (:func:`spread`), where the count of real roots
+    drops, is a jump."""
     n = len(theta)
     out = [-1] * n
     jump = [False] * n
-    rows = [[t for t in r if t == t] for r in theta.tolist()]
+    rows = [[t for t in r if t == t] for r in theta.tolist()]  # NaN last: a list's index is the slot
+    slides = [r[:len(q)] for r, q in zip(slide.tolist(), rows)]
     rates = rate.tolist()
+    s_rates = slide_rate.tolist()
     st = step.tolist()
     with_root = [i for i in range(start, n) if rows[i]]
     if not with_root:
         return np.array(out), np.array(jump)
     i0 = with_root[0]
-    out[i0] = nearest(rows[i0], target)[0]
+    out[i0] = pick(rows[i0], slides[i0], target, slide0, scale)
     for direction in (1, -1):
         i = i0
         while 0 <= i + direction < n:
@@ -293,11 +354,13 @@ def follow_roots(theta: np.ndarray, rate: np.ndarray, step: np.ndarray, start: i
             r = rows[j]
             if r:
                 k = out[i]
-                if k < 0:  # restart after a gap: nearest θ₀ again
-                    out[j] = nearest(r, target)[0]
+                if k < 0:  # restart after a gap: the mode rule again
+                    out[j] = pick(r, slides[j], target, slide0, scale)
                 else:
-                    m, dist = nearest(r, rows[i][k] + rates[i][k] * (st[j] - st[i]))
+                    dphi = st[j] - st[i]
+                    m, dist = closest(r, slides[j], rows[i][k] + rates[i][k] * dphi,
+                                      slides[i][k] + s_rates[i][k] * dphi, scale)
                     out[j] = m
-                    jump[j] = dist > 0.5 * gap_of(rows[i], k) and len(r) < len(rows[i])
+                    jump[j] = dist > 0.5 * spread(rows[i], slides[i], k, scale) and len(r) < len(rows[i])
             i = j
     return np.array(out), np.array(jump)

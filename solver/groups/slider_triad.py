@@ -37,8 +37,10 @@ Univariate polynomial (exact elimination; no search)
     companion matrix (batched over samples); real modes are the roots on |w| = 1.
 Polish
     Each root on the circle (within ``ON_CIRCLE``) gives s as the root of the first quadratic
-    that best closes the second (robust where Dn is small), then Newton on the two loop
-    equations (the 2×2 system below) to round-off; roots within ``SAME_ROOT`` are one.
+    that best closes the second (robust where Dn is small) — and the other root too where it
+    closes the second within ``ON_CIRCLE``·size² (two modes of one θ) —, then Newton on the two
+    loop equations (the 2×2 system below) to round-off; roots within ``SAME_ROOT`` in θ and
+    ``SAME_ROOT``·(|u| + |v|) in s are one.
 Derivatives (exact): with q = E − B, r = F − C, g = −(q × u·w), h = −(r × v·w):
         (e·q)·s' + g·θ' = B'·q,     (e·r)·s' + h·θ' = C'·r,
     second order: the same matrix with right-hand sides
@@ -52,15 +54,21 @@ Conditioning
     |det| / (b·c·(|u| + |v|)) ∈ [0, 1] (|R_E| + |R_F| for the swinging block): 0 where the guide's
     normal at D and the lines of the two binary links meet in one point (a dead point: two
     assembly modes merge).
-Branch rule (the mode): the RRR triad's. ``angle`` θ₀ names the mode: at the reference sample
-    (nearest ``at``, else a sweep's first) the real root whose θ is nearest θ₀; every other sample
-    the root nearest the previous one carried forward by θ'·Δφ; a match farther than half the
+Branch rule (the mode): the RRR triad's, with the slide beside the angle. ``angle`` θ₀ names the
+    mode: at the reference sample (nearest ``at``, else a sweep's first) the real root whose θ is
+    nearest θ₀ — where θ₀ is the drawn one (``shape:`` given and θ₀ its arg(E − D)), the root
+    nearest the drawn pose (θ₀, s₀), s₀ = e·(D − O) the drawn slide, by |Δθ| + |Δs|/(|u| + |v|):
+    the same root but where two modes are close in θ, and the drawn one of two modes of one θ
+    (a double root w of the polynomial where N = Dn = 0: both roots of the quadratic in s close
+    the loop; without s₀ the lower s of them). Every other sample the root nearest the previous
+    (θ, s) carried forward by (θ', s')·Δφ, by the same distance; a match farther than half the
     previous root's distance to its nearest other root where the count of real roots drops is a
     mode jump (a branch point between the samples): refused naming the φ. Per tick the previous
     tick plays the previous sample: Newton from the root it predicts, kept when unambiguous, else
     every root and the rule (solver.groups._slider_triad_tick); a dense monotone sweep finds every
     root on anchors only and polishes the interpolated root between them under the same checks
-    (solver.groups._slider_triad_sweep), else every sample's roots.
+    (solver.groups._slider_triad_sweep), else every sample's roots (next to two modes of one θ
+    the checks, in θ alone, refuse: every sample's roots and the rule decide).
 Assembly fails where no real root exists (AssemblyError with the φ intervals).
 Population (solver.synthesis: parameters (C, 1) arrays, φ (C, S)): each design's row solved as
     its own scene solves those samples, design by design (``own_sweeps``, shared with the RRR
@@ -70,6 +78,7 @@ Population (solver.synthesis: parameters (C, 1) arrays, φ (C, S)): each design'
 
 from __future__ import annotations
 
+import cmath
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -84,17 +93,13 @@ from . import _slider_triad_sweep as _fast
 from . import _slider_triad_tick as _tick
 from ._slider_triad_math import Line, follow_roots, slider_analogs, slider_jets, slider_polish, slider_roots
 from ._slider_triad_tick import JUMP, NO_ROOT
+from ._triad_math import SAME_ROOT
 from ._triad_population import own_sweeps
 from ._triad_tick import FOLLOW_DONE, FOLLOW_STEPS
 from .base import Context, Group
 from .triad import ternary_shape
 
 __all__ = ["SliderTriad", "NO_ROOT", "JUMP"]
-
-
-
-def _wrap(x: Any) -> Any:
-    return (x + np.pi) % (2.0 * np.pi) - np.pi
 
 
 def _unit(angle: Any) -> Any:
@@ -113,6 +118,22 @@ def _cols(j: Jet) -> Jet:
     return Jet(_col(j.value), _col(j.d1), _col(j.d2))
 
 
+def _drawn_slide(e: Entry, points: tuple[str, ...], units: Units, origin: Any, direction: Any,
+                 angle: float) -> float | None:
+    """s₀ = e·(D − O) of the drawn D where ``angle`` names the drawn mode (``shape:`` given, checked
+    by ternary_shape, and θ₀ = its arg(E − D) within ``SAME_ROOT``); else None (``sides:``, another
+    mode named, a population of designs)."""
+    if "shape" not in e.data or any(isinstance(x, np.ndarray) for x in (origin, direction)):
+        return None
+    sh = e.child("shape", e.raw("shape"))
+    d, p = (complex(*(sh.length_value(sh.as_number(c, k), k, units, positive=False) for c in sh.raw(k)))
+            for k in points[:2])
+    if abs(math.remainder(cmath.phase(p - d) - angle, 2.0 * math.pi)) > SAME_ROOT:
+        return None
+    off = d - origin
+    return float(off.real * direction.real + off.imag * direction.imag)
+
+
 @dataclass(frozen=True)
 class SliderTriad(Group):
     kind = "slider_triad"
@@ -127,6 +148,7 @@ class SliderTriad(Group):
     shape: tuple[complex, complex]  # u = E − D, v = F − D in the ternary link's frame
     angle: float  # θ₀
     at: float | None = None
+    slide0: float | None = None  # s₀, the drawn D's slide: the tie-break between two modes of one θ₀
     joint: str | None = None  # θ published as a joint coordinate
     slide: str | None = None  # s published as a joint coordinate (m)
     carrier: tuple[str, str] | None = None  # P, Q: the guide on the moving known link P–Q
@@ -230,8 +252,7 @@ class SliderTriad(Group):
             if ctx.seeds is None and np.ndim(phi) == 2:  # a population of designs (solver.synthesis)
                 own_sweeps(self, ctx, np.asarray(phi, float), reason=NO_ROOT)
                 return
-            th, s, analogs = self._sweep(ctx, phi, jb, jc, o, e, guide)
-            w = np.cos(th) + 1j * np.sin(th)
+            th, s, w, analogs = self._sweep(ctx, phi, jb, jc, o, e, guide)
         s1, t1, s2, t2, det = analogs
         for name, jet in zip(self.points, slider_jets(s, w, analogs, o, e, u, v, line=line, guide=guide)):
             vals[name] = jet
@@ -248,8 +269,8 @@ class SliderTriad(Group):
         ctx.conditioning[self.name] = abs(det) / (b * c * arms)
 
     def _sweep(self, ctx: Context, phi: Any, jb: Jet, jc: Jet, o: Any, e: Any,
-               guide: tuple[Jet, Jet] | None) -> tuple[Any, Any, tuple[Any, ...]]:
-        """The followed root at every sample and its analogs: ``(θ, s, analogs)`` — through the
+               guide: tuple[Jet, Jet] | None) -> tuple[Any, Any, Any, tuple[Any, ...]]:
+        """The followed root at every sample and its analogs: ``(θ, s, e^{jθ}, analogs)`` — through the
         anchors' shortcut (solver.groups._slider_triad_sweep) where it holds, else every sample's
         roots and the branch rule; a block of a longer sweep (solver.scene solves in blocks of
         views into one array) continues from the previous block's last root."""
@@ -263,34 +284,41 @@ class SliderTriad(Group):
             key = (id(base), offset)
         carry = self._last.get("block")
         carry = carry if key is not None and carry is not None and carry["key"] == key else None
+        slide0 = self.slide0
         if carry is not None:
-            start, target = 0, carry["theta"] + carry["rate"] * (float(step[0]) - carry["phi"])
+            dphi = float(step[0]) - carry["phi"]
+            start, target = 0, carry["theta"] + carry["rate"] * dphi
+            slide0 = carry["s"] + carry["s_rate"] * dphi
         elif self.at is None or ph.shape[1] != 1:
             start, target = 0, self.angle
         else:
-            start, target = int(np.argmin(np.abs(_wrap(ph[:, 0] - self.at)))), self.angle
+            off = ph[:, 0] - self.at
+            off -= (2.0 * np.pi) * np.round(off * (0.5 / np.pi))  # wrapped (cheaper than a remainder)
+            start, target = int(np.argmin(np.abs(off))), self.angle
         u, v = self.shape
         line = self.line
         with np.errstate(all="ignore"):
             # the anchors' shortcut is the fixed guide's; a moving or carried guide takes every sample's roots
-            fast = _fast.fast_sweep(self, step, jb, jc, start, target) if guide is None else None
-            if fast is not None:
-                th, s = fast.theta, fast.s
-                analogs = slider_analogs(s, np.cos(th) + 1j * np.sin(th), o, e, u, v, jb, jc)
-                if not fast.holds(analogs[4]):
-                    fast = None
+            fast = _fast.fast_sweep(self, step, jb, jc, start, target, slide0) if guide is None else None
+            while fast is not None:  # refused at the determinant check: the narrower anchors, then none
+                th, s, w = fast.theta, fast.s, fast.w
+                analogs = slider_analogs(s, w, o, e, u, v, jb, jc)
+                if fast.holds(analogs[4]):
+                    break
+                fast = _fast.fast_sweep(self, step, jb, jc, start, target, slide0, spans=fast.narrower)
         if fast is None:
-            th, s = self._full_sweep(ctx, step, jb, jc, start, target, o, e, guide)
+            th, s = self._full_sweep(ctx, step, jb, jc, start, target, slide0, o, e, guide)
             with np.errstate(all="ignore"):
-                analogs = slider_analogs(s, np.cos(th) + 1j * np.sin(th), o, e, u, v, jb, jc, line=line,
-                                         guide=guide)
+                w = NUMPY.cis(th)
+                analogs = slider_analogs(s, w, o, e, u, v, jb, jc, line=line, guide=guide)
         if key is not None and np.isfinite(th[-1]):
             self._last["block"] = {"key": (key[0], key[1] + n), "theta": float(th[-1]),
-                                   "rate": float(np.real(analogs[1][-1])), "phi": float(step[-1])}
-        return th, s, analogs
+                                   "rate": float(np.real(analogs[1][-1])), "phi": float(step[-1]),
+                                   "s": float(s[-1]), "s_rate": float(np.real(analogs[0][-1]))}
+        return th, s, w, analogs
 
     def _full_sweep(self, ctx: Context, step: np.ndarray, jb: Jet, jc: Jet, start: int, target: float,
-                    o: Any, e: Any, guide: tuple[Jet, Jet] | None) -> tuple[Any, Any]:
+                    slide0: float | None, o: Any, e: Any, guide: tuple[Jet, Jet] | None) -> tuple[Any, Any]:
         """Every sample's roots and the branch rule: ``(θ, s)`` of the followed root."""
         n = len(step)
         line = self.line
@@ -302,9 +330,10 @@ class SliderTriad(Group):
         jets = [_cols(j) for j in (jb, jc)]
         moved = None if guide is None else (_cols(guide[0]), _cols(guide[1]))
         with np.errstate(all="ignore"):
-            rate = np.real(slider_analogs(ss, np.cos(theta) + 1j * np.sin(theta), _col(o), _col(e),
-                                          u, v, *jets, line=line, guide=moved)[1])
-        slots, jumps = follow_roots(theta, rate, step, start, target)
+            s_rate, rate = slider_analogs(ss, np.cos(theta) + 1j * np.sin(theta), _col(o), _col(e),
+                                          u, v, *jets, line=line, guide=moved)[:2]
+        slots, jumps = follow_roots(theta, ss, np.real(rate), np.real(s_rate), step, start, target, slide0=slide0,
+                                    scale=abs(u) + abs(v))
         if jumps.any():
             ctx.require(self, ~jumps, reason=JUMP)
         rows = np.arange(n)
@@ -389,6 +418,10 @@ class SliderTriad(Group):
         sub = e.child("lengths", {"BE": raw[0], "CF": raw[1]})
         lengths = (sub.length("BE", units), sub.length("CF", units))
         u, v = ternary_shape(e, points, units)  # (C, 1) arrays in a population, as the lengths may be
+        theta0 = e.angle("angle", units)
+        # s₀ from the drawn D on a fixed guide (a moving guide or pivot is placed only at run time)
+        fixed_guide = carrier is None and block_at is None
+        slide0 = _drawn_slide(e, points, units, origin, direction, theta0) if fixed_guide else None
         at = e.raw("at", None)
         joint = e.raw("joint", None)
         slide = e.raw("slide", None)
@@ -400,8 +433,9 @@ class SliderTriad(Group):
             points=(points[0], points[1], points[2]),
             lengths=lengths,
             shape=(u, v),
-            angle=e.angle("angle", units),
+            angle=theta0,
             at=None if at is None else e.angle("at", units),
+            slide0=slide0,
             joint=None if joint is None else e.name("joint"),
             slide=None if slide is None else e.name("slide"),
             carrier=carrier,

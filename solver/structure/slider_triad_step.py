@@ -8,8 +8,9 @@ through D, its third point, at ``angle`` from D→E, offset along its normal).
 
 Taken after every dyad, as the RRR triad (solver.structure.triad_step). The slide's point must be
 on its line (``ON_LINE`` of the drawing's size); the mode is read off the drawn pose as the
-triad's: ``angle`` = the drawn arg(E − D), ``at`` = the drawn input (one input), and the real root
-nearest that angle must give the drawn D, E, F back (``DRAWN_MATCH``) — else the drawing is
+triad's: ``angle`` = the drawn arg(E − D), ``at`` = the drawn input (one input), and the mode
+rule's root (the group's: nearest the drawn pose, so that two modes of one θ are told apart by
+the drawn slide) must give the drawn D, E, F back (``DRAWN_MATCH``) — else the drawing is
 refused naming the group. One drawn at a dead point (conditioning below SINGULAR) is refused.
 """
 
@@ -23,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from ..groups._slider_triad_math import slider_analogs, slider_roots
+from ..groups._slider_triad_math import pick, slider_analogs, slider_roots
 from ..jet import Jet
 from .drawing import GROUND
 from .step import ON_LINE, Step, dot
@@ -107,7 +108,7 @@ def _slider_triad(st: Any, ternary: str, slide: Any, arms: tuple[tuple[str, str,
     real = np.isfinite(roots)
     if not real.any():
         raise d.error(f"{what} as drawn has no real assembly mode", entry)
-    k = int(np.flatnonzero(real)[np.argmin(np.abs(np.angle(np.exp(1j * (roots[real] - theta)))))])
+    k = int(np.flatnonzero(real)[pick(roots[real].tolist(), ss[real].tolist(), theta, s_d, abs(u) + abs(v))])
     if abs(ss[k] - s_d) > DRAWN_MATCH * d.size or abs(roots[k] - theta) * max(abs(u), abs(v)) > DRAWN_MATCH * d.size:
         raise d.error(f"{what}: no assembly mode reproduces the drawn pose (nearest root "
                       f"{abs(ss[k] - s_d):.3g} away)", entry)
@@ -169,7 +170,8 @@ def _swinging(st: Any, ternary: str, slide: Any, arms: tuple[tuple[str, str, str
     real = np.isfinite(roots)
     if not real.any():
         raise d.error(f"{what} as drawn has no real assembly mode", entry)
-    k = int(np.flatnonzero(real)[np.argmin(np.abs(np.angle(np.exp(1j * (roots[real] - theta)))))])
+    # the group's rule for a moving guide: θ₀ alone (no drawn slide s₀: A is placed at run time)
+    k = int(np.flatnonzero(real)[pick(roots[real].tolist(), ss[real].tolist(), theta, None, abs(u) + abs(v))])
     if abs(ss[k] - s_d) > DRAWN_MATCH * d.size or abs(roots[k] - theta) * max(abs(u), abs(v)) > DRAWN_MATCH * d.size:
         raise d.error(f"{what}: no assembly mode reproduces the drawn pose (nearest root "
                       f"{abs(ss[k] - s_d):.3g} away)", entry)

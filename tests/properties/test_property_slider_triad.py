@@ -11,7 +11,7 @@ import numpy as np
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from solver.groups._slider_triad_math import slider_analogs, slider_roots
+from solver.groups._slider_triad_math import closest, slider_analogs, slider_roots
 from solver.jet import Jet
 from solver.tolerances import NEAR_SINGULAR
 
@@ -45,20 +45,16 @@ def test_drawn_pose_is_a_root_and_every_root_closes_the_loop(ox: float, oy: floa
     assert np.abs(np.abs(dd + u * w - b_) - lengths[0]).max() <= CLOSED * size
     assert np.abs(np.abs(dd + v * w - c_) - lengths[1]).max() <= CLOSED * size
     assert real.sum() <= 6
-    k = int(np.argmin(np.abs(np.angle(np.exp(1j * (roots[real] - theta))))))
+    k = closest(roots[real].tolist(), slides[real].tolist(), theta, s, abs(u) + abs(v))[0]  # the drawn pose's
     s1, t1, _, _, det = slider_analogs(slides[real][k], w[k], o, e, u, v, Jet(b_, complex(bvx, bvy), 0j),
                                        Jet(c_, 0j, 0j))
     cond = abs(det) / (lengths[0] * lengths[1] * (abs(u) + abs(v)))
     # away from a dead point (NEAR_SINGULAR), where the drawn mode is a double root known to ~√ε only
     assume(cond > NEAR_SINGULAR)
+    # the drawn pose itself, also where another mode shares its θ (both quadratics in s one there:
+    # Dn = N = 0, a double root of the polynomial — both its modes are roots)
     assert abs(math.remainder(roots[real][k] - theta, 2 * math.pi)) <= 1e-9
-    if abs(slides[real][k] - s) > 1e-9:
-        # two modes of one θ (docs/scenes.md, Limits): both quadratics in s are one there (Dn = N = 0),
-        # its other root closes the loop too — the one root of θ is one of the two, not the drawn one
-        other = o + slides[real][k] * e
-        assert abs(abs(other + u * w[k] - b_) - lengths[0]) <= CLOSED * size
-        assert abs(abs(other + v * w[k] - c_) - lengths[1]) <= CLOSED * size
-        return
+    assert abs(slides[real][k] - s) <= 1e-9 * size
     # the analogs solve the differentiated loop: q·q' = 0 with q' = E' − B', r·r' = 0
     q, r = dd[k] + u * w[k] - b_, dd[k] + v * w[k] - c_
     e1 = s1 * e + 1j * u * w[k] * t1 - complex(bvx, bvy)
