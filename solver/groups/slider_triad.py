@@ -297,15 +297,15 @@ class SliderTriad(Group):
             start, target = int(np.argmin(np.abs(off))), self.angle
         u, v = self.shape
         line = self.line
+        moving = None if guide is None else (o, e, guide)
         with np.errstate(all="ignore"):
-            # the anchors' shortcut is the fixed guide's; a moving or carried guide takes every sample's roots
-            fast = _fast.fast_sweep(self, step, jb, jc, start, target, slide0) if guide is None else None
+            fast = _fast.fast_sweep(self, step, jb, jc, start, target, slide0, moving=moving)
             while fast is not None:  # refused at the determinant check: the narrower anchors, then none
                 th, s, w = fast.theta, fast.s, fast.w
-                analogs = slider_analogs(s, w, o, e, u, v, jb, jc)
+                analogs = slider_analogs(s, w, o, e, u, v, jb, jc, line=line, guide=guide)
                 if fast.holds(analogs[4]):
                     break
-                fast = _fast.fast_sweep(self, step, jb, jc, start, target, slide0, spans=fast.narrower)
+                fast = _fast.fast_sweep(self, step, jb, jc, start, target, slide0, spans=fast.narrower, moving=moving)
         if fast is None:
             th, s = self._full_sweep(ctx, step, jb, jc, start, target, slide0, o, e, guide)
             with np.errstate(all="ignore"):

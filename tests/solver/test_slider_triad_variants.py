@@ -101,6 +101,43 @@ def test_reference_per_tick_and_compiled_paths(i: int) -> None:
             assert abs(vel - _c(s["dD"])) <= TOL_VEL * size
 
 
+@pytest.mark.parametrize("i", [0, 4, 8, 11])
+def test_reference_in_a_dense_sweep_through_the_anchors_shortcut(i: int) -> None:
+    """0.05° apart a variant's sweep takes the anchors' shortcut (solver.groups._slider_triad_sweep,
+    the moving guide at every sample): the reference's accuracy at its φ, and the full path's root
+    at every sample."""
+    from unittest import mock
+
+    from solver.groups import _slider_triad_sweep
+
+    case = _cases()[i]
+    phi_s = np.array([float(s["phi"]) for s in case["samples"]])
+    phi = np.unique(np.concatenate([np.linspace(phi_s.min(), phi_s.max(), 1201), phi_s]))
+    where = np.searchsorted(phi, phi_s)
+    size = _size(case)
+    calls = []
+    real = _slider_triad_sweep.fast_sweep
+
+    def spy(*args: Any, **kw: Any) -> Any:
+        out = real(*args, **kw)
+        calls.append(out is not None)
+        return out
+    with mock.patch.object(_slider_triad_sweep, "fast_sweep", spy):
+        k = variant_scene(case).solve(phi)
+    assert calls and calls[-1]
+    with mock.patch.object(_slider_triad_sweep, "fast_sweep", lambda *a, **kw: None):
+        full = variant_scene(case).solve(phi)
+    for name in "DEF":
+        got = k.point(name).position @ [1, 1j]
+        ref = np.array([_c(s[name]) for s in case["samples"]])
+        vel = np.array([_c(s["d" + name]) for s in case["samples"]])
+        assert np.abs(got[where] - ref).max() <= TOL_POS * size, name
+        assert np.abs((k.point(name).velocity @ [1, 1j])[where] - vel).max() <= TOL_VEL * size, name
+        assert np.abs(got - full.point(name).position @ [1, 1j]).max() <= TOL_POS * size, name
+        acc = k.point(name).acceleration - full.point(name).acceleration
+        assert np.abs(acc).max() <= 1e-9 * size, name
+
+
 def _swing_instance(rng: np.random.Generator) -> tuple[Any, ...]:
     """A swinging-block triad at one instant, drawn at a random pose: (A, B, C, lengths, u, v, p,
     e_t, θ)."""
