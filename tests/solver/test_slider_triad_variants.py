@@ -169,7 +169,7 @@ def _brute_swing(a: complex, b_: complex, c_: complex, lengths: tuple, u: comple
     return sorted(found)
 
 
-@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize("seed", range(2))
 def test_swinging_block_every_mode_against_brute_force(seed: int) -> None:
     rng = np.random.default_rng(seed)
     a, b_, c_, lengths, u, v, p, et, theta = _swing_instance(rng)
@@ -288,10 +288,11 @@ def _counter(scene: Any) -> Any:
     crank = next(g for g in scene.plan.groups if g.kind == "crank")
     fixed = {n: Jet(complex(*np.asarray(z, float)[:2]), 0.0, 0.0) for n, z in scene.fixed_points.items()}
 
-    def roots(p: float) -> np.ndarray:
-        b_ = fixed["O"].value + crank.length * np.exp(1j * p)
+    def roots(p: Any) -> Any:
+        """The real roots at one input; at an array of inputs, the count of real roots at each."""
+        b_ = fixed["O"].value + crank.length * np.exp(1j * np.asarray(p))
         theta = tri.roots({**fixed, "B": Jet(b_, 0.0, 0.0)})[0]
-        return theta[np.isfinite(theta)]
+        return np.isfinite(theta).sum(axis=-1) if np.ndim(p) else theta[np.isfinite(theta)]
     return roots
 
 
@@ -305,10 +306,11 @@ def test_a_branch_point_is_refused_as_a_mode_jump_and_conditioning_falls(kind: s
         scene, phi_d = _branch_scene(kind, nth=nth)
         roots = _counter(scene)
         n0 = len(roots(phi_d))
-        for k in range(1, 301):
-            if len(roots(phi_d + direction * 0.01 * k)) < n0:
-                found = (nth, direction, phi_d + direction * 0.01 * (k - 1), phi_d + direction * 0.01 * k)
-                break
+        counts = roots(phi_d + direction * 0.01 * np.arange(1, 301))
+        drop = np.flatnonzero(counts < n0)
+        if drop.size:
+            k = int(drop[0]) + 1
+            found = (nth, direction, phi_d + direction * 0.01 * (k - 1), phi_d + direction * 0.01 * k)
         if found:
             break
     assert found is not None, "no branch point within 3 rad of any stored case"
