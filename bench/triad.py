@@ -1,5 +1,6 @@
-"""The triads' cost (the RRR triad's and the slider triad's) against an RRR dyad's (issue 28
-targets: one vectorised sample ≤ 5×, one compiled instant ≤ 4×), measured in one process:
+"""The triads' cost (the RRR triad's, the slider triad's and its swinging-block variant's) against
+an RRR dyad's (issue 28 targets: one vectorised sample ≤ 5×, one compiled instant ≤ 4×), measured
+in one process:
 ``python -m bench.triad``.
 
 Prints the load average beside the figures (the machine is shared; only the ratios are meaningful),
@@ -24,7 +25,7 @@ import solver
 SAMPLES = 3600
 TICKS = 1000
 REPEATS = 25
-SCENES = ("triad_press", "slider_triad_press", "four_bar")
+SCENES = ("triad_press", "slider_triad_press", "swinging_block_triad", "four_bar")
 BASE = "four_bar"  # the ratios' unit: an RRR dyad (issue 28: a triad sample ≤ 5×, an instant ≤ 4×)
 
 
