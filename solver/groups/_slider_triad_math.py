@@ -160,11 +160,20 @@ def slider_roots(o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, flo
         near = np.abs(np.abs(w) - 1.0) <= ON_CIRCLE
         w = np.where(near, w / np.abs(w), np.nan)
         s_a, s_b, r_a, r_b = _quadratic_slides(w, o, e, b_, c_, lengths, u, v)
-        best = np.where(r_a <= r_b, s_a, s_b)
-        other = np.where(np.maximum(r_a, r_b) <= ON_CIRCLE * size[..., None] ** 2, np.where(r_a <= r_b, s_b, s_a),
-                         np.nan)
-        s, theta, w, good, _ = slider_polish(np.concatenate([best, other], axis=-1), np.tile(np.angle(w), 2), o, e,
-                                             b_, c_, lengths, u, v, steps=POLISH_STEPS, xp=NUMPY, until=POLISH_DONE)
+        second = np.maximum(r_a, r_b) <= ON_CIRCLE * size[..., None] ** 2  # both close the second circle
+        angle = np.angle(w)
+        s, theta, w, good, _ = slider_polish(np.where(r_a <= r_b, s_a, s_b), angle, o, e, b_, c_, lengths, u, v,
+                                             steps=POLISH_STEPS, xp=NUMPY, until=POLISH_DONE)
+        if second.any():  # (nearly) two modes of one θ: the other slide polished too, as six more candidates
+            at = np.nonzero(second)
+            o2, b2, c2 = (np.broadcast_to(x, second.shape)[at] if np.ndim(x) else x for x in (o, b_, c_))
+            s2, _, w2, good2, _ = slider_polish(np.where(r_a <= r_b, s_b, s_a)[at], angle[at], o2, e, b2, c2,
+                                                lengths, u, v, steps=POLISH_STEPS, xp=NUMPY, until=POLISH_DONE)
+            more = [np.full(second.shape, np.nan, x.dtype) for x in (s2, w2)]
+            more[0][at], more[1][at] = s2, w2
+            s, w = (np.concatenate([x, y], axis=-1) for x, y in zip((s, w), more))
+            good = np.concatenate([good, np.zeros(second.shape, bool)], axis=-1)
+            good[..., DEGREE:][at] = good2
         good = good & np.isfinite(s)
     theta = np.where(good, np.angle(w), np.nan)
     order = np.argsort(theta, axis=-1)  # NaN last
