@@ -57,6 +57,10 @@ SWEEP_STEPS: int = 2
 EXTRA_STEPS: int = 3
 
 
+#: A moving guide at every sample: (o, e, its (O, e) jets), as the group's ``guide_at`` gives it.
+Moving = tuple[Any, Any, Any] | None
+
+
 def _wrap(x: Any) -> Any:
     return (x + np.pi) % (2.0 * np.pi) - np.pi
 
@@ -78,11 +82,12 @@ class Shortcut:
 
 
 def fast_sweep(group: Any, step: np.ndarray, jb: Jet, jc: Jet, start: int, target: float, slide0: float | None, *,
-               spans: tuple[float, ...] = SPANS) -> Shortcut | None:
+               spans: tuple[float, ...] = SPANS, moving: Moving = None) -> Shortcut | None:
     """The sweep through anchors ``spans`` apart, each tried in turn (module docstring), or None
     where the full path must decide; ``step`` the input (the sum of the inputs) at each sample,
     the mode at the first sample from ``start`` the mode rule's for θ₀ = ``target`` and s₀ =
-    ``slide0`` (solver.groups._slider_triad_math.pick)."""
+    ``slide0`` (solver.groups._slider_triad_math.pick); ``moving`` a moving guide's (o, e, jets)
+    at every sample (the group's ``guide_at``; its ``line`` read off the group)."""
     n = len(step)
     if n < 2 * MIN_STRIDE:
         return None
@@ -94,7 +99,7 @@ def fast_sweep(group: Any, step: np.ndarray, jb: Jet, jc: Jet, start: int, targe
         stride = min(STRIDE, int(span / pitch))
         if stride < MIN_STRIDE:
             return None
-        out = _through_anchors(group, step, stride, jb, jc, start, target, slide0)
+        out = _through_anchors(group, step, stride, jb, jc, start, target, slide0, moving)
         if out is not None:
             out.narrower = spans[i + 1:]
             return out
@@ -102,16 +107,19 @@ def fast_sweep(group: Any, step: np.ndarray, jb: Jet, jc: Jet, start: int, targe
 
 
 def _through_anchors(group: Any, step: np.ndarray, stride: int, jb: Jet, jc: Jet, start: int,
-                     target: float, slide0: float | None) -> Shortcut | None:
+                     target: float, slide0: float | None, moving: Moving = None) -> Shortcut | None:
     """The shortcut with anchors ``stride`` samples apart, or None where a check fails."""
     n = len(step)
     anchors = np.unique(np.concatenate([np.arange(start, -1, -stride), np.arange(start, n, stride), [0, n - 1]]))
     sub = [Jet(_take(j.value, anchors), _take(j.d1, anchors), _take(j.d2, anchors)) for j in (jb, jc)]
-    o: complex = group.origin
-    e: complex = group.direction
+    o: Any = group.origin if moving is None else moving[0]
+    e: Any = group.direction if moving is None else moving[1]
+    line = group.line
+    jets = None if moving is None else moving[2]
     u: complex = group.shape[0]
     v: complex = group.shape[1]
-    theta, ss = slider_roots(o, e, sub[0].value, sub[1].value, group.lengths, u, v)
+    o_a, e_a = _take(o, anchors), _take(e, anchors)
+    theta, ss = slider_roots(o_a, e_a, sub[0].value, sub[1].value, group.lengths, u, v, line=line)
     theta, ss = np.broadcast_to(theta, (len(anchors), 6)), np.broadcast_to(ss, (len(anchors), 6))
     if not np.isfinite(theta).any(axis=-1).all():
         return None
@@ -119,7 +127,10 @@ def _through_anchors(group: Any, step: np.ndarray, stride: int, jb: Jet, jc: Jet
     def col(x: Any) -> Any:
         return np.asarray(x)[:, None] if np.ndim(x) == 1 else x
     cols = [Jet(col(j.value), col(j.d1), col(j.d2)) for j in sub]
-    slot = slider_analogs(ss, np.cos(theta) + 1j * np.sin(theta), o, e, u, v, *cols)  # every slot's
+    moved = None if jets is None else (Jet(*(col(_take(x, anchors)) for x in jets[0])),
+                                       Jet(*(col(_take(x, anchors)) for x in jets[1])))
+    slot = slider_analogs(ss, np.cos(theta) + 1j * np.sin(theta), col(o_a), col(e_a), u, v, *cols, line=line,
+                          guide=moved)  # every slot's
     slots, jumps = follow_roots(theta, ss, np.real(slot[1]), np.real(slot[0]), step[anchors],
                                 int(np.searchsorted(anchors, start)), target, slide0=slide0, scale=abs(u) + abs(v))
     if jumps.any() or (slots < 0).any():
@@ -157,14 +168,15 @@ def _through_anchors(group: Any, step: np.ndarray, stride: int, jb: Jet, jc: Jet
     g_theta = guess[0]
     bv, cv = jb.value, jc.value
     s, th, w, closed, last = slider_polish(guess[1], g_theta, o, e, bv, cv, group.lengths, u, v,
-                                           steps=SWEEP_STEPS, xp=NUMPY)
+                                           steps=SWEEP_STEPS, xp=NUMPY, line=line)
     done = last <= FOLLOW_DONE
     if not done.all():  # the quadratic bound shows no round-off yet there: more steps there only
         more = np.flatnonzero(~done)
         if more.size > n // 8:
             return None
-        s2, th2, w2, closed2, last2 = slider_polish(s[more], th[more], o, e, _take(bv, more), _take(cv, more),
-                                                   group.lengths, u, v, steps=EXTRA_STEPS, xp=NUMPY)
+        s2, th2, w2, closed2, last2 = slider_polish(s[more], th[more], _take(o, more), _take(e, more), _take(bv, more),
+                                                   _take(cv, more), group.lengths, u, v, steps=EXTRA_STEPS, xp=NUMPY,
+                                                   line=line)
         s[more], th[more], w[more], closed[more] = s2, th2, w2, closed2
         done[more] = last2 <= FOLLOW_DONE
     near = np.abs(th - g_theta) <= share.take(seg)

@@ -81,14 +81,16 @@ def accept(group: Any, step: float, b: complex, c: complex, pred: float, theta: 
     return _store(st, step, b, c, _wrap(theta), s, s1, rate, det)
 
 
-def full(group: Any, step: float, b: complex, c: complex) -> float:
+def full(group: Any, step: float, b: complex, c: complex, *, guide: tuple[complex, complex] | None = None) -> float:
     """θ of every root and the branch rule (s kept for :func:`full_slide`); NaN where no real root
-    exists or the step would jump mode (the reason kept)."""
+    exists or the step would jump mode (the reason kept). ``guide`` the instant's (O, e) where the
+    guide moves (its carrier's, or the swinging block's pivot A and 0), else the group's own."""
     st: dict[str, Any] = group._last
     step, b, c = float(step), complex(b), complex(c)
     begin(st, step, b, c)
     st["s_full"] = math.nan
-    theta, ss = slider_roots(group.origin, group.direction, b, c, group.lengths, *group.shape)
+    o, e = (group.origin, group.direction) if guide is None else (complex(guide[0]), complex(guide[1]))
+    theta, ss = slider_roots(o, e, b, c, group.lengths, *group.shape, line=group.line)
     real = np.flatnonzero(np.isfinite(theta))
     if not real.size:
         st["reason"] = NO_ROOT

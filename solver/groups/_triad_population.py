@@ -89,7 +89,7 @@ def own_sweeps(group: Any, ctx: Context, phi: np.ndarray, *, reason: str = _tick
         if one is None:
             continue  # no ternary link: the whole row is invalid
         sub = Context(phi=np.array(phi[i]), xp=ctx.xp, mask=True, scene=ctx.scene)
-        for n in group.ends:
+        for n in group.requires():  # the ends (and a moving guide's points)
             jet = ctx.values[n]
             sub.values[n] = Jet(*(np.array(np.broadcast_to(np.asarray(x), (n_rows, n_samples))[i]) for x in jet))
         with np.errstate(all="ignore"):

@@ -3,8 +3,22 @@ link D, E, F whose point D is pinned to a slider block on a fixed straight guide
 points E, F are joined by binary links to two known points B, C.
 
 The variant a drawing or an importer meets where a triad's leg is a slider (a press ram, a
-walking linkage's foot on a rail): ``docs/scenes.md`` says which variants exist and which are not
-solved (a guide carried by the ternary link, a guide on a moving link).
+walking linkage's foot on a rail), with its two other one-prismatic variants as options
+(``docs/scenes.md``):
+
+* **a guide on a moving link** (``guide: {on: [P, Q], angle?, offset?}``): the guide fixed to the
+  known link through P, Q (solved by earlier groups) — through P (offset along its normal) at
+  ``angle`` from P→Q. At an instant the same polynomial with that instant's O, e; the analogs
+  gain O', O'' and e' = j·ω·e, e'' = (j·α − ω²)·e of the carrier (ω = arg(Q − P)').
+* **the swinging block** (``block_at: A``, ``guide: {angle?, offset?}``): a block pinned at the
+  known point A (fixed or moving) slides along a line fixed in the ternary link — through D
+  (offset along its normal) at ``angle`` from D→E, p = offset·j·e_t, e_t = e^{j·angle} in the
+  link's frame. A = D + (p + s·e_t)·w, so D = A − (p + s·e_t)·w: the same two circle quadratics in
+  s (leading coefficient 1) with O(w) = A − p·w and e(w) = −e_t·w; e(w)·p₁ and k₁ stay Laurent
+  polynomials of w^{−1} … w¹, so G stays within w^{−3} … w³ and the same DFT-of-7 and companion
+  eigenvalues give every mode. E's arm of θ is R_E = E − A (u·w on a fixed guide), and the
+  analogs gain the turning guide's 2j·s'·θ'·e₁·w (solver.groups._slider_triad_math). The P joint
+  being symmetric, this is also "a binary link sliding through the ternary link".
 
 Loop equations
     D = O + s·e (the guide through the fixed point O, offset applied, unit direction e; s the
@@ -33,9 +47,13 @@ Derivatives (exact): with q = E − B, r = F − C, g = −(q × u·w), h = −(
         (B'' + u·w·θ'²)·q − |E' − B'|²,   (C'' + v·w·θ'²)·r − |F' − C'|²,
     D' = s'·e, D'' = s''·e, E' = D' + j·u·w·θ', E'' = D'' + j·u·w·θ'' − u·w·θ'² (F alike).
 Linear system: the 2×2 above by Cramer; its determinant det = (e·q)·h − (e·r)·g.
+    The variants: R_E = E − O − s·e_k replaces u·w (g = q·(j·R_E)), B' becomes B' − O' − s·e_k' and
+    B'' becomes B'' − O'' − 2s'·e_k' − s·e_k'' − 2j·s'·θ'·e₁·w (solver.groups._slider_triad_math's
+    ``slider_analogs`` and ``slider_jets``, the one source of every path).
 Conditioning
-    |det| / (b·c·(|u| + |v|)) ∈ [0, 1]: 0 where the guide's normal at D and the lines of the two
-    binary links meet in one point (a dead point: two assembly modes merge).
+    |det| / (b·c·(|u| + |v|)) ∈ [0, 1] (|R_E| + |R_F| for the swinging block): 0 where the guide's
+    normal at D and the lines of the two binary links meet in one point (a dead point: two
+    assembly modes merge).
 Branch rule (the mode): the RRR triad's, with the slide beside the angle. ``angle`` θ₀ names the
     mode: at the reference sample (nearest ``at``, else a sweep's first) the real root whose θ is
     nearest θ₀ — where θ₀ is the drawn one (``shape:`` given and θ₀ its arg(E − D)), the root
@@ -67,12 +85,12 @@ from typing import Any
 
 import numpy as np
 
-from .._backend import NUMPY
-from .._fields import Entry, Units
-from ..jet import Jet
+from .._backend import NUMPY, Backend
+from .._fields import MISSING, Entry, Units
+from ..jet import Jet, direction, sub
 from . import _slider_triad_sweep as _fast
 from . import _slider_triad_tick as _tick
-from ._slider_triad_math import follow_roots, slider_analogs, slider_polish, slider_roots
+from ._slider_triad_math import Line, follow_roots, slider_analogs, slider_jets, slider_polish, slider_roots
 from ._slider_triad_tick import JUMP, NO_ROOT
 from ._triad_math import SAME_ROOT
 from ._triad_population import own_sweeps
@@ -89,6 +107,14 @@ def _unit(angle: Any) -> Any:
     if isinstance(angle, np.ndarray):
         return np.vectorize(_unit, otypes=[complex])(angle)
     return complex(math.cos(angle), math.sin(angle))
+
+
+def _col(x: Any) -> Any:
+    return np.asarray(x)[:, None] if np.ndim(x) == 1 else x
+
+
+def _cols(j: Jet) -> Jet:
+    return Jet(_col(j.value), _col(j.d1), _col(j.d2))
 
 
 def _drawn_slide(e: Entry, points: tuple[str, ...], units: Units, origin: Any, direction: Any, angle: float) -> Any:
@@ -114,8 +140,11 @@ def _drawn_slide(e: Entry, points: tuple[str, ...], units: Units, origin: Any, d
 @dataclass(frozen=True)
 class SliderTriad(Group):
     kind = "slider_triad"
-    origin: complex  # O: the guide's fixed point, offset applied
-    direction: complex  # e, unit
+    #: O, e: the guide's fixed point (offset applied) and unit direction — in the world on a fixed
+    #: guide, in the carrier's frame (P at 0, P→Q along x) with ``carrier``, in the ternary link's
+    #: frame (p, e_t: D at 0, D→E along x) with ``block_at``
+    origin: complex
+    direction: complex
     ends: tuple[str, str]  # B, C
     points: tuple[str, str, str]  # D (on the guide), E, F
     lengths: tuple[float, float]  # |BE|, |CF|
@@ -125,11 +154,37 @@ class SliderTriad(Group):
     slide0: Any = None  # s₀: the drawn D's slide (None: not the drawn mode; a population: (C, 1), NaN for none)
     joint: str | None = None  # θ published as a joint coordinate
     slide: str | None = None  # s published as a joint coordinate (m)
+    carrier: tuple[str, str] | None = None  # P, Q: the guide on the moving known link P–Q
+    block_at: str | None = None  # A: the swinging block's pivot (the guide in the ternary link)
     #: the per-tick path's previous tick (φ, θ, θ', gap, count) and a block's carry
     _last: dict[str, Any] = field(default_factory=dict, compare=False, hash=False, repr=False)
 
     def requires(self) -> tuple[str, ...]:
-        return self.ends
+        more = self.carrier if self.carrier is not None else (self.block_at,) if self.block_at is not None else ()
+        return (*self.ends, *more)
+
+    @property
+    def line(self) -> Line:
+        """(o₁, e₁) = (−p, −e_t) for the swinging block (the guide at w: O(w) = A − p·w, e(w) = −e_t·w)."""
+        return None if self.block_at is None else (-self.origin, -self.direction)
+
+    def guide_at(self, vals: Mapping[str, Jet], xp: Backend) -> tuple[Any, Any, tuple[Jet, Jet] | None]:
+        """The guide's point and direction at the current values and, where it moves, their jets:
+        ``(o, e, (O, e) jets | None)`` (O = A, e = 0 for the swinging block: :attr:`line` adds the rest)."""
+        if self.block_at is not None:
+            ja = vals[self.block_at]
+            return ja.value, 0j, (ja, Jet(0j, 0.0, 0.0))
+        if self.carrier is None:
+            return self.origin, self.direction, None
+        jp, jq = (vals[n] for n in self.carrier)
+        turn = direction(sub(jq, jp), xp)
+        c = turn.unit
+        w1, w2 = turn.w.imag, turn.w1.imag  # the carrier's ω, α
+        c1, c2 = 1j * w1 * c, (1j * w2 - w1 * w1) * c
+        o0, e0 = self.origin, self.direction
+        jo = Jet(jp.value + o0 * c, jp.d1 + o0 * c1, jp.d2 + o0 * c2)
+        je = Jet(e0 * c, e0 * c1, e0 * c2)
+        return jo.value, je.value, (jo, je)
 
     def joints(self) -> tuple[str, ...]:
         return tuple(n for n in (self.joint, self.slide) if n is not None)
@@ -156,13 +211,16 @@ class SliderTriad(Group):
     def roots(self, vals: Mapping[str, Jet]) -> tuple[np.ndarray, np.ndarray]:
         """Every real mode at the current values: ``(θ, s)`` (:func:`slider_roots`)."""
         b_, c_ = (vals[n].value for n in self.ends)
-        return slider_roots(self.origin, self.direction, b_, c_, self.lengths, *self.shape)
+        with np.errstate(all="ignore"):
+            o, e, _ = self.guide_at(vals, NUMPY)
+        return slider_roots(o, e, b_, c_, self.lengths, *self.shape, line=self.line)
 
     def solve(self, ctx: Context) -> None:
         vals = ctx.values
         jb, jc = (vals[n] for n in self.ends)
         u, v = self.shape
-        o, e = self.origin, self.direction
+        line = self.line
+        o, e, guide = self.guide_at(vals, ctx.xp)
         phi = ctx.phi
         th: Any
         s: Any
@@ -176,17 +234,18 @@ class SliderTriad(Group):
             if pred == pred:
                 s = xp.call(self._t_predicted_slide, pred)
                 s, th_n, w, closed, last = slider_polish(s, pred, o, e, b_, c_, self.lengths, u, v,
-                                                         steps=FOLLOW_STEPS, xp=xp, until=FOLLOW_DONE)
-                analogs = slider_analogs(s, w, o, e, u, v, jb, jc)
+                                                         steps=FOLLOW_STEPS, xp=xp, until=FOLLOW_DONE, line=line)
+                analogs = slider_analogs(s, w, o, e, u, v, jb, jc, line=line, guide=guide)
                 if closed and last <= FOLLOW_DONE:
                     th = xp.call(self._t_accept, step, b_, c_, pred, th_n, s, analogs[0], analogs[1], analogs[4])
             if not th == th:  # refused (or no prediction): every root and the branch rule
-                th = xp.call(self._t_full, step, b_, c_)
+                th = (xp.call(self._t_full, step, b_, c_) if guide is None
+                      else xp.call(self._t_full_moving, step, b_, c_, o, e))
                 if not th == th:  # NaN: no real root, or a mode jump
                     ctx.require(self, False, reason=self._last.get("reason", NO_ROOT))
                 s = xp.call(self._t_full_slide, th)
                 w = xp.cis(th)
-                analogs = slider_analogs(s, w, o, e, u, v, jb, jc)
+                analogs = slider_analogs(s, w, o, e, u, v, jb, jc, line=line, guide=guide)
                 if th == th:
                     th = xp.call(self._t_accept_full, step, b_, c_, th, s, analogs[0], analogs[1], analogs[4])
             if saved is not None:
@@ -196,22 +255,24 @@ class SliderTriad(Group):
             if ctx.seeds is None and np.ndim(phi) == 2:  # a population of designs (solver.synthesis)
                 own_sweeps(self, ctx, np.asarray(phi, float), reason=NO_ROOT)
                 return
-            th, s, w, analogs = self._sweep(ctx, phi, jb, jc)
+            th, s, w, analogs = self._sweep(ctx, phi, jb, jc, o, e, guide)
         s1, t1, s2, t2, det = analogs
-        uw, vw = u * w, v * w
-        d = o + s * e
-        d1, d2 = s1 * e, s2 * e
-        vals[self.points[0]] = Jet(d, d1, d2)
-        for name, off in zip(self.points[1:], (uw, vw)):
-            vals[name] = Jet(d + off, d1 + 1j * off * t1, d2 + 1j * off * t2 - off * t1 * t1)
+        for name, jet in zip(self.points, slider_jets(s, w, analogs, o, e, u, v, line=line, guide=guide)):
+            vals[name] = jet
         if self.joint is not None:
             vals[self.joint] = Jet(th, t1, t2)
         if self.slide is not None:
             vals[self.slide] = Jet(s, s1, s2)
         b, c = self.lengths
-        ctx.conditioning[self.name] = abs(det) / (b * c * (abs(u) + abs(v)))
+        if line is None:
+            arms: Any = abs(u) + abs(v)
+        else:  # |R_E| + |R_F|, R_E = E − A
+            ra = o - vals[self.points[1]].value
+            arms = abs(ra) + abs(ra + vals[self.points[1]].value - vals[self.points[2]].value)
+        ctx.conditioning[self.name] = abs(det) / (b * c * arms)
 
-    def _sweep(self, ctx: Context, phi: Any, jb: Jet, jc: Jet) -> tuple[Any, Any, Any, tuple[Any, ...]]:
+    def _sweep(self, ctx: Context, phi: Any, jb: Jet, jc: Jet, o: Any, e: Any,
+               guide: tuple[Jet, Jet] | None) -> tuple[Any, Any, Any, tuple[Any, ...]]:
         """The followed root at every sample and its analogs: ``(θ, s, e^{jθ}, analogs)`` — through the
         anchors' shortcut (solver.groups._slider_triad_sweep) where it holds, else every sample's
         roots and the branch rule; a block of a longer sweep (solver.scene solves in blocks of
@@ -237,41 +298,43 @@ class SliderTriad(Group):
             off = ph[:, 0] - self.at
             off -= (2.0 * np.pi) * np.round(off * (0.5 / np.pi))  # wrapped (cheaper than a remainder)
             start, target = int(np.argmin(np.abs(off))), self.angle
-        o, e, (u, v) = self.origin, self.direction, self.shape
+        u, v = self.shape
+        line = self.line
+        moving = None if guide is None else (o, e, guide)
         with np.errstate(all="ignore"):
-            fast = _fast.fast_sweep(self, step, jb, jc, start, target, slide0)
+            fast = _fast.fast_sweep(self, step, jb, jc, start, target, slide0, moving=moving)
             while fast is not None:  # refused at the determinant check: the narrower anchors, then none
                 th, s, w = fast.theta, fast.s, fast.w
-                analogs = slider_analogs(s, w, o, e, u, v, jb, jc)
+                analogs = slider_analogs(s, w, o, e, u, v, jb, jc, line=line, guide=guide)
                 if fast.holds(analogs[4]):
                     break
-                fast = _fast.fast_sweep(self, step, jb, jc, start, target, slide0, spans=fast.narrower)
+                fast = _fast.fast_sweep(self, step, jb, jc, start, target, slide0, spans=fast.narrower, moving=moving)
         if fast is None:
-            th, s = self._full_sweep(ctx, step, jb, jc, start, target, slide0)
+            th, s = self._full_sweep(ctx, step, jb, jc, start, target, slide0, o, e, guide)
             with np.errstate(all="ignore"):
                 w = NUMPY.cis(th)
-                analogs = slider_analogs(s, w, o, e, u, v, jb, jc)
+                analogs = slider_analogs(s, w, o, e, u, v, jb, jc, line=line, guide=guide)
         if key is not None and np.isfinite(th[-1]):
             self._last["block"] = {"key": (key[0], key[1] + n), "theta": float(th[-1]),
                                    "rate": float(np.real(analogs[1][-1])), "phi": float(step[-1]),
                                    "s": float(s[-1]), "s_rate": float(np.real(analogs[0][-1]))}
         return th, s, w, analogs
 
-    def _full_sweep(self, ctx: Context, step: np.ndarray, jb: Jet, jc: Jet, start: int,
-                    target: float, slide0: float | None) -> tuple[Any, Any]:
+    def _full_sweep(self, ctx: Context, step: np.ndarray, jb: Jet, jc: Jet, start: int, target: float,
+                    slide0: float | None, o: Any, e: Any, guide: tuple[Jet, Jet] | None) -> tuple[Any, Any]:
         """Every sample's roots and the branch rule: ``(θ, s)`` of the followed root."""
         n = len(step)
-        theta, ss = slider_roots(self.origin, self.direction, jb.value, jc.value, self.lengths, *self.shape)
+        line = self.line
+        with np.errstate(all="ignore"):
+            theta, ss = slider_roots(o, e, jb.value, jc.value, self.lengths, *self.shape, line=line)
         theta, ss = np.broadcast_to(theta, (n, 6)), np.broadcast_to(ss, (n, 6))
         ctx.require(self, np.isfinite(theta).any(axis=-1), reason=NO_ROOT)
         u, v = self.shape
-
-        def col(x: Any) -> Any:
-            return np.asarray(x)[:, None] if np.ndim(x) == 1 else x
-        jets = [Jet(col(j.value), col(j.d1), col(j.d2)) for j in (jb, jc)]
+        jets = [_cols(j) for j in (jb, jc)]
+        moved = None if guide is None else (_cols(guide[0]), _cols(guide[1]))
         with np.errstate(all="ignore"):
-            s_rate, rate = slider_analogs(ss, np.cos(theta) + 1j * np.sin(theta), self.origin, self.direction,
-                                          u, v, *jets)[:2]
+            s_rate, rate = slider_analogs(ss, np.cos(theta) + 1j * np.sin(theta), _col(o), _col(e),
+                                          u, v, *jets, line=line, guide=moved)[:2]
         slots, jumps = follow_roots(theta, ss, np.real(rate), np.real(s_rate), step, start, target, slide0=slide0,
                                     scale=abs(u) + abs(v))
         if jumps.any():
@@ -294,6 +357,9 @@ class SliderTriad(Group):
     def _t_full(self, step: float, b: complex, c: complex) -> float:
         return _tick.full(self, step, b, c)
 
+    def _t_full_moving(self, step: float, b: complex, c: complex, o: complex, e: complex) -> float:
+        return _tick.full(self, step, b, c, guide=(o, e))
+
     def _t_full_slide(self, theta: float) -> float:
         return _tick.full_slide(self, theta)
 
@@ -310,19 +376,41 @@ class SliderTriad(Group):
 
     @classmethod
     def from_entry(cls, e: Entry, units: Units, fixed: Mapping[str, Any]) -> SliderTriad:
-        """``{type: slider_triad, name, guide: {through, angle?, offset?}, ends: [B, C],
-        points: [D, E, F], lengths: [BE, CF], sides: [DE, EF, FD] with M | shape: {D, E, F},
-        angle: θ₀, at?: φ₀, joint?, slide?}``."""
+        """``{type: slider_triad, name, guide: {through, angle?, offset?} | {on: [P, Q], angle?, offset?},
+        ends: [B, C], points: [D, E, F], lengths: [BE, CF], sides: [DE, EF, FD] with M | shape: {D, E, F},
+        angle: θ₀, at?: φ₀, joint?, slide?}``; or the swinging block ``block_at: A`` with
+        ``guide?: {angle?, offset?}`` (the line in the ternary link, through D at ``angle`` from D→E)."""
         name = e.name("name")
-        g = e.child("guide", e.raw("guide"))
-        through = g.name("through")
-        if through not in fixed:
-            raise g.error(f"the guide is fixed; '{through}' is not a fixed point", "through")
+        block_at = e.raw("block_at", None)
+        g = e.child("guide", e.raw("guide", {} if block_at is not None else MISSING))
+        carrier: tuple[str, str] | None = None
+        data = g.data if isinstance(g.data, Mapping) else {}
+        if block_at is not None:
+            block_at = e.name("block_at")
+            for key in ("through", "on"):
+                if key in data:
+                    raise g.error("the swinging block's guide is a line in the ternary link (through D at angle "
+                                  f"from D→E, offset along its normal): no '{key}'", key)
+            base: Any = 0j
+        elif "on" in data:
+            if "through" in data:
+                raise g.error("give the guide either through: <fixed point> or on: [P, Q] (a moving link)", "on")
+            on = g.names("on", 2)
+            if on[0] == on[1]:
+                raise g.error(f"[{on[0]}, {on[1]}]: two different points of the carrying link", "on")
+            carrier = (on[0], on[1])
+            base = 0j
+        else:
+            through = g.name("through")
+            if through not in fixed:
+                raise g.error(f"the guide is fixed; '{through}' is not a fixed point (a guide on a moving link: "
+                              "on: [P, Q])", "through")
+            base = fixed[through]
         angle = g.angle("angle", units, 0.0)
         offset = g.length("offset", units, positive=False, default=0.0)
         g.done()
         direction: Any = _unit(angle)  # complex, or (C, 1) arrays in a population (solver.synthesis)
-        origin: Any = fixed[through] + offset * 1j * direction
+        origin: Any = base + offset * 1j * direction
         if not isinstance(origin, np.ndarray):
             origin = complex(origin)
         ends = e.names("ends", 2)
@@ -334,7 +422,9 @@ class SliderTriad(Group):
         lengths = (sub.length("BE", units), sub.length("CF", units))
         u, v = ternary_shape(e, points, units)  # (C, 1) arrays in a population, as the lengths may be
         theta0 = e.angle("angle", units)
-        slide0 = _drawn_slide(e, points, units, origin, direction, theta0)
+        # s₀ from the drawn D on a fixed guide (a moving guide or pivot is placed only at run time)
+        fixed_guide = carrier is None and block_at is None
+        slide0 = _drawn_slide(e, points, units, origin, direction, theta0) if fixed_guide else None
         at = e.raw("at", None)
         joint = e.raw("joint", None)
         slide = e.raw("slide", None)
@@ -351,5 +441,7 @@ class SliderTriad(Group):
             slide0=slide0,
             joint=None if joint is None else e.name("joint"),
             slide=None if slide is None else e.name("slide"),
+            carrier=carrier,
+            block_at=block_at,
         )
 
