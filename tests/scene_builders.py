@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 import solver
 from solver._loader import parse_scene
 
-__all__ = ["four_bar", "slider_crank", "slotted", "build"]
+__all__ = ["four_bar", "slider_crank", "slotted", "build", "slider_triad_variant", "slider_triad_variant_cases"]
 
 
 def build(data: dict[str, Any]) -> solver.Scene:
@@ -58,4 +62,41 @@ def slotted(crank: float, pivot: tuple[float, float], tip: float) -> solver.Scen
         ],
         "joints": {"finger": {"angle": ["P", "C"]}},
         "outputs": {"points": ["B", "C"], "joints": ["finger"]},
+    })
+
+
+#: The slider triad variants' 50-digit reference (tests/reference/slider_triad_variants_mp.py).
+SLIDER_TRIAD_VARIANTS = Path(__file__).resolve().parent / "data" / "reference_slider_triad_variants.json"
+
+
+def slider_triad_variant_cases() -> list[dict]:
+    return json.loads(SLIDER_TRIAD_VARIANTS.read_text())["cases"]  # type: ignore[no-any-return]
+
+
+def slider_triad_variant(case: dict, *, angle: float | None = None, at: float | None = None) -> Any:
+    """The reference's scene (module docstring of tests/reference/slider_triad_variants_mp.py)
+    from its stored doubles."""
+    kind = case["kind"]
+    fixed: dict[str, Any] = {"O": [float(x) for x in case["O"]], "C": [float(x) for x in case["C"]]}
+    drawn = {k: complex(float(case["drawn"][k][0]), float(case["drawn"][k][1])) for k in "DEF"}
+    tri: dict[str, Any] = {
+        "type": "slider_triad", "name": "tri", "ends": ["B", "C"], "points": ["D", "E", "F"],
+        "lengths": [float(x) for x in case["lengths"]], "shape": {k: [z.real, z.imag] for k, z in drawn.items()},
+        "angle": float(np.angle(drawn["E"] - drawn["D"])) if angle is None else angle,
+        "at": float(case["phi_d"]) if at is None else at, "joint": "ternary", "slide": "s"}
+    guide = {"angle": float(case["angle"]), "offset": float(case["offset"])}
+    if kind == "swing_fixed":
+        fixed["A"] = [float(x) for x in case["A"]]
+        tri.update(block_at="A", guide=guide)
+    elif kind == "swing_moving":
+        tri.update(block_at="H", guide=guide)
+    else:
+        tri["guide"] = {"on": ["O", "B"], **guide}
+    return build({
+        "scene": "slider_triad_variant_ref", "units": {"length": "m", "angle": "rad"}, "fixed": fixed,
+        "groups": [{"type": "crank", "name": "crank", "center": "O", "point": "B", "length": float(case["r"])},
+                   {"type": "attached", "name": "h", "point": "H", "base": "O", "along": ["O", "B"],
+                    "distance": float(case["rho_h"]), "angle": float(case["beta_h"])},
+                   tri],
+        "outputs": {"points": ["D", "E", "F"], "joints": ["ternary", "s"]},
     })

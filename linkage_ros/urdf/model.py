@@ -26,7 +26,12 @@ triad A, B, C → D, E, F     ``<g>_AD`` (revolute about A),        pins E, F: `
 slider_triad D on a guide; ``<g>_slider`` (prismatic on the guide),  pins E, F: ``<g>_BE`` /
 B, C → E, F                ternary ``<g>`` [D, E, F] (revolute     ``<g>``, ``<g>_CF`` / ``<g>``
                            about D on the slider), ``<g>_BE``
-                           (about B), ``<g>_CF`` (about C)
+                           (about B), ``<g>_CF`` (about C); a
+                           guide on a moving link: the slider
+                           on the carrying body; the swinging
+                           block at A: ``<g>_block`` (revolute
+                           about A), the ternary link prismatic
+                           along it
 spherical_crank_slider     ``<g>_shaft`` (about y), ``<g>_ring``  pin K: ring / cage
                            (about the groove normal), ``<g>_cage``
                            (about −x)
@@ -231,15 +236,26 @@ class _Builder:
         return slider
 
     def slider_triad(self, g: SliderTriad) -> None:
-        """The slider at D on the guide, the ternary link hung at D on it (frame D → E, as the
-        group's θ), the binary bars about B and C, cut at E and at F (two loops)."""
+        """The slider at D on the guide (on the base, or on the carrying body for a guide on a
+        moving link), the ternary link hung at D on it (frame D → E, as the group's θ); the
+        swinging block ``<g>_block`` pinned at A with the ternary link sliding along it instead;
+        the binary bars about B and C, cut at E and at F (two loops)."""
         (b, c), (d, e, f) = g.ends, g.points
         u, v = g.shape
-        slider = self.ground_slider(g, d)
-        ternary = self.add_body(Body(g.name, "bar", d, (d, e), {d: (0.0, 0.0, 0.0), e: _v(u), f: _v(v)}), g)
+        local = {d: (0.0, 0.0, 0.0), e: _v(u), f: _v(v)}
+        ternary = self.add_body(Body(g.name, "bar", d, (d, e), local), g)
         ternary.bars += [(d, e), (e, f), (f, d)]
-        self.pin(slider, ternary, d)
-        slider.pins.append(d)
+        if g.block_at is not None:  # A = D + (p + s·e_t)·w: in the block's frame (x along D → E), D at −p − s·e_t
+            a = g.block_at
+            block = self.add_body(Body(f"{g.name}_block", "slider", a, (d, e), {a: (0.0, 0.0, 0.0)}), g)
+            self.pin(self.holder(a, g), block, a)
+            beta = math.atan2(-g.direction.imag, -g.direction.real)
+            block.size["yaw"] = beta
+            self.joints.append(_planar_slide(block.name, ternary.name, (_v(-complex(g.origin)), beta), beta=beta))
+        else:
+            slider = self.ground_slider(g, d) if g.carrier is None else self.carried_slider(g, d)
+            self.pin(slider, ternary, d)
+            slider.pins.append(d)
         bars = []
         for end, point, length in zip((b, c), (e, f), g.lengths):
             parent = self.holder(end, g)
@@ -259,6 +275,26 @@ class _Builder:
                     f"pin {point} joins bar {bar.name} to the ternary link of slider triad '{g.name}'; cutting it "
                     "(and the other bar's pin) keeps the slider, the ternary link and both bars on the tree")
             )
+
+    def carried_slider(self, g: SliderTriad, d: str) -> Body:
+        """A slider block ``<g>_slider`` at ``d`` on the guide carried by the body through the
+        group's P, Q: a prismatic joint from that body (the slider's frame the carrier's, its
+        axis the guide's direction in it; its coordinate the slide from the guide's origin)."""
+        assert g.carrier is not None
+        p, q = g.carrier
+        carrier = next((bd for bd in [self.holder(q, g), self.holder(p, g), *self.bodies.values()]
+                        if p in bd.local and q in bd.local), None)
+        if carrier is None:
+            raise self.error(f"the guide's points {p}, {q} lie on no single rigid body", g)
+        pl, ql = _c(carrier.local[p]), _c(carrier.local[q])
+        along = (ql - pl) / abs(ql - pl)
+        x0 = pl + complex(g.origin) * along
+        beta = math.atan2((along * g.direction).imag, (along * g.direction).real)
+        slider = self.add_body(Body(f"{g.name}_slider", "slider", d, carrier.axis, {d: (0.0, 0.0, 0.0)},
+                                    turn=carrier.turn), g)
+        slider.size["yaw"] = beta
+        self.joints.append(_planar_slide(carrier.name, slider.name, (_v(x0), beta), beta=beta))
+        return slider
 
     def slotted(self, g: Slotted) -> None:
         a, b = g.pivot, g.through
@@ -416,8 +452,11 @@ def exportable_model(scene: object) -> TreeModel | None:
         raise
 
 
-def _planar_slide(parent: str, child: str, data: tuple[object, ...]) -> TreeJoint:
+def _planar_slide(parent: str, child: str, data: tuple[object, ...], *, beta: float = 0.0) -> TreeJoint:
     """A prismatic tree joint along the parent's x axis at its origin (a slotted link's eyelet, an
-    actuator's rod in its barrel), its coordinate by the ``planar_slide`` rule."""
-    return TreeJoint(name=f"{child}_joint", type="prismatic", parent=parent, child=child, xyz=(0.0, 0.0, 0.0),
-                     rpy=(0.0, 0.0, 0.0), axis=(1.0, 0.0, 0.0), rule="planar_slide", data=data)
+    actuator's rod in its barrel) — or, with ``data`` = (x₀, β), along the direction β in the
+    parent's frame through its point x₀ (a slider triad's carried guide, its swinging block), the
+    child's frame keeping the parent's orientation — its coordinate by the ``planar_slide`` rule."""
+    x0 = data[0] if isinstance(data[0], tuple) else (0.0, 0.0, 0.0)
+    return TreeJoint(name=f"{child}_joint", type="prismatic", parent=parent, child=child, xyz=x0,  # type: ignore[arg-type]
+                     rpy=(0.0, 0.0, 0.0), axis=(math.cos(beta), math.sin(beta), 0.0), rule="planar_slide", data=data)

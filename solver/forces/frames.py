@@ -87,9 +87,9 @@ def body_motion(body: Body, values: Any, xp: Backend) -> BodyMotion:
     if link.block and link.guide is not None:  # a slider block on a fixed guide: it translates
         b = values[link.points[0]]
         return BodyMotion(b if c == 0 else Jet(b.value + c * link.guide, b.d1, b.d2), 0.0, 0.0)
-    if link.block:  # a slotted link's block: origin at the eyelet, x along pivot → eyelet
-        assert link.along is not None
-        origin, r = values[link.along[1]], sub(values[link.along[1]], values[link.along[0]])
+    if link.block:  # a block on a moving guide: origin at its pin, x along the guide's points (a slotted
+        assert link.along is not None  # link's pivot → eyelet; a slider triad's carrier P → Q, or D → E)
+        origin, r = values[link.points[0]], sub(values[link.along[1]], values[link.along[0]])
     else:
         origin, r = values[body.frame[0]], sub(values[body.frame[1]], values[body.frame[0]])
     d = direction(r, xp)

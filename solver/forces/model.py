@@ -91,10 +91,16 @@ class ForceModel:
             elif isinstance(g, SliderTriad):
                 two, three, block = f"{g.name}.2", f"{g.name}.3", f"{g.name}.block"
                 (b, c), (d, e, f) = g.ends, g.points
+                pin = d if g.block_at is None else g.block_at
+                guide = next(x.guide for x in st.slides if x.body == block)
                 out.append(SliderTriadForces((two, three), g.name, block, g.ends, g.points,
                                              (owner[b, two], owner[c, three]), g.direction,
                                              (pin_index[b, two], pin_index[c, three], pin_index[e, two],
-                                              pin_index[f, three], pin_index[d, block]), slide_index[block]))
+                                              pin_index[f, three], pin_index[pin, block]), slide_index[block],
+                                             carrier=g.carrier,
+                                             carrier_body=None if g.carrier is None or guide == GROUND else guide,
+                                             block_at=g.block_at,
+                                             block_owner=None if g.block_at is None else owner[g.block_at, block]))
             elif isinstance(g, RRP):
                 block = f"{g.name}.block"
                 out.append(RRPForces(g.name, block, g.end, g.point, owner[g.end, g.name], g.direction,

@@ -104,6 +104,20 @@ class Structure:
     massless: frozenset[str] = frozenset()
 
 
+def _carrier(group: str, points: tuple[str, str], links: Sequence[Link], extra: Mapping[str, list[str]],
+             fixed: Mapping[str, Any], massless: set[str]) -> str:
+    """The body that carries a slider triad's guide on the moving link through ``points`` (ground
+    when both are fixed): the first link (not a block, not massless) holding both."""
+    need = set(points)
+    if need <= set(fixed):
+        return GROUND
+    for ln in links:
+        if not ln.block and ln.name not in massless and need <= {*ln.points, *extra.get(ln.name, ())}:
+            return ln.name
+    raise StructureFault(f"slider_triad '{group}': its guide's points {points[0]}, {points[1]} are not points of one "
+                         "link, so the guide is on no rigid body")
+
+
 def derive_structure(ordered: Sequence[Group], fixed: Mapping[str, Any]) -> Structure:
     """Bodies and pins of the groups ``ordered`` (dependency order)."""
     owner: dict[str, str] = {name: GROUND for name in fixed}
@@ -144,11 +158,20 @@ def derive_structure(ordered: Sequence[Group], fixed: Mapping[str, Any]) -> Stru
         elif isinstance(g, SliderTriad):
             (b, c), (d, e, f) = g.ends, g.points
             two, three, block = f"{g.name}.2", f"{g.name}.3", f"{g.name}.block"
-            links += [Link(two, g.name, (b, e)), Link(three, g.name, (c, f)), Link(g.name, g.name, (d, e, f)),
-                      Link(block, g.name, (d,), True, g.direction)]
-            pins += [Pin(b, two, owner[b]), Pin(c, three, owner[c]), Pin(e, two, g.name), Pin(f, three, g.name),
-                     Pin(d, block, g.name)]
-            slides.append(Slide(block, GROUND, d))
+            links += [Link(two, g.name, (b, e)), Link(three, g.name, (c, f)), Link(g.name, g.name, (d, e, f))]
+            pins += [Pin(b, two, owner[b]), Pin(c, three, owner[c]), Pin(e, two, g.name), Pin(f, three, g.name)]
+            if g.block_at is not None:  # the swinging block: pinned at A, sliding along the ternary link
+                links.append(Link(block, g.name, (g.block_at,), True, None, (d, e)))
+                pins.append(Pin(g.block_at, block, owner[g.block_at]))
+                slides.append(Slide(block, g.name, g.block_at))
+            elif g.carrier is not None:  # the guide on the moving link through P, Q
+                links.append(Link(block, g.name, (d,), True, None, g.carrier))
+                pins.append(Pin(d, block, g.name))
+                slides.append(Slide(block, _carrier(g.name, g.carrier, links, extra, fixed, massless), d))
+            else:
+                links.append(Link(block, g.name, (d,), True, g.direction))
+                pins.append(Pin(d, block, g.name))
+                slides.append(Slide(block, GROUND, d))
             owner[d] = owner[e] = owner[f] = g.name
         elif isinstance(g, RRP):
             block = f"{g.name}.block"

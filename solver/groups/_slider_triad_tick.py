@@ -8,9 +8,12 @@ compiled paths), as the RRR triad's (solver.groups._triad_tick, whose constants 
   solve's distance to the nearest other root, and the Jacobian determinant keeps its sign and at
   least ``FOLLOW_DET`` of its size at that solve (a branch point makes it vanish: never crossed
   unseen). At the first tick there is no prediction.
-* **Full** otherwise: every real root (:func:`slider_roots`) and the branch rule — the root
-  nearest θ₀ at the first tick, else nearest θ_p, refused as a mode jump where the count of real
-  roots dropped and the nearest is farther than half the previous root's gap.
+* **Full** otherwise: every real root (:func:`slider_roots`) and the branch rule — the mode
+  rule's root at the first tick (nearest the drawn pose (θ₀, s₀), else nearest θ₀: ``pick``),
+  else the root nearest (θ_p, s_p) (``closest``), refused as a mode jump where the count of real
+  roots dropped and the nearest is farther than half the previous root's distance to its
+  nearest other root (``spread``). The acceptance above keeps the θ-only gap: near two modes of
+  one θ it refuses, and this rule decides.
 
 The state lives at run time (read and moved by the group's opaque calls, ``xp.call``); the same
 instant again (a compiled instant handed back to the scalar path) starts from the same state.
@@ -23,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from ._slider_triad_math import gap_of, nearest, slider_roots
+from ._slider_triad_math import closest, gap_of, pick, slider_roots, spread
 from ._triad_tick import FOLLOW_DET, FOLLOW_SHARE
 
 __all__ = ["begin", "predict", "predicted_slide", "accept", "full", "full_slide", "accept_full", "NO_ROOT", "JUMP"]
@@ -33,7 +36,7 @@ JUMP = ("would jump assembly mode (a branch point: two of the slider triad's mod
         "the previous one; sample more finely or choose another mode)")
 
 #: The follow's state (besides the reason of a failure and one instant's pending values).
-_STATE = ("phi", "theta", "rate", "s", "s1", "det", "det_full", "gap", "count", "key")
+_STATE = ("phi", "theta", "rate", "s", "s1", "det", "det_full", "gap", "spread", "count", "key")
 
 
 def _wrap(x: float) -> float:
@@ -78,27 +81,33 @@ def accept(group: Any, step: float, b: complex, c: complex, pred: float, theta: 
     return _store(st, step, b, c, _wrap(theta), s, s1, rate, det)
 
 
-def full(group: Any, step: float, b: complex, c: complex) -> float:
+def full(group: Any, step: float, b: complex, c: complex, *, guide: tuple[complex, complex] | None = None) -> float:
     """θ of every root and the branch rule (s kept for :func:`full_slide`); NaN where no real root
-    exists or the step would jump mode (the reason kept)."""
+    exists or the step would jump mode (the reason kept). ``guide`` the instant's (O, e) where the
+    guide moves (its carrier's, or the swinging block's pivot A and 0), else the group's own."""
     st: dict[str, Any] = group._last
     step, b, c = float(step), complex(b), complex(c)
     begin(st, step, b, c)
     st["s_full"] = math.nan
-    theta, ss = slider_roots(group.origin, group.direction, b, c, group.lengths, *group.shape)
+    o, e = (group.origin, group.direction) if guide is None else (complex(guide[0]), complex(guide[1]))
+    theta, ss = slider_roots(o, e, b, c, group.lengths, *group.shape, line=group.line)
     real = np.flatnonzero(np.isfinite(theta))
     if not real.size:
         st["reason"] = NO_ROOT
         return math.nan
-    roots = theta[real].tolist()
+    roots, slides = theta[real].tolist(), ss[real].tolist()
+    u, v = group.shape
+    scale = abs(u) + abs(v)
     if "theta" not in st:
-        k, _ = nearest(roots, group.angle)
+        k = pick(roots, slides, group.angle, group.slide0, scale)
     else:
-        k, dist = nearest(roots, st["theta"] + st["rate"] * (step - st["phi"]))
-        if real.size < st["count"] and dist > 0.5 * st["gap"]:
+        dphi = step - st["phi"]
+        k, dist = closest(roots, slides, st["theta"] + st["rate"] * dphi, st["s"] + st["s1"] * dphi, scale)
+        if real.size < st["count"] and dist > 0.5 * st["spread"]:
             st["reason"] = JUMP
             return math.nan
-    st.update(s_full=float(ss[real[k]]), new_gap=gap_of(roots, k), new_count=int(real.size))
+    st.update(s_full=float(ss[real[k]]), new_gap=gap_of(roots, k), new_spread=spread(roots, slides, k, scale),
+              new_count=int(real.size))
     return float(roots[k])
 
 
@@ -110,7 +119,7 @@ def accept_full(group: Any, step: float, b: complex, c: complex, theta: float, s
                 det: float) -> float:
     """The state moved to :func:`full`'s root; its θ."""
     st: dict[str, Any] = group._last
-    st.update(gap=st.pop("new_gap"), count=st.pop("new_count"), det_full=abs(float(det)))
+    st.update(gap=st.pop("new_gap"), spread=st.pop("new_spread"), count=st.pop("new_count"), det_full=abs(float(det)))
     return _store(st, step, b, c, float(theta), s, s1, rate, float(det))
 
 

@@ -86,6 +86,8 @@ def drawing_from_groups(
         if ln.block:
             if isinstance(g, RRP):
                 slides[_name(ln.name)] = _guide(g, g.point, g.length, g.joint, positions, ground, put, points, scale)
+            elif isinstance(g, SliderTriad) and (g.block_at is not None or g.carrier is not None):
+                slides[_name(ln.name)] = _moving_guide(g, st, positions, file)
             elif isinstance(g, SliderTriad):
                 slides[_name(ln.name)] = _guide(g, g.points[0], max(g.lengths), g.slide, positions, ground, put,
                                                 points, scale)
@@ -129,6 +131,35 @@ def drawing_from_groups(
         out[key] = value
     out.setdefault("drawing", drawing)
     return out
+
+
+def _moving_guide(g: SliderTriad, st: Any, positions: Mapping[str, complex], file: str | None) -> dict[str, Any]:
+    """The slide of a slider triad's variant: D on the carrying link's line (a guide on a moving
+    link), or the swinging block's pivot A on the ternary link's line — drawn through two points of
+    that link that lie on the line (refused where none do: the line is not a drawn line of it)."""
+    block = f"{g.name}.block"
+    if g.block_at is not None:
+        point, link, line = g.block_at, g.name, g.points
+        d, e = (complex(positions[q]) for q in g.points[:2])
+        w = (e - d) / abs(e - d)
+        origin, direction = d + complex(g.origin) * w, complex(g.direction) * w
+    else:
+        assert g.carrier is not None
+        point, link = g.points[0], next(x.guide for x in st.slides if x.body == block)
+        line = next(ln.points for ln in st.links if ln.name == link)
+        p, q = (complex(positions[n]) for n in g.carrier)
+        w = (q - p) / abs(q - p)
+        origin, direction = p + complex(g.origin) * w, complex(g.direction) * w
+    size = max(abs(complex(positions[n])) for n in line) + 1.0
+    on = [n for n in line if abs((direction.conjugate() * (complex(positions[n]) - origin)).imag) <= 1e-12 * size]
+    if len(on) < 2:
+        raise SceneError(f"has no drawn form: slider triad '{g.name}': its guide passes through fewer than two points "
+                         f"of {_name(link)} (give the line through two of its points)", file=file, entry="groups")
+    ends = sorted(on[:2], key=lambda n: (direction.conjugate() * complex(positions[n])).real)
+    entry: dict[str, Any] = {"point": point, "on": _name(link), "along": ends}
+    if g.slide is not None:
+        entry["joint"] = g.slide
+    return entry
 
 
 def _guide(g: RRP | SliderTriad, point: str, length: float, joint: str | None, positions: Mapping[str, complex],

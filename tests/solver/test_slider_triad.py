@@ -415,6 +415,197 @@ def test_reference_in_a_dense_sweep_through_the_anchors_shortcut(i: int) -> None
         assert np.abs(got - full.point(name).position @ [1, 1j]).max() <= TOL_POS * size, name
 
 
+def _spans_taken(scene: Any, phi: np.ndarray) -> tuple[Any, list[tuple[int, bool]]]:
+    """The scene solved over ``phi``, and each anchors' stride the shortcut tried with its verdict."""
+    from unittest import mock
+
+    from solver.groups import _slider_triad_sweep
+
+    seen: list[tuple[int, bool]] = []
+    real = _slider_triad_sweep._through_anchors
+
+    def spy(group: Any, step: Any, stride: int, *rest: Any) -> Any:
+        out = real(group, step, stride, *rest)
+        seen.append((stride, out is not None))
+        return out
+    with mock.patch.object(_slider_triad_sweep, "_through_anchors", spy):
+        k = scene.solve(phi)
+    return k, seen
+
+
+def test_a_turn_of_the_shipped_press_takes_the_wide_anchors() -> None:
+    """3600 samples over a turn: anchors SPANS[0] apart, two Newton steps from the quintic
+    interpolation and no further step anywhere; the same roots as every sample's eigenvalues."""
+    from unittest import mock
+
+    import solver
+    from solver.groups import _slider_triad_math, _slider_triad_sweep
+
+    scene = solver.load_scene("slider_triad_press")
+    phi = np.linspace(0.0, 2.0 * np.pi, 3600)
+    steps: list[int] = []
+    real = _slider_triad_math.slider_polish
+
+    def spy(*args: Any, **kw: Any) -> Any:
+        if np.size(args[1]) == phi.size or kw["steps"] == _slider_triad_sweep.EXTRA_STEPS:
+            steps.append(kw["steps"])
+        return real(*args, **kw)
+    with mock.patch.object(_slider_triad_sweep, "slider_polish", spy):
+        k, seen = _spans_taken(scene, phi)
+    assert seen == [(int(_slider_triad_sweep.SPANS[0] / (phi[1] - phi[0])), True)]
+    assert steps == [_slider_triad_sweep.SWEEP_STEPS]
+    with mock.patch.object(_slider_triad_sweep, "fast_sweep", lambda *a, **kw: None):
+        full = scene.solve(phi)
+    for name in "DEF":
+        assert np.abs(k.point(name).position - full.point(name).position).max() <= TOL_POS, name
+        assert np.abs(k.point(name).velocity - full.point(name).velocity).max() <= TOL_VEL, name
+    np.testing.assert_allclose(k.joint("ram").position, full.joint("ram").position, rtol=0, atol=TOL_POS)
+
+
+def test_a_shortcut_refused_at_its_determinant_check_tries_the_narrower_anchors() -> None:
+    """Refused at the group's determinant check (once its analogs are in), the sweep tries the
+    next span of SPANS before every sample's eigenvalues."""
+    from unittest import mock
+
+    import solver
+    from solver.groups import _slider_triad_sweep
+
+    scene = solver.load_scene("slider_triad_press")
+    phi = np.linspace(0.0, 2.0 * np.pi, 3600)
+    real = _slider_triad_sweep.Shortcut.holds
+    verdicts: list[bool] = []
+
+    def holds(self: Any, det: np.ndarray) -> bool:
+        ok = real(self, det) and bool(verdicts)  # the first one refused
+        verdicts.append(ok)
+        return ok
+    with mock.patch.object(_slider_triad_sweep.Shortcut, "holds", holds):
+        k, seen = _spans_taken(scene, phi)
+    pitch = phi[1] - phi[0]
+    assert verdicts == [False, True]
+    assert seen == [(int(span / pitch), True) for span in _slider_triad_sweep.SPANS]
+    full = scene.solve(phi)
+    assert np.abs(k.point("F").position - full.point("F").position).max() <= TOL_POS
+
+
+#: Random slider triads swept in the test below (kept small for CI's time budget).
+RANDOM_SWEEPS = 16
+
+
+def test_random_slider_triads_the_shortcut_gives_the_full_path_s_roots_and_refusals() -> None:
+    """Random drawn slider triads (seeded), swept over half a radian to a turn around the drawn
+    input: wherever the full path (every sample's roots and the branch rule) solves, the sweep
+    with its anchors' shortcut gives the same roots (≤ 1e-12 of the size; analogs ≤ 1e-9), and
+    where the full path refuses (no real root, a mode jump) so does the sweep; the shortcut is
+    taken often."""
+    from unittest import mock
+
+    from solver.groups import _slider_triad_sweep
+
+    rng = np.random.default_rng(28)
+    taken = solved = 0
+    for _ in range(RANDOM_SWEEPS):
+        r = float(rng.uniform(0.05, 0.2))
+        c, g = (complex(*rng.uniform(-0.8, 0.8, 2)) for _ in range(2))
+        gamma = float(rng.uniform(0.0, np.pi))
+        drawn = {"D": g + float(rng.uniform(-0.5, 0.5)) * complex(np.exp(1j * gamma)),
+                 "E": complex(*rng.uniform(-0.8, 0.8, 2)), "F": complex(*rng.uniform(-0.8, 0.8, 2))}
+        phi_d = float(rng.uniform(0.0, 2.0 * np.pi))
+        b = r * complex(np.exp(1j * phi_d))
+        d, e, f = drawn["D"], drawn["E"], drawn["F"]
+        if min(abs(e - b), abs(f - c), abs(e - d), abs(f - e), abs(d - f)) < 0.05:
+            continue
+        span = float(rng.choice([0.5, 1.0, 2.0 * np.pi]))
+        phi = np.linspace(phi_d - span / 2, phi_d + span / 2, 1200)
+        scene = slider_scene(r=r, c=c, g=g, gamma=gamma, drawn=drawn, phi_d=phi_d)
+        try:
+            k, seen = _spans_taken(scene, phi)
+        except AssemblyError:
+            k, seen = None, []
+        try:
+            with mock.patch.object(_slider_triad_sweep, "fast_sweep", lambda *a, **kw: None):
+                full = slider_scene(r=r, c=c, g=g, gamma=gamma, drawn=drawn, phi_d=phi_d).solve(phi)
+        except AssemblyError:
+            full = None
+        assert (k is None) == (full is None)
+        if full is None:
+            continue
+        solved += 1
+        taken += any(ok for _, ok in seen)
+        size = r + max(abs(c), abs(g)) + 0.5 + max(abs(e - b), abs(f - c))
+        for name in "DEF":
+            got, ref = k.point(name), full.point(name)
+            assert np.abs(got.position - ref.position).max() <= TOL_POS * size, name
+            assert np.abs(got.velocity - ref.velocity).max() <= TOL_VEL * size, name
+    assert solved >= RANDOM_SWEEPS // 4 and taken >= 0.8 * solved, (solved, taken)
+
+
+#: Two slider triads drawn where two of their modes share θ (found by a seeded search; below):
+#: (slide apart δ, E's and F's offsets across the guide t_E, t_F, C, D), the crank at φ = 0.7.
+SHARED = [(0.4, 0.35, -0.2, complex(-0.09, -0.69), complex(-0.21, 0.72)),   # these two modes only
+          (0.37, -0.31, 0.29, complex(0.28, 0.29), complex(-0.06, -0.44))]  # and four more
+PHI_SHARED = 0.7
+
+
+def _shared(case: tuple[float, float, float, complex, complex], mode: int) -> tuple[dict[str, complex], Any]:
+    """Two modes of one θ by construction: the guide vertical through D, mode 2 mode 1 slid up by δ
+    (D, E, F all + jδ); B (the crank pin at φ = 0.7) on the perpendicular bisector of E₁E₂ (E₁ = B
+    − t_E − jδ/2), C on that of F₁F₂ (F₁ = C − t_F − jδ/2), so that |BE| and |CF| are the same in
+    both: the two circles' quadratics in s are one there (N = Dn = 0). The scene drawn in ``mode``."""
+    delta, t_e, t_f, c, d = case
+    b = 0.1 * complex(math.cos(PHI_SHARED), math.sin(PHI_SHARED))
+    up = 0.0 if mode == 1 else delta * 1j
+    drawn = {"D": d + up, "E": b - t_e - 0.5j * delta + up, "F": c - t_f - 0.5j * delta + up}
+    return drawn, slider_scene(r=0.1, c=c, g=d, gamma=math.pi / 2, drawn=drawn, phi_d=PHI_SHARED)
+
+
+@pytest.mark.parametrize("mode", [1, 2])
+@pytest.mark.parametrize("case", range(len(SHARED)))
+def test_two_modes_of_one_theta_the_drawn_one_is_returned_and_followed(case: int, mode: int) -> None:
+    """Both modes of one θ are roots (the polynomial's double root polished from both roots of the
+    quadratic in s); the mode rule names the drawn one (nearest the drawn pose: the drawn slide
+    tells them apart) on every path, and a sweep through the shared pose follows it continuously
+    (the full path: the anchors' shortcut refuses next to a θ so close to another), with its grid
+    through that pose or not; ticks from the drawn input outwards follow it too."""
+    from unittest import mock
+
+    from solver.groups import _slider_triad_sweep
+
+    drawn, scene = _shared(SHARED[case], mode)
+    delta, c_ = SHARED[case][0], SHARED[case][3]
+    tri = next(grp for grp in scene.plan.groups if grp.kind == "slider_triad")
+    theta, s = slider_roots(tri.origin, tri.direction, 0.1 * np.exp(1j * PHI_SHARED), c_, tri.lengths, *tri.shape)
+    real = np.isfinite(theta)
+    assert real.sum() == (2 if case == 0 else 6)
+    pair = np.flatnonzero(np.abs(theta - tri.angle) <= 1e-12)
+    assert len(pair) == 2 and abs(abs(s[pair[0]] - s[pair[1]]) - delta) <= 1e-12
+    assert tri.slide0 == pytest.approx(0.0 if mode == 1 else delta, abs=1e-15)
+    want = np.array([drawn["D"].real, drawn["D"].imag])
+    np.testing.assert_allclose(scene.solve(np.array([PHI_SHARED])).point("D").position[0], want, atol=1e-14)
+    np.testing.assert_allclose(np.asarray(_shared(SHARED[case], mode)[1].solve(PHI_SHARED).point("D").position),
+                               want, atol=1e-14)  # one instant (compiled)
+    for shift in (0.0, 0.37e-3):  # the grid through the shared pose, and past it
+        phi = np.linspace(PHI_SHARED - 0.3, PHI_SHARED + 0.3, 601) + shift
+        k = scene.solve(phi)
+        with mock.patch.object(_slider_triad_sweep, "fast_sweep", lambda *a, **kw: None):
+            full = _shared(SHARED[case], mode)[1].solve(phi)
+        assert np.abs(k.point("D").position - full.point("D").position).max() <= TOL_POS
+        slide = k.joint("s").position
+        assert np.abs(np.diff(slide)).max() < 2e-4 and np.abs(np.diff(k.joint("ternary").position)).max() < 2e-4
+        i = int(np.argmin(np.abs(phi - PHI_SHARED)))
+        assert abs(slide[i] - tri.slide0) < 1e-3  # the drawn mode, not the other one δ away
+        e_ = k.point("E").position @ [1, 1j]
+        assert np.abs(np.abs(e_ - 0.1 * np.exp(1j * phi)) - tri.lengths[0]).max() <= 1e-14
+        assert np.abs(np.abs((k.point("F").position @ [1, 1j]) - c_) - tri.lengths[1]).max() <= 1e-14
+    phi = np.linspace(PHI_SHARED - 0.3, PHI_SHARED + 0.3, 601)
+    ticks = []
+    for part in (phi[300::-1], phi[300:]):  # from the drawn input outwards, each way a fresh scene
+        tick = _shared(SHARED[case], mode)[1]
+        ticks.append([float(tick.solve(float(p)).joint("s").position) for p in part])
+    got = np.array(ticks[0][::-1] + ticks[1][1:])
+    assert np.abs(got - scene.solve(phi).joint("s").position).max() <= 1e-13
+
+
 def test_a_sweep_longer_than_one_block_follows_its_mode_across_blocks() -> None:
     """The scene solves 8192 samples a block: the second block continues the first's root."""
     import solver

@@ -70,15 +70,51 @@ def test_a_slider_triad_drawn_at_a_dead_point_is_refused() -> None:
         scene_dict_from_drawing(bad)
 
 
-def test_a_swinging_block_leg_is_not_solved_and_says_so_in_one_line() -> None:
-    """The other one-prismatic variant (the ternary link's line sliding through a block at a fixed
-    pivot A) has no group: the drawing stalls naming the class-3 group (docs/scenes.md, Limits)."""
+def _swinging() -> dict:
+    """The drawing with the ram replaced by a swinging block: A fixed on the line D–E of the plate."""
     other = copy.deepcopy(DRAWN)
     d = other["drawing"]  # type: ignore[index]
-    d["points"]["A"] = [-450, -300]
+    d["points"]["A"] = [-417, -310.5]  # D + 0.55·(E − D)
     d["ground"] = ["O", "C", "A"]
     del d["points"]["G"], d["points"]["H"]
-    d["slides"] = {"swivel": {"point": "A", "on": "plate", "along": ["D", "E"]}}
-    with pytest.raises(SceneError, match=r"arm_b, arm_c, plate, swivel form a group of class 3 or more") as err:
-        scene_dict_from_drawing(other)
+    d["slides"] = {"swivel": {"point": "A", "on": "plate", "along": ["D", "E"], "joint": "stroke"}}
+    return other
+
+
+@pytest.mark.parametrize("kind", ["swinging", "carried"])
+def test_the_other_variants_are_found_and_solve_back_to_their_pose(kind: str) -> None:
+    """The swinging block (a fixed A sliding along the plate's line D–E) and the guide on a moving
+    link (D sliding along the crank's line O–B) become ``slider_triad`` groups (``block_at`` /
+    ``guide: {on}``) that solve back to the drawn pose."""
+    if kind == "swinging":
+        drawing = _swinging()
+    else:
+        drawing = copy.deepcopy(DRAWN)
+        d = drawing["drawing"]  # type: ignore[index]
+        d["points"]["D"] = [200, 0]  # on the crank's line
+        d["slides"] = {"ram": {"point": "D", "on": "crank", "along": ["O", "B"], "joint": "stroke"}}
+        d["ground"] = ["O", "C"]
+        del d["points"]["G"], d["points"]["H"]
+    data = scene_dict_from_drawing(drawing)
+    assert [g["type"] for g in data["groups"]] == ["crank", "slider_triad"]
+    tri = data["groups"][1]
+    if kind == "swinging":
+        assert tri["block_at"] == "A" and tri["guide"]["offset"] == pytest.approx(0.0, abs=1e-9)
+        assert tri["guide"]["angle"] == pytest.approx(0.0, abs=1e-9)  # the line D–E: along D→E
+    else:
+        assert tri["guide"] == {"on": ["O", "B"]}
+    scene = build(data)
+    k = scene.solve(np.linspace(-0.2, 0.2, 41))
+    size = 1.3
+    for name in ("D", "E", "F"):
+        drawn = np.array(drawing["drawing"]["points"][name]) / 1000.0  # type: ignore[index]
+        assert np.abs(k.point(name).position[20] - drawn).max() <= ROUND_OFF * size
+    assert k.conditioning["plate"].min() > 0.05
+
+
+def test_a_swinging_block_off_its_line_is_refused_in_one_line() -> None:
+    bad = _swinging()
+    bad["drawing"]["points"]["A"] = [-450, -300]  # type: ignore[index]
+    with pytest.raises(SceneError, match=r"A is drawn 33\.6 off the line D–E it slides on") as err:
+        scene_dict_from_drawing(bad)
     assert "\n" not in str(err.value)
