@@ -126,7 +126,11 @@ def _four_bar_mjcf(scene: Any, phi0: float) -> tuple[str, dict[str, float]]:
 
 
 def _mujoco_run(xml: str, init: dict[str, float], t_end: float, dt: float, integrator: str,
-                stiff: bool) -> tuple[float, float, float]:
+                stiff: bool, *, torque: float = 0.0) -> tuple[float, float, float]:
+    """MuJoCo's run of ``xml`` (hinge ``phi``, connect sites ``b1``/``b2``) for ``t_end`` at step
+    ``dt`` (``stiff``: the connect's ``solref`` at 2·dt), ``torque`` applied at the hinge: the
+    input angle at the end (``init["phi0"]`` added), the stepping's wall time and the largest
+    gap of the connect (every tenth step)."""
     import mujoco
 
     model = mujoco.MjModel.from_xml_string(xml)
@@ -135,6 +139,8 @@ def _mujoco_run(xml: str, init: dict[str, float], t_end: float, dt: float, integ
     if stiff:
         model.eq_solref[:] = [2 * dt, 1.0]
     data = mujoco.MjData(model)
+    if torque:
+        data.qfrc_applied[model.joint("phi").dofadr[0]] = torque
     mujoco.mj_forward(model, data)
     steps = int(round(t_end / dt))
     gap = 0.0
@@ -145,7 +151,7 @@ def _mujoco_run(xml: str, init: dict[str, float], t_end: float, dt: float, integ
         if i % 10 == 0:
             gap = max(gap, float(np.linalg.norm(b1.xpos - b2.xpos)))
     wall = time.perf_counter() - start
-    return init["phi0"] + float(data.joint("phi").qpos[0]), wall, gap
+    return init.get("phi0", 0.0) + float(data.joint("phi").qpos[0]), wall, gap
 
 
 def _closure_gap(scene: Any, traj: Any) -> float:

@@ -22,6 +22,7 @@ import copy
 import os
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -34,30 +35,47 @@ import solver
 from solver._loader import parse_scene
 
 ROOT = Path(__file__).resolve().parent.parent
-SCENE = ROOT / "tests/dynamics/scenes/friction_four_bar_pendulum.yaml"
 T_END = 1.4
 TOL = 1e-10
 
 
-def _scenes() -> tuple[solver.Scene, solver.Scene]:
-    data = yaml.safe_load(SCENE.read_text(encoding="utf-8"))
+@dataclass(frozen=True)
+class Case:
+    """One timed pair: a scene with ``friction:`` against itself without it."""
+
+    scene: Path
+    start: float | tuple[float, ...]
+    what: str  # the friction, as printed
+    pairs: int  # the default count of interleaved pairs
+
+
+ONE_INPUT = Case(ROOT / "tests/dynamics/scenes/friction_four_bar_pendulum.yaml", 0.3, "4 pins", 5)
+#: bench.friction_dynamics_multi's case: two inputs, released from rest at (q1, q2) = (−1.0, −1.9) rad;
+#: the friction's run has both cranks moving until 1.45 s.
+TWO_INPUTS = Case(ROOT / "tests/dynamics/scenes/friction_five_bar_pendulum.yaml", (-1.0, -1.9),
+                  "5 pins, 2 inputs", 3)
+
+
+def _scenes(case: Case) -> tuple[solver.Scene, solver.Scene]:
+    data = yaml.safe_load(case.scene.read_text(encoding="utf-8"))
     plain = copy.deepcopy(data)
     del plain["friction"]
     return solver.Scene(parse_scene(data, file=None)), solver.Scene(parse_scene(plain, file=None))
 
 
-def main(argv: list[str] | None = None) -> int:
+def main(argv: list[str] | None = None, *, case: Case = ONE_INPUT) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--quick", action="store_true")
-    p.add_argument("--pairs", type=int, default=None, help="interleaved pairs (default 5; 1–3 with --quick)")
+    p.add_argument("--pairs", type=int, default=None,
+                   help=f"interleaved pairs (default {case.pairs}; 1 with --quick)")
     args = p.parse_args(argv)
-    pairs = args.pairs or (1 if args.quick else 5)
-    with_f, without = _scenes()
+    pairs = args.pairs or (1 if args.quick else case.pairs)
+    with_f, without = _scenes(case)
     runs: dict[str, object] = {}
 
     def run(scene: solver.Scene, key: str) -> float:
         t = time.thread_time()
-        runs[key] = scene.simulate(T_END, phi0=0.3, omega0=0.0, rtol=TOL, atol=TOL)
+        runs[key] = scene.simulate(T_END, phi0=case.start, omega0=0.0, rtol=TOL, atol=TOL)
         return time.thread_time() - t
 
     run(with_f, "with"), run(without, "without")  # (compiled instants built, caches warm)
@@ -69,7 +87,7 @@ def main(argv: list[str] | None = None) -> int:
     na, nb = runs["with"].evaluations, runs["without"].evaluations  # type: ignore[attr-defined]
     load = os.getloadavg()
     print(f"{T_END} s from rest at rtol = atol = {TOL:g}: without friction {tb:.3f} s ({nb} evaluations), "
-          f"with friction (4 pins) {ta:.3f} s ({na} evaluations, "
+          f"with friction ({case.what}) {ta:.3f} s ({na} evaluations, "
           f"{len(runs['with'].switches)} stick/slip events); "  # type: ignore[attr-defined]
           f"ratio {ta / tb:.2f}, per evaluation {(ta / na) / (tb / nb):.2f} (median of {pairs} pairs, thread CPU "
           f"time; load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f})")

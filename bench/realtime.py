@@ -38,7 +38,7 @@ from solver.dynamics.drive import make_drive
 from solver.dynamics.integrate import Equation
 
 from ._common import machine, write_section
-from .dynamics import _closure_gap, _mujoco_rows
+from .dynamics import _closure_gap, _mujoco_rows, _mujoco_run
 from .dynamics_exudyn import _exudyn_rows
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "dynamics.md"
@@ -207,28 +207,6 @@ def _slider_mjcf(scene: Any) -> str:
 </mujoco>"""
 
 
-def _mujoco_slider(xml: str, t_end: float, dt: float, integrator: str, stiff: bool,
-                   torque: float) -> tuple[float, float, float]:
-    import mujoco
-
-    model = mujoco.MjModel.from_xml_string(xml)
-    model.opt.timestep = dt
-    model.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{integrator}")
-    if stiff:
-        model.eq_solref[:] = [2 * dt, 1.0]
-    data = mujoco.MjData(model)
-    data.qfrc_applied[model.joint("phi").dofadr[0]] = torque
-    mujoco.mj_forward(model, data)
-    b1, b2 = data.site("b1"), data.site("b2")
-    gap = 0.0
-    start = time.perf_counter()
-    for i in range(int(round(t_end / dt))):
-        mujoco.mj_step(model, data)
-        if i % 10 == 0:
-            gap = max(gap, float(np.linalg.norm(b1.xpos - b2.xpos)))
-    return float(data.joint("phi").qpos[0]), time.perf_counter() - start, gap
-
-
 def _slider_gap(traj: Any) -> float:
     k = traj.solve()
     a, b = k.point("A").position, k.point("B").position
@@ -288,7 +266,7 @@ def _slider_runs() -> list[Run]:
     xml = _slider_mjcf(scene)
     for integrator, dt, stiff in (("RK4", 1e-3, True), ("RK4", 1e-4, True), ("RK4", 1e-5, True),
                                   ("IMPLICITFAST", 1e-4, True), ("IMPLICITFAST", 1e-3, True), ("RK4", 1e-4, False)):
-        got, wall, gap = _mujoco_slider(xml, 5.0, dt, integrator, stiff, 1.5)
+        got, wall, gap = _mujoco_run(xml, {}, 5.0, dt, integrator, stiff, torque=1.5)
         runs.append((f"MuJoCo {mujoco.__version__}", f"{integrator} dt={dt:g}{' stiff solref' if stiff else ''}",
                      abs(got - want), wall, gap))
     return runs

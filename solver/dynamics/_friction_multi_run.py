@@ -33,7 +33,7 @@ import numpy as np
 from ..errors import AssemblyError, DynamicsError
 from ._equation import Equation
 from ._friction_multi import Mode, MultiFrictionDynamics
-from ._friction_run import MAX_SWITCHES, FrictionOutcome, _Piece, first_outside
+from ._friction_run import MAX_SWITCHES, FrictionOutcome, _Piece, first_outside, hold
 from ._run import Solution, run
 from .drive import Drive
 from .reduced import ReducedModel
@@ -197,11 +197,7 @@ def run_with_friction_multi(
     for _ in range(MAX_SWITCHES):
         if len(stuck) == k:  # every input sticks: the state holds
             t1 = held(t0, y)
-            pieces.append(_Piece(t0, t1, y=list(y)))
-            if t_eval is not None:
-                for te in t_eval[(t_eval > t0) & (t_eval <= t1)]:
-                    emit(float(te), y)
-            emit(t1, y)
+            hold(pieces, emit, t_eval, t0, t1, y)
             if t1 >= t_end:
                 break
             t0 = t1

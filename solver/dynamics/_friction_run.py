@@ -121,6 +121,17 @@ class _Piece:
         return list(self.y) if self.sol is None else list(self.sol(t - self.t0))
 
 
+def hold(pieces: list[_Piece], emit: Callable[[float, Any], None], t_eval: np.ndarray | None, t0: float, t1: float,
+         y: Sequence[float]) -> None:
+    """A held state from ``t0`` to ``t1`` (every input stuck): its piece of the dense output and
+    its ``t_eval`` samples in (t0, t1], then ``t1`` itself."""
+    pieces.append(_Piece(t0, t1, y=list(y)))
+    if t_eval is not None:
+        for te in t_eval[(t_eval > t0) & (t_eval <= t1)]:
+            emit(float(te), y)
+    emit(t1, y)
+
+
 @dataclass
 class FrictionOutcome(Outcome):
     """:class:`Outcome` with the stick–slip lines and switches."""
@@ -228,11 +239,7 @@ def run_with_friction(
     for _ in range(MAX_SWITCHES):
         if y[1] == 0.0 and slip == 0.0:  # stuck: the state holds
             t1 = held(t0, y)
-            pieces.append(_Piece(t0, t1, y=list(y)))
-            if t_eval is not None:
-                for te in t_eval[(t_eval > t0) & (t_eval <= t1)]:
-                    emit(float(te), y)
-            emit(t1, y)
+            hold(pieces, emit, t_eval, t0, t1, y)
             if t1 >= t_end:
                 break
             t0 = t1

@@ -66,6 +66,11 @@ def _column(x: Any) -> Any:
     return np.asarray(x)[..., None] if np.ndim(x) else x
 
 
+def _subset(x: Any, shape: tuple[int, ...], at: tuple[np.ndarray, ...]) -> Any:
+    """A per-sample value (broadcast to ``shape``) at the candidates ``at``; a constant as it is."""
+    return np.broadcast_to(x, shape)[at] if np.ndim(x) else x
+
+
 def _laurent_terms(o: Any, e: complex, b_: Any, c_: Any, lengths: tuple[float, float], u: complex, v: complex,
                    w: Any, line: Line = None) -> tuple[Any, Any, Any, Any]:
     """N, Dn, e·p₁ and k₁ at w (module docstring of solver.groups.slider_triad): s = N/Dn."""
@@ -198,12 +203,21 @@ def slider_roots(o: Any, e: Any, b_: Any, c_: Any, lengths: tuple[float, float],
         w = np.where(near, w / np.abs(w), np.nan)
         oc, ec = _column(o), _column(e)
         s_a, s_b, r_a, r_b = _quadratic_slides(w, oc, ec, b_, c_, lengths, u, v, line)
-        best = np.where(r_a <= r_b, s_a, s_b)
-        other = np.where(np.maximum(r_a, r_b) <= ON_CIRCLE * size[..., None] ** 2, np.where(r_a <= r_b, s_b, s_a),
-                         np.nan)
-        s, theta, w, good, _ = slider_polish(np.concatenate([best, other], axis=-1), np.tile(np.angle(w), 2), oc, ec,
-                                             b_, c_, lengths, u, v, steps=POLISH_STEPS, xp=NUMPY, until=POLISH_DONE,
-                                             line=line)
+        second = np.maximum(r_a, r_b) <= ON_CIRCLE * size[..., None] ** 2  # both close the second circle
+        angle = np.angle(w)
+        s, theta, w, good, _ = slider_polish(np.where(r_a <= r_b, s_a, s_b), angle, oc, ec, b_, c_, lengths, u, v,
+                                             steps=POLISH_STEPS, xp=NUMPY, until=POLISH_DONE, line=line)
+        if second.any():  # (nearly) two modes of one θ: the other slide polished too, as six more candidates
+            at = np.nonzero(second)
+            o2, e2, b2, c2 = (_subset(x, second.shape, at) for x in (oc, ec, b_, c_))
+            s2, _, w2, good2, _ = slider_polish(np.where(r_a <= r_b, s_b, s_a)[at], angle[at], o2, e2, b2, c2,
+                                                lengths, u, v, steps=POLISH_STEPS, xp=NUMPY, until=POLISH_DONE,
+                                                line=line)
+            more = [np.full(second.shape, np.nan, x.dtype) for x in (s2, w2)]
+            more[0][at], more[1][at] = s2, w2
+            s, w = (np.concatenate([x, y], axis=-1) for x, y in zip((s, w), more))
+            good = np.concatenate([good, np.zeros(second.shape, bool)], axis=-1)
+            good[..., DEGREE:][at] = good2
         good = good & np.isfinite(s)
     theta = np.where(good, np.angle(w), np.nan)
     order = np.argsort(theta, axis=-1)  # NaN last

@@ -46,16 +46,19 @@ LONG: int = 32
 
 def _design(group: Any, i: int, rows: int) -> Any:
     """The group of design ``i``'s values (scalars: its lengths, shape and, for the slider triad,
-    its guide's origin and direction), its follow state fresh; None where a value is not finite
+    its guide's origin and direction and its drawn slide), its follow state fresh; None where a value is not finite
     (no ternary link: the whole row is invalid)."""
     changes: dict[str, Any] = {}
     for key in _PARAMETERS:
-        if not hasattr(group, key):
+        if getattr(group, key, None) is None:
             continue
         value = getattr(group, key)
         items = value if isinstance(value, tuple) else (value,)
         kind = complex if key in _COMPLEX else float
         got = tuple(kind(_column(x, rows)[i, 0]) for x in items)
+        if key in _OPTIONAL and not np.isfinite(got[0]):
+            changes[key] = None
+            continue
         if not np.isfinite(np.array(got, complex)).all():
             return None
         changes[key] = got if isinstance(value, tuple) else got[0]
@@ -64,8 +67,10 @@ def _design(group: Any, i: int, rows: int) -> Any:
 
 
 #: The parameters a template may make (C, 1) arrays, by field of the triads' groups, and which are complex.
-_PARAMETERS: tuple[str, ...] = ("lengths", "shape", "origin", "direction")
+_PARAMETERS: tuple[str, ...] = ("lengths", "shape", "origin", "direction", "slide0")
 _COMPLEX: tuple[str, ...] = ("shape", "origin", "direction")
+#: ... and which are optional (NaN: none; the slider triad's drawn slide, where its angle is not the drawn one).
+_OPTIONAL: tuple[str, ...] = ("slide0",)
 
 
 def own_sweeps(group: Any, ctx: Context, phi: np.ndarray, *, reason: str = _tick.NO_ROOT) -> None:

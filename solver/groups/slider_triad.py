@@ -78,7 +78,6 @@ Population (solver.synthesis: parameters (C, 1) arrays, φ (C, S)): each design'
 
 from __future__ import annotations
 
-import cmath
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -118,20 +117,24 @@ def _cols(j: Jet) -> Jet:
     return Jet(_col(j.value), _col(j.d1), _col(j.d2))
 
 
-def _drawn_slide(e: Entry, points: tuple[str, ...], units: Units, origin: Any, direction: Any,
-                 angle: float) -> float | None:
+def _drawn_slide(e: Entry, points: tuple[str, ...], units: Units, origin: Any, direction: Any, angle: float) -> Any:
     """s₀ = e·(D − O) of the drawn D where ``angle`` names the drawn mode (``shape:`` given, checked
-    by ternary_shape, and θ₀ = its arg(E − D) within ``SAME_ROOT``); else None (``sides:``, another
-    mode named, a population of designs)."""
-    if "shape" not in e.data or any(isinstance(x, np.ndarray) for x in (origin, direction)):
+    by ternary_shape, and θ₀ its arg(E − D) within ``SAME_ROOT``), else None (``sides:``, another
+    mode named); in a population (solver.synthesis) a (C, 1) array, NaN for none, each design's
+    value its own scene's (the same operations elementwise)."""
+    if "shape" not in e.data:
         return None
     sh = e.child("shape", e.raw("shape"))
-    d, p = (complex(*(sh.length_value(sh.as_number(c, k), k, units, positive=False) for c in sh.raw(k)))
-            for k in points[:2])
-    if abs(math.remainder(cmath.phase(p - d) - angle, 2.0 * math.pi)) > SAME_ROOT:
-        return None
-    off = d - origin
-    return float(off.real * direction.real + off.imag * direction.imag)
+    xd, yd, xe, ye = (sh.length_value(sh.as_number(c, k), k, units, positive=False)
+                      for k in points[:2] for c in sh.raw(k))
+    if not any(isinstance(x, np.ndarray) for x in (xd, yd, xe, ye, origin, direction)):
+        off = complex(xd, yd) - origin
+        if abs(math.remainder(math.atan2(ye - yd, xe - xd) - angle, 2.0 * math.pi)) > SAME_ROOT:
+            return None
+        return float(off.real * direction.real + off.imag * direction.imag)
+    off = xd + 1j * yd - origin
+    drawn = np.abs(np.remainder(np.arctan2(ye - yd, xe - xd) - angle + np.pi, 2.0 * np.pi) - np.pi) <= SAME_ROOT
+    return np.where(drawn, off.real * np.real(direction) + off.imag * np.imag(direction), np.nan)
 
 
 @dataclass(frozen=True)
@@ -148,7 +151,7 @@ class SliderTriad(Group):
     shape: tuple[complex, complex]  # u = E − D, v = F − D in the ternary link's frame
     angle: float  # θ₀
     at: float | None = None
-    slide0: float | None = None  # s₀, the drawn D's slide: the tie-break between two modes of one θ₀
+    slide0: Any = None  # s₀: the drawn D's slide (None: not the drawn mode; a population: (C, 1), NaN for none)
     joint: str | None = None  # θ published as a joint coordinate
     slide: str | None = None  # s published as a joint coordinate (m)
     carrier: tuple[str, str] | None = None  # P, Q: the guide on the moving known link P–Q

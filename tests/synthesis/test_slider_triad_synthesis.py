@@ -50,6 +50,16 @@ def _sides_template() -> Any:
     return load_template(data)
 
 
+def _drawn_template() -> Any:
+    """The path template with the drawn D and E free too: each design's drawn slide (the mode
+    rule's tie-break) its own, or none where its angle is not its drawn one."""
+    data = _data(PATH)
+    shape = data["groups"][1]["shape"]
+    shape["D"] = [-0.45, {"free": [-0.82, -0.78]}]
+    shape["E"] = [{"free": [-0.42, -0.36]}, 0.09]
+    return load_template(data)
+
+
 def _constant_triad_template() -> Any:
     """slider_triad_press with only the crank's length free: the triad's values are constants."""
     data = _data(Path(solver.find_scene("slider_triad_press")))
@@ -57,12 +67,12 @@ def _constant_triad_template() -> Any:
     return load_template(data)
 
 
-@pytest.mark.parametrize("which", ["function", "path", "sides", "constant"])
+@pytest.mark.parametrize("which", ["function", "path", "sides", "constant", "drawn"])
 def test_a_population_of_slider_triads_solves_as_each_design_s_own_scene(which: str) -> None:
     """12 random designs × a sweep, and × scattered phases: every point, the ternary link's angle,
     the ram's slide and their analogs equal the design's own loaded scene's solve to the bit (each
     design follows its own mode from θ₀), and the invalid samples are the same."""
-    tpl = {"sides": _sides_template, "constant": _constant_triad_template}.get(
+    tpl = {"sides": _sides_template, "constant": _constant_triad_template, "drawn": _drawn_template}.get(
         which, lambda: load_template(FUNCTION if which == "function" else PATH))()
     rng = np.random.default_rng(7)
     x = tpl.lo + (tpl.hi - tpl.lo) * rng.random((12, len(tpl.lo)))
