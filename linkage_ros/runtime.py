@@ -41,6 +41,7 @@ from solver.errors import SolverError
 
 from ._runtime_dynamic import DriveState, energy_values
 from ._runtime_topic import DIAGNOSTICS_PERIOD_S, TopicAnswers
+from ._tick_grid import TickGrid, catch_up_limit
 from .dynamic import RESTARTING, drive_reason, dynamic_law, mode_reason
 from .engine import Engine
 from .frame import STATUS_BEHIND, STATUS_OK, STATUS_UNASSEMBLABLE, Frame
@@ -94,6 +95,15 @@ class Recorder(Protocol):
 RecorderFactory = Callable[..., Recorder]
 
 
+def _grid(settings: Mapping[str, Any]) -> TickGrid | None:
+    """Dynamic mode: the grid of a timer at ``rate_hz`` (its period as rclpy's create_timer
+    rounds it); None in the other modes (and with ``LINKAGE_ROS_CATCH_UP=0``)."""
+    limit = catch_up_limit()
+    if settings.get("mode") != "dynamic" or not limit:
+        return None
+    return TickGrid(int(1.0 / float(settings["rate_hz"]) * NS_PER_S), limit=limit)
+
+
 def _jazzy_typestore() -> Any:
     from rosbags.typesys import Stores, get_typestore
 
@@ -145,6 +155,9 @@ class Runtime(TopicAnswers):
         self.events: list[str] = []
         self.input_warnings: list[str] = []
         self.engine = self._engine(settings, t0=0.0)
+        #: dynamic mode: the timer's period grid, whose skipped periods the node catches up
+        #: (:mod:`linkage_ros._tick_grid`); None in the other modes
+        self.grid = _grid(settings)
         self.settings["points"] = list(self.engine.published_points)
         self.relay = self._relay(self.engine, settings)
         self._command_t: float | None = None
@@ -407,6 +420,8 @@ class Runtime(TopicAnswers):
                 for topic, typename in topic_types(engine):
                     add(topic, typename)
         self.engine = engine
+        if changed & {"mode", "rate_hz"}:
+            self.grid = _grid(new)
         self.settings = new
         return None
 
@@ -472,7 +487,8 @@ class Runtime(TopicAnswers):
             if engine.motion is not getattr(getattr(self, "engine", None), "motion", None):
                 self._command_t = None
             self.builder.diagnostic_values = DriveState(
-                engine.motion, lambda: self.run_time(self._last_ns or 0), lambda: self._command_t)
+                engine.motion, lambda: self.run_time(self._last_ns or 0), lambda: self._command_t,
+                grid=lambda: self.grid)
 
     def _builder(self, engine: Engine, frame_id: str, omit: tuple[str, ...]) -> tuple[MessageBuilder, Serializer]:
         """The builder and serializer of ``engine``'s messages, joint_states without ``omit``
