@@ -58,7 +58,7 @@ from .parameters import (
 )
 from .relay import Reading, Relay
 from .serialize import Serializer, cdr_bytes, pad4
-from .topics import ENERGIES, INPUT_TYPES, ROBOT_DESCRIPTION, topic_types
+from .topics import ENERGIES, INPUT_TYPES, MARKERS, ROBOT_DESCRIPTION, topic_types
 
 __all__ = [
     "DIAGNOSTICS_PERIOD_S",
@@ -220,7 +220,7 @@ class Runtime(TopicAnswers):
             if frame.status == STATUS_UNASSEMBLABLE and frame.message != self._last_event:
                 self.events.append(frame.message)
             self._last_event = frame.message if frame.status == STATUS_UNASSEMBLABLE else ""
-            messages = self.wire.render(frame, now_ns, paths=self.builder.wants_paths(frame.t),
+            messages = self.wire.render(frame, now_ns, paths=self._paths_due(frame.t),
                                         diagnostics=self._wants_diagnostics(frame, now_ns))
         notes = getattr(self.engine.motion, "events", None)  # dynamic mode: a command timed out
         if notes:
@@ -275,7 +275,7 @@ class Runtime(TopicAnswers):
         """The bytes of an ordinary instant from the fast path (:mod:`linkage_ros.instant`) when
         the status is ok and neither diagnostics nor the path markers are due; None: take the
         Frame path."""
-        if (self._diagnostics_key not in _ORDINARY or self.builder.wants_paths(t)
+        if (self._diagnostics_key not in _ORDINARY or self._paths_due(t)
                 or not 0 <= stamp_ns - self._diagnostics_ns < DIAGNOSTICS_PERIOD_S * NS_PER_S):
             return None
         fast = self._fast_path
@@ -289,6 +289,16 @@ class Runtime(TopicAnswers):
         if messages is not None:
             self._last_frame = fast
         return messages
+
+    def _paths_due(self, t: float) -> bool:
+        """Whether a tick at ``t`` draws the paths into ``markers`` (its builder's period) —
+        never while nobody reads ``markers`` and nothing records (:meth:`publish_only`): the path
+        markers, serialised the generic way, took 2–6 ms once a second, more than a 1 kHz period
+        (issue 32); a reader matched later gets them on its next tick."""
+        wanted = self._wanted
+        if wanted is not None and MARKERS not in wanted and self.recorder is None:
+            return False
+        return self.builder.wants_paths(t)
 
     @property
     def last_frame(self) -> Frame | None:
