@@ -25,7 +25,10 @@ velocities and stamp are read straight off the CDR bytes
 without building the message object.
 
 Dynamic mode (``-p mode:=dynamic``, issue 22): the timer ticks as in clock mode, but φ(t) comes
-from the equation of motion (:mod:`linkage_ros.dynamic`); the node subscribes to the relative
+from the equation of motion (:mod:`linkage_ros.dynamic`), and the ticks lie on the timer's period
+grid: a callback that comes more than a period late renders the periods rcl's timer skipped too,
+each stamped and solved at its grid time (:mod:`linkage_ros._tick_grid`, at most 20 a callback;
+not under ``use_sim_time``), and an effort command first renders the grid times already due; the node subscribes to the relative
 topic ``effort_commands`` (``std_msgs/Float64MultiArray``, one value per input; best effort, so
 reliable and sensor-data publishers both match; raw, recorded as received) and hands each
 command to :meth:`Runtime.command_efforts`; a refused one is logged as one warning (at most one

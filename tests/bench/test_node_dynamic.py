@@ -61,6 +61,7 @@ def test_the_listener_s_latency_order_and_gaps() -> None:
     got = latency_figures(stamps, received, 0, 6 * ms, 1000.0)  # the last stamp outside the window
     assert got["latency_min"] == pytest.approx(0.3) and got["latency_max"] == pytest.approx(4.3)
     assert got["latency_p50"] == pytest.approx(0.3) and got["max_gap"] == pytest.approx(3.0)
+    assert got["min_gap"] == pytest.approx(1.0)
     assert got["increasing"] == 0.0  # the repeated stamp
     assert latency_figures(stamps[:3], received[:3], 0, 6 * ms, 1000.0)["increasing"] == 1.0
     rows = {"engine": [{"delivered": 0.995, "cpu": 0.8, "latency_p50": 0.4, "latency_p99": 2.5, "latency_max": 9.0}]}
