@@ -75,7 +75,9 @@ class TickGrid:
     def due(self, now_ns: int, next_due_ns: int | None = None) -> range:
         """The grid times in (last tick, ``now_ns``], oldest first, at most :attr:`limit` (the
         newest). ``next_due_ns``: the timer's next due time, which locks the grid's phase to the
-        timer's (at the first call, and again when it moved); before that, nothing is due."""
+        timer's (at the first call, and again when it moved by more than an eighth of a period;
+        the first time on a new phase is at least half a period after the last tick); before
+        that, nothing is due. Give it only where it is read tight (:meth:`next_due`)."""
         period = self.period_ns
         if next_due_ns is not None:
             phase = int(next_due_ns) % period
@@ -93,6 +95,8 @@ class TickGrid:
             first = newest
         else:
             first = last + period - (last - self.phase_ns) % period  # the first grid time after it
+            if first - last < period // 2:  # re-locked: no two ticks within half a period
+                first += period
             if first > newest:
                 return range(0)
         count = (newest - first) // period + 1
@@ -103,3 +107,12 @@ class TickGrid:
         self.late += count - 1
         self.last_ns = newest
         return range(first, newest + 1, period)
+
+    def next_due(self, now_ns: int, until_ns: int | None, read_ns: int) -> int | None:
+        """The timer's next due time from ``until_ns`` (rclpy's ``time_until_next_call``, read
+        between the clock readings ``now_ns`` and ``read_ns``), or None (no timer, or the reading
+        too loose to lock a phase on: a process preempted between the two calls would otherwise
+        move the grid by the preemption's length)."""
+        if until_ns is None or read_ns - now_ns > self.period_ns // (2 * RELOCK_SHARE):
+            return None
+        return now_ns + until_ns

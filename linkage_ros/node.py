@@ -28,11 +28,11 @@ Dynamic mode (``-p mode:=dynamic``, issue 22): the timer ticks as in clock mode,
 from the equation of motion (:mod:`linkage_ros.dynamic`), and the ticks lie on the timer's period
 grid: a callback that comes more than a period late renders the periods rcl's timer skipped too,
 each stamped and solved at its grid time (:mod:`linkage_ros._tick_grid`, at most 20 a callback;
-not under ``use_sim_time``), and an effort command first renders the grid times already due; the node subscribes to the relative
-topic ``effort_commands`` (``std_msgs/Float64MultiArray``, one value per input; best effort, so
-reliable and sensor-data publishers both match; raw, recorded as received) and hands each
-command to :meth:`Runtime.command_efforts`; a refused one is logged as one warning (at most one
-of its kind a second).
+not under ``use_sim_time``), and an effort command first renders the grid times already due;
+the node subscribes to the relative topic ``effort_commands`` (``std_msgs/Float64MultiArray``,
+one value per input; best effort, so reliable and sensor-data publishers both match; raw,
+recorded as received) and hands each command to :meth:`Runtime.command_efforts`; a refused one
+is logged as one warning (at most one of its kind a second).
 
 ``robot_description`` (std_msgs/String, transient local) carries the scene's URDF (``linkage-urdf``)
 from the start and after every change of scene or frame_id. ``mechanism_node --help`` prints the
@@ -334,7 +334,9 @@ class MechanismNode(Node):
             self._tick(now_ns)
         else:  # dynamic mode: every period of the timer's grid, those rcl skipped too (_tick_grid)
             until = self._tick_timer.time_until_next_call()
-            for stamp in grid.due(now_ns, None if until is None else now_ns + until):
+            with handle:
+                read_ns = handle.get_now().nanoseconds
+            for stamp in grid.due(now_ns, grid.next_due(now_ns, until, read_ns)):
                 self._tick(stamp)
         if self._pending_parameters:
             pending, self._pending_parameters = self._pending_parameters, []

@@ -73,8 +73,12 @@ def test_the_grid_follows_a_reset_timer_and_restarts_after_the_clock_jumps_back(
     assert list(grid.due(T0)) == []  # not locked to a timer yet: nothing due
     assert list(grid.due(T0 + 10, T0 + P)) == [T0]
     shifted = T0 + 2 * P + 400_000  # the timer reset: its grid moved by 0.4 periods
-    # the new grid's times after the last tick: increasing, none ahead of now
-    assert list(grid.due(shifted + 10, shifted + P)) == [shifted - 2 * P, shifted - P, shifted]
+    # the new grid's times after the last tick, the first at least half a period after it:
+    # increasing, none ahead of now
+    assert list(grid.due(shifted + 10, shifted + P)) == [shifted - P, shifted]
+    assert grid.next_due(shifted, 700_000, shifted + 20_000) == shifted + 700_000
+    assert grid.next_due(shifted, 700_000, shifted + 300_000) is None  # preempted between the readings
+    assert grid.next_due(shifted, None, shifted) is None  # a cancelled timer
     back = T0 - 3 * NS
     assert list(grid.due(back + 5, back + P)) == [back]  # a jump back of 3 s: starts again there
     with pytest.raises(ValueError, match="needs a period > 0 ns and a limit >= 1, got 0, 20"):
