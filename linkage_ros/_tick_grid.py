@@ -22,8 +22,10 @@ lateness. A clock that jumps back by more than a period starts the grid again.
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping
+from typing import Any
 
-__all__ = ["CATCH_UP_ENV", "CATCH_UP_TICKS", "TickGrid", "catch_up_limit"]
+__all__ = ["CATCH_UP_ENV", "CATCH_UP_TICKS", "TickGrid", "catch_up_limit", "grid_for"]
 
 #: At most this many ticks a call (the newest; older due ones are skipped): the law's own bound
 #: on a tick's advance (:data:`linkage_ros.dynamic.MAX_GAP_TICKS`), so that a stalled process
@@ -116,3 +118,12 @@ class TickGrid:
         if until_ns is None or read_ns - now_ns > self.period_ns // (2 * RELOCK_SHARE):
             return None
         return now_ns + until_ns
+
+
+def grid_for(settings: Mapping[str, Any]) -> TickGrid | None:
+    """The node's grid for its settings: in dynamic mode, a timer's at ``rate_hz`` (its period as
+    rclpy's create_timer rounds it); None in the other modes and with ``LINKAGE_ROS_CATCH_UP=0``."""
+    limit = catch_up_limit()
+    if settings.get("mode") != "dynamic" or not limit:
+        return None
+    return TickGrid(int(1.0 / float(settings["rate_hz"]) * 1_000_000_000), limit=limit)

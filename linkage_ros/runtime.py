@@ -41,7 +41,7 @@ from solver.errors import SolverError
 
 from ._runtime_dynamic import DriveState, energy_values
 from ._runtime_topic import DIAGNOSTICS_PERIOD_S, TopicAnswers
-from ._tick_grid import TickGrid, catch_up_limit
+from ._tick_grid import TickGrid, grid_for
 from .dynamic import RESTARTING, drive_reason, dynamic_law, mode_reason
 from .engine import Engine
 from .frame import STATUS_BEHIND, STATUS_OK, STATUS_UNASSEMBLABLE, Frame
@@ -93,15 +93,6 @@ class Recorder(Protocol):
 #: ``factory(path, topics, engine=..., frame_id=...)`` opens a recorder for
 #: ``[(topic, type name)]`` (``engine`` and ``frame_id`` for the file's scene metadata).
 RecorderFactory = Callable[..., Recorder]
-
-
-def _grid(settings: Mapping[str, Any]) -> TickGrid | None:
-    """Dynamic mode: the grid of a timer at ``rate_hz`` (its period as rclpy's create_timer
-    rounds it); None in the other modes (and with ``LINKAGE_ROS_CATCH_UP=0``)."""
-    limit = catch_up_limit()
-    if settings.get("mode") != "dynamic" or not limit:
-        return None
-    return TickGrid(int(1.0 / float(settings["rate_hz"]) * NS_PER_S), limit=limit)
 
 
 def _jazzy_typestore() -> Any:
@@ -157,7 +148,7 @@ class Runtime(TopicAnswers):
         self.engine = self._engine(settings, t0=0.0)
         #: dynamic mode: the timer's period grid, whose skipped periods the node catches up
         #: (:mod:`linkage_ros._tick_grid`); None in the other modes
-        self.grid = _grid(settings)
+        self.grid: TickGrid | None = grid_for(settings)
         self.settings["points"] = list(self.engine.published_points)
         self.relay = self._relay(self.engine, settings)
         self._command_t: float | None = None
@@ -431,7 +422,7 @@ class Runtime(TopicAnswers):
                     add(topic, typename)
         self.engine = engine
         if changed & {"mode", "rate_hz"}:
-            self.grid = _grid(new)
+            self.grid = grid_for(new)
         self.settings = new
         return None
 
