@@ -15,9 +15,12 @@ order per round, against issue 22's targets (dynamic CPU ≤ 1.3 × the kinemati
 **What is counted.** The ticks delivered are counted by a *listener of its own*: a separate
 process (this file, ``--listen``: its own rclpy context, node and EventsExecutor) subscribed to
 the node's ``joint_states`` only (raw bytes, reliable, depth 1000). Over ``--seconds`` after
-``--warmup`` s it counts the distinct ``joint_states`` stamps that lie in the window (the node's
+``--warmup`` s from the node's first message (not from its own start: a node still starting on
+a loaded machine is not missing ticks) it counts the distinct ``joint_states`` stamps that lie in the window (the node's
 stamps are its wall clock) over ``rate`` × the window — what a ROS subscriber of that one topic
-receives — and reads the node's CPU (utime + stime of every thread, ``/proc/PID/stat``, as a
+receives — with the latency from each stamp to its receipt (the listener's wall clock when its
+callback takes it: p50, p99, max, ms), whether the stamps came in increasing order and the longest
+gap between two of them (periods), and reads the node's CPU (utime + stime of every thread, ``/proc/PID/stat``, as a
 fraction of one core) over the same window. It does not count what the node computed but a
 subscriber missed: a client whose one executor holds many subscriptions reads too slowly at
 1 kHz, and the node's reliable keep-last-10 writers then drop what it has not read (the earlier
@@ -57,12 +60,17 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from .node_floor import Counter, _end, _ignore, cpu_seconds, delivered
+from .node_floor import _STAMP, NS, _end, _ignore, cpu_seconds, delivered
 
 TARGET_RATIO = 1.3
 TARGET_DELIVERED = 0.99
 ROOT = Path(__file__).resolve().parents[1]
 LOADS = ("listener", "all")
+#: The listener waits this long (s) at most for the node's first joint_states before its warm-up:
+#: a node still starting (seconds on a loaded machine) must not count as ticks missed in the window.
+FIRST_MESSAGE_S = 60.0
+#: The listener's figures besides the count (:func:`latency_figures`).
+LATENCY_KEYS = ("latency_p50", "latency_p99", "latency_max", "latency_min", "increasing", "max_gap", "min_gap")
 #: A diagnostics message reports the law's last full second of run time, which ended up to a
 #: second before it: those stamped within 2 s of the window's start may speak of the warm-up.
 LAG_NS = 2_000_000_000
@@ -78,6 +86,45 @@ SCENES: dict[str, list[str]] = {
 
 
 # ------------------------------------------------------------------------------- the listener
+class StampCounter:
+    """The stamps of the joint_states received while :attr:`active`, each with the wall-clock
+    time (``time.time_ns``, the node's stamps' clock) the listener's callback took it."""
+
+    def __init__(self) -> None:
+        self.stamps: list[int] = []
+        self.received: list[int] = []
+        self.active = False
+        self.seen = 0  # every message, counted or not (the node is up)
+
+    def __call__(self, data: bytes) -> None:
+        self.seen += 1
+        if self.active:
+            now = time.time_ns()
+            sec, nsec = _STAMP.unpack_from(data, 4)
+            self.stamps.append(sec * NS + nsec)
+            self.received.append(now)
+
+
+def latency_figures(stamps: Sequence[int], received: Sequence[int], start_ns: int, stop_ns: int,
+                    rate: float) -> dict[str, float]:
+    """Of the stamps in ``[start_ns, stop_ns)``: the latency from stamp to receipt (ms: p50, p99,
+    max; negative would be a stamp ahead of the clock), whether the stamps came in increasing
+    order, and the shortest and the longest gap between consecutive distinct stamps (in periods of
+    ``rate``: 1–1 on the period grid without a miss)."""
+    pairs = [(s, r) for s, r in zip(stamps, received) if start_ns <= s < stop_ns]
+    if not pairs:
+        return {"latency_p50": math.nan, "latency_p99": math.nan, "latency_max": math.nan,
+                "latency_min": math.nan, "increasing": 0.0, "max_gap": math.nan, "min_gap": math.nan}
+    lat = sorted((r - s) / 1e6 for s, r in pairs)
+    ordered = [s for s, _ in pairs]
+    distinct = sorted(set(ordered))
+    gaps = [(b - a) * rate / NS for a, b in zip(distinct, distinct[1:])]
+    return {"latency_p50": lat[len(lat) // 2], "latency_p99": lat[min(len(lat) - 1, int(0.99 * len(lat)))],
+            "latency_max": lat[-1], "latency_min": lat[0],
+            "increasing": float(all(b > a for a, b in zip(ordered, ordered[1:]))),
+            "max_gap": max(gaps) if gaps else math.nan, "min_gap": min(gaps) if gaps else math.nan}
+
+
 def listen_main(topic: str, pid: int, *, seconds: float, warmup: float, rate: float) -> int:
     """The listener process: ``topic`` (a joint_states) alone, its own context and EventsExecutor;
     prints one JSON line: delivered, received, the node's CPU, the window (wall clock, ns)."""
@@ -93,7 +140,7 @@ def listen_main(topic: str, pid: int, *, seconds: float, warmup: float, rate: fl
         node = rclpy.create_node("node_dynamic_listener")
         executor = make_executor("events")
         executor.add_node(node)
-        counter = Counter()
+        counter = StampCounter()
         node.create_subscription(JointState, topic, counter, QoSProfile(depth=1000,
                                  reliability=ReliabilityPolicy.RELIABLE), raw=True)
 
@@ -102,6 +149,9 @@ def listen_main(topic: str, pid: int, *, seconds: float, warmup: float, rate: fl
             while time.monotonic() < end:
                 executor.spin_once(timeout_sec=0.01)
 
+        deadline = time.monotonic() + FIRST_MESSAGE_S
+        while not counter.seen and time.monotonic() < deadline:  # the node's start-up is not its window
+            executor.spin_once(timeout_sec=0.01)
         spin(warmup)
         counter.active = True
         cpu0, wall0, start_ns = cpu_seconds(pid), time.monotonic(), time.time_ns()
@@ -111,7 +161,9 @@ def listen_main(topic: str, pid: int, *, seconds: float, warmup: float, rate: fl
         print(json.dumps({"cpu": (cpu1 - cpu0) / (wall1 - wall0),
                           "delivered": delivered(counter.stamps, start_ns, stop_ns, rate),
                           "received": len(counter.stamps), "window_s": wall1 - wall0,
-                          "start_ns": start_ns, "stop_ns": stop_ns}), flush=True)
+                          "start_ns": start_ns, "stop_ns": stop_ns,
+                          **latency_figures(counter.stamps, counter.received, start_ns, stop_ns, rate)}),
+              flush=True)
         executor.shutdown(timeout_sec=1.0)
         node.destroy_node()
     finally:
@@ -190,14 +242,15 @@ class Bench:
                 if topic != DIAGNOSTICS:
                     self.node.create_subscription(classes[typename], f"/{namespace}/{topic}", _ignore, qos, raw=True)
 
-    def run(self, namespace: str, argv: Sequence[str]) -> dict[str, float]:
-        """Start the node (``argv``, namespace ``namespace``) and its listener; the listener's
-        figures and the node's diagnostics over its window."""
+    def run(self, namespace: str, argv: Sequence[str], *, env: dict[str, str] | None = None) -> dict[str, float]:
+        """Start the node (``argv``, namespace ``namespace``, ``env`` added to its environment) and
+        its listener; the listener's figures and the node's diagnostics over its window."""
         from linkage_ros.messages import JOINT_STATES
 
         opts = self.opts
         node = subprocess.Popen([self.node_exe, "--ros-args", "-r", f"__ns:=/{namespace}", *argv], cwd=ROOT,
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=dict(os.environ))
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                env={**os.environ, **(env or {})})
         listener: subprocess.Popen[bytes] | None = None
         try:
             listener = subprocess.Popen(
@@ -215,7 +268,7 @@ class Bench:
         if not lines:
             sys.exit(f"the listener of {namespace} printed nothing (exit status {listener.returncode})")
         row = json.loads(lines[-1])
-        result = {key: float(row[key]) for key in ("cpu", "delivered", "received", "window_s")}
+        result = {key: float(row[key]) for key in ("cpu", "delivered", "received", "window_s", *LATENCY_KEYS)}
         result.update(self.diagnostics[namespace].between(int(row["start_ns"]), int(row["stop_ns"])))
         return result
 
@@ -233,8 +286,12 @@ def _print_round(k: int, name: str, r: dict[str, float]) -> None:
         node = (f"; node: tick_share {100 * r['tick_share_mean']:.2f} % (≥ {100 * r['tick_share']:.2f} % "
                 f"a second), compute_factor ≥ {r['compute_factor']:.3g}, "
                 f"{int(r['behind'])} of {int(r['diagnostics'])} diagnostics WARN behind")
+    order = "increasing" if r.get("increasing") else "NOT increasing"
     print(f"  round {k}  {name}  CPU {100 * r['cpu']:5.1f} % of a core   delivered {100 * r['delivered']:6.2f} %   "
-          f"({int(r['received'])} joint_states in {r['window_s']:.1f} s){node}", flush=True)
+          f"({int(r['received'])} joint_states in {r['window_s']:.1f} s; stamp to receipt p50 "
+          f"{r['latency_p50']:.2f} / p99 {r['latency_p99']:.2f} / max {r['latency_max']:.1f} ms, "
+          f"min {r['latency_min']:.2f} ms; stamps {order}, gaps {r['min_gap']:.3g}–{r['max_gap']:.3g} periods){node}",
+          flush=True)
 
 
 def _load() -> str:
@@ -290,22 +347,30 @@ def summary(results: Sequence[dict[str, dict[str, float]]]) -> list[str]:
 
 # ------------------------------------------------------------------------------- issue 32: four scenes
 def run_scenes(opts: argparse.Namespace) -> dict[str, list[dict[str, float]]]:
-    """The dynamic node alone on each of SCENES (or ``--only``): ``{scene: [figures per round]}``."""
+    """The dynamic node alone on each of SCENES (or ``--only``): ``{scene: [figures per round]}``;
+    with ``--catch-up A,B``, each scene under each catch-up limit in turn (alternating order per
+    round), keyed ``scene catch-up N``."""
+    from linkage_ros._tick_grid import CATCH_UP_ENV
     from linkage_ros.runtime import Runtime
 
     scenes = {name: SCENES[name] for name in (opts.only or SCENES)}
+    limits: list[str | None] = list(opts.catch_up.split(",")) if opts.catch_up else [None]
+    runs = {(f"{scene} catch-up {limit}" if limit is not None else scene): (scene, limit)
+            for scene in scenes for limit in limits}
     bench = Bench(opts)
-    results: dict[str, list[dict[str, float]]] = {scene: [] for scene in scenes}
+    results: dict[str, list[dict[str, float]]] = {name: [] for name in runs}
     try:
-        for scene in scenes:
+        for name, (scene, _) in runs.items():
             topics = Runtime({"scene": scene, "phi0": 1.0} if scene == "tipper" else {"scene": scene}).topics
-            bench.watch(scene, dict(topics))
+            bench.watch(name.replace(" ", "_").replace("-", "_"), dict(topics))
         for k in range(opts.rounds):
-            for scene, extra in scenes.items():
-                row = bench.run(scene, ["-p", f"scene:={scene}", "-p", "mode:=dynamic", "-p",
-                                        f"rate_hz:={float(opts.rate)!r}", *extra])
-                _print_round(k + 1, scene, row)
-                results[scene].append(row)
+            for name, (scene, limit) in (runs.items() if k % 2 == 0 else list(runs.items())[::-1]):
+                row = bench.run(name.replace(" ", "_").replace("-", "_"),
+                                ["-p", f"scene:={scene}", "-p", "mode:=dynamic", "-p",
+                                 f"rate_hz:={float(opts.rate)!r}", *scenes[scene]],
+                                env=None if limit is None else {CATCH_UP_ENV: limit})
+                _print_round(k + 1, name, row)
+                results[name].append(row)
     finally:
         bench.close()
     return results
@@ -322,8 +387,13 @@ def scenes_summary(results: dict[str, list[dict[str, float]]]) -> list[str]:
         shares = [r["tick_share"] for r in rows if math.isfinite(r.get("tick_share", math.nan))]
         worst = min(worst, min(got))
         node = f", node's own tick_share ≥ {100 * min(shares):.2f} %" if shares else ""
+        latency = ""
+        if all("latency_p50" in r for r in rows):
+            latency = (f", stamp to receipt p50 {statistics.median(r['latency_p50'] for r in rows):.2f} ms, "
+                       f"p99 ≤ {max(r['latency_p99'] for r in rows):.2f} ms, "
+                       f"max {max(r['latency_max'] for r in rows):.1f} ms")
         lines.append(f"{scene}: delivered {100 * statistics.median(got):.2f} % [{100 * min(got):.2f}–"
-                     f"{100 * max(got):.2f}], CPU {100 * statistics.median(cpu):.1f} % of a core{node}")
+                     f"{100 * max(got):.2f}], CPU {100 * statistics.median(cpu):.1f} % of a core{latency}{node}")
     verdict = "PASS" if worst >= TARGET_DELIVERED else "FAIL"
     lines.append(f"RESULT {verdict}: every scene delivered >= {100 * worst:.2f} % of its ticks "
                  f"(target >= {100 * TARGET_DELIVERED:g} %)")
@@ -343,6 +413,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                         help="the dynamic node alone on engine (omega 200), four_bar_loaded, harvester_finger, "
                              "tipper (issue 32)")
     parser.add_argument("--only", action="append", choices=list(SCENES), help="with --scenes: these scenes only")
+    parser.add_argument("--catch-up", help="with --scenes: compare these catch-up limits (LINKAGE_ROS_CATCH_UP "
+                        "of the node, comma-separated; 0: none), e.g. 0,20")
     parser.add_argument("--load", choices=LOADS, default="listener",
                         help="listener: joint_states read by the listener only; all: every topic read as well")
     parser.add_argument("--listen", help=argparse.SUPPRESS)

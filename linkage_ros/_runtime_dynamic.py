@@ -11,7 +11,10 @@ energies in the recording.
   ``use_sim_time`` the ``/clock``'s rate; ``fixed_step`` (s, the RK4 step the law chose at its
   start) and ``step_error`` (that step's error over its first 50 ticks against the adaptive run,
   in units of ``dynamics_tolerance``: above 1 where the tick budget allowed no more steps — the
-  tolerance is missed by that factor, said, never silently).
+  tolerance is missed by that factor, said, never silently); ``ticks_late`` and
+  ``ticks_skipped``: of the node's timer grid (:class:`~linkage_ros._tick_grid.TickGrid`), the
+  ticks rendered a period or more after their grid time (periods rcl's timer skipped, caught up)
+  and the periods beyond the catch-up bound, never ticked — both counted since the mode started.
 * :func:`energy_values` gives the row of the ``energies`` topic (``std_msgs/Float64MultiArray``,
   recorded, not published): the kinetic energy ½q̇ᵀM(q)q̇, the potentials of gravity and of the
   springs, and their sum T + V (J), of the state a tick reached.
@@ -49,12 +52,14 @@ class DriveState:
     """The drive-state KeyValues of one dynamic law (see the module docstring).
 
     ``motion``: the dynamic law (its ``kind``, ``timeout``, ``efforts``); ``run_time()``: the run
-    time of the last tick (s); ``last_command()``: run time of the last accepted command, or None.
+    time of the last tick (s); ``last_command()``: run time of the last accepted command, or None;
+    ``grid()``: the node's :class:`~linkage_ros._tick_grid.TickGrid`, or None.
     """
 
     def __init__(self, motion: Any, run_time: Callable[[], float], last_command: Callable[[], float | None],
-                 *, clock: Callable[[], float] = time.monotonic) -> None:
+                 *, clock: Callable[[], float] = time.monotonic, grid: Callable[[], Any] | None = None) -> None:
         self.motion = motion
+        self._grid = grid
         self._run_time = run_time
         self._last_command = last_command
         self._clock = clock
@@ -77,4 +82,11 @@ class DriveState:
                 ("efforts", " ".join(repr(float(v)) for v in motion.efforts)),
                 ("real_time_factor", factor),
                 ("fixed_step", f"{float(getattr(motion, 'step', math.nan)):.6g}"),
-                ("step_error", f"{float(getattr(motion, 'step_error', math.nan)):.3g}")]
+                ("step_error", f"{float(getattr(motion, 'step_error', math.nan)):.3g}"),
+                *self._ticks()]
+
+    def _ticks(self) -> list[tuple[str, str]]:
+        grid = None if self._grid is None else self._grid()
+        if grid is None:
+            return []
+        return [("ticks_late", str(grid.late)), ("ticks_skipped", str(grid.skipped))]

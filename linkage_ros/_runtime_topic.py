@@ -50,6 +50,9 @@ class TopicAnswers:
     def _wants_diagnostics(self, frame: Frame, now_ns: int) -> bool:
         raise NotImplementedError
 
+    def _paths_due(self, t: float) -> bool:
+        raise NotImplementedError
+
     def _builder(self, engine: Engine, frame_id: str, omit: tuple[str, ...]) -> tuple[MessageBuilder, Serializer]:
         raise NotImplementedError
 
@@ -92,7 +95,7 @@ class TopicAnswers:
                 frame = answer.frame
                 assert frame is not None
                 self.last_frame = frame
-                messages = self.wire.render(frame, stamp, paths=self.builder.wants_paths(frame.t),
+                messages = self.wire.render(frame, stamp, paths=self._paths_due(frame.t),
                                             diagnostics=self._wants_diagnostics(frame, stamp))
             else:  # ANSWER_UNASSEMBLABLE
                 self.input_warnings.append(answer.reason)

@@ -25,11 +25,14 @@ velocities and stamp are read straight off the CDR bytes
 without building the message object.
 
 Dynamic mode (``-p mode:=dynamic``, issue 22): the timer ticks as in clock mode, but φ(t) comes
-from the equation of motion (:mod:`linkage_ros.dynamic`); the node subscribes to the relative
-topic ``effort_commands`` (``std_msgs/Float64MultiArray``, one value per input; best effort, so
-reliable and sensor-data publishers both match; raw, recorded as received) and hands each
-command to :meth:`Runtime.command_efforts`; a refused one is logged as one warning (at most one
-of its kind a second).
+from the equation of motion (:mod:`linkage_ros.dynamic`), and the ticks lie on the timer's period
+grid: a callback that comes more than a period late renders the periods rcl's timer skipped too,
+each stamped and solved at its grid time (:mod:`linkage_ros._tick_grid`, at most 20 a callback;
+not under ``use_sim_time``), and an effort command first renders the grid times already due;
+the node subscribes to the relative topic ``effort_commands`` (``std_msgs/Float64MultiArray``,
+one value per input; best effort, so reliable and sensor-data publishers both match; raw,
+recorded as received) and hands each command to :meth:`Runtime.command_efforts`; a refused one
+is logged as one warning (at most one of its kind a second).
 
 ``robot_description`` (std_msgs/String, transient local) carries the scene's URDF (``linkage-urdf``)
 from the start and after every change of scene or frame_id. ``mechanism_node --help`` prints the
@@ -294,7 +297,8 @@ class MechanismNode(Node):
         self._described_recorder: Any = None
         #: the node clock's handle (ROS time: the system's, or /clock under use_sim_time), read
         #: per tick without a Time object (``_now_ns``: 1.2 µs against 2.5 for ``now().nanoseconds``)
-        self._clock_handle = self.get_clock().handle
+        self._node_clock: Any = self.get_clock()  # a ROSClock (Node's own attribute is _clock: not assigned here)
+        self._clock_handle = self._node_clock.handle
         self._publish_description()
         self._tick_timer = self.create_timer(self.runtime.period_s, self._on_timer)
         self._input_subscription: Any = None
@@ -325,6 +329,21 @@ class MechanismNode(Node):
         handle = self._clock_handle  # _now_ns, without its call: this runs rate_hz times a second
         with handle:
             now_ns = handle.get_now().nanoseconds
+        grid = self.runtime.grid
+        if grid is None or self._node_clock.ros_time_is_active:
+            self._tick(now_ns)
+        else:  # dynamic mode: every period of the timer's grid, those rcl skipped too (_tick_grid)
+            until = self._tick_timer.time_until_next_call()
+            with handle:
+                read_ns = handle.get_now().nanoseconds
+            for stamp in grid.due(now_ns, grid.next_due(now_ns, until, read_ns)):
+                self._tick(stamp)
+        if self._pending_parameters:
+            pending, self._pending_parameters = self._pending_parameters, []
+            self.set_parameters(pending)
+
+    def _tick(self, now_ns: int) -> None:
+        """One tick at clock time ``now_ns``: solved, rendered and published."""
         runtime = self.runtime
         if time.monotonic_ns() >= self._next_check_ns:
             self._check_subscribers()
@@ -338,9 +357,6 @@ class MechanismNode(Node):
         if runtime.events:
             for event in runtime.take_events():
                 self.get_logger().warning(event)
-        if self._pending_parameters:
-            pending, self._pending_parameters = self._pending_parameters, []
-            self.set_parameters(pending)
 
     def _on_input(self, data: bytes) -> None:
         """A JointState's CDR bytes (raw subscription): read off the bytes
@@ -371,6 +387,10 @@ class MechanismNode(Node):
         a refused one is logged (one line, at most one of its kind a second) and the last good
         command stays in force."""
         now_ns = self._now_ns()
+        grid = self.runtime.grid
+        if grid is not None and not self._node_clock.ros_time_is_active:
+            for stamp in grid.due(now_ns):  # the periods due before it (a late timer's) without it
+                self._tick(stamp)
         self.runtime.record_input(EFFORT_TOPIC, now_ns, data)
         try:
             values = deserialize_message(data, self._effort_type).data

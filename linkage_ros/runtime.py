@@ -41,6 +41,7 @@ from solver.errors import SolverError
 
 from ._runtime_dynamic import DriveState, energy_values
 from ._runtime_topic import DIAGNOSTICS_PERIOD_S, TopicAnswers
+from ._tick_grid import TickGrid, grid_for
 from .dynamic import RESTARTING, drive_reason, dynamic_law, mode_reason
 from .engine import Engine
 from .frame import STATUS_BEHIND, STATUS_OK, STATUS_UNASSEMBLABLE, Frame
@@ -57,7 +58,7 @@ from .parameters import (
 )
 from .relay import Reading, Relay
 from .serialize import Serializer, cdr_bytes, pad4
-from .topics import ENERGIES, INPUT_TYPES, ROBOT_DESCRIPTION, topic_types
+from .topics import ENERGIES, INPUT_TYPES, MARKERS, ROBOT_DESCRIPTION, topic_types
 
 __all__ = [
     "DIAGNOSTICS_PERIOD_S",
@@ -145,6 +146,9 @@ class Runtime(TopicAnswers):
         self.events: list[str] = []
         self.input_warnings: list[str] = []
         self.engine = self._engine(settings, t0=0.0)
+        #: dynamic mode: the timer's period grid, whose skipped periods the node catches up
+        #: (:mod:`linkage_ros._tick_grid`); None in the other modes
+        self.grid: TickGrid | None = grid_for(settings)
         self.settings["points"] = list(self.engine.published_points)
         self.relay = self._relay(self.engine, settings)
         self._command_t: float | None = None
@@ -207,7 +211,7 @@ class Runtime(TopicAnswers):
             if frame.status == STATUS_UNASSEMBLABLE and frame.message != self._last_event:
                 self.events.append(frame.message)
             self._last_event = frame.message if frame.status == STATUS_UNASSEMBLABLE else ""
-            messages = self.wire.render(frame, now_ns, paths=self.builder.wants_paths(frame.t),
+            messages = self.wire.render(frame, now_ns, paths=self._paths_due(frame.t),
                                         diagnostics=self._wants_diagnostics(frame, now_ns))
         notes = getattr(self.engine.motion, "events", None)  # dynamic mode: a command timed out
         if notes:
@@ -262,7 +266,7 @@ class Runtime(TopicAnswers):
         """The bytes of an ordinary instant from the fast path (:mod:`linkage_ros.instant`) when
         the status is ok and neither diagnostics nor the path markers are due; None: take the
         Frame path."""
-        if (self._diagnostics_key not in _ORDINARY or self.builder.wants_paths(t)
+        if (self._diagnostics_key not in _ORDINARY or self._paths_due(t)
                 or not 0 <= stamp_ns - self._diagnostics_ns < DIAGNOSTICS_PERIOD_S * NS_PER_S):
             return None
         fast = self._fast_path
@@ -276,6 +280,16 @@ class Runtime(TopicAnswers):
         if messages is not None:
             self._last_frame = fast
         return messages
+
+    def _paths_due(self, t: float) -> bool:
+        """Whether a tick at ``t`` draws the paths into ``markers`` (its builder's period) —
+        never while nobody reads ``markers`` and nothing records (:meth:`publish_only`): the path
+        markers, serialised the generic way, took 2–6 ms once a second, more than a 1 kHz period
+        (issue 32); a reader matched later gets them on its next tick."""
+        wanted = self._wanted
+        if wanted is not None and MARKERS not in wanted and self.recorder is None:
+            return False
+        return self.builder.wants_paths(t)
 
     @property
     def last_frame(self) -> Frame | None:
@@ -407,6 +421,8 @@ class Runtime(TopicAnswers):
                 for topic, typename in topic_types(engine):
                     add(topic, typename)
         self.engine = engine
+        if changed & {"mode", "rate_hz"}:
+            self.grid = grid_for(new)
         self.settings = new
         return None
 
@@ -472,7 +488,8 @@ class Runtime(TopicAnswers):
             if engine.motion is not getattr(getattr(self, "engine", None), "motion", None):
                 self._command_t = None
             self.builder.diagnostic_values = DriveState(
-                engine.motion, lambda: self.run_time(self._last_ns or 0), lambda: self._command_t)
+                engine.motion, lambda: self.run_time(self._last_ns or 0), lambda: self._command_t,
+                grid=lambda: self.grid)
 
     def _builder(self, engine: Engine, frame_id: str, omit: tuple[str, ...]) -> tuple[MessageBuilder, Serializer]:
         """The builder and serializer of ``engine``'s messages, joint_states without ``omit``

@@ -49,3 +49,21 @@ def test_the_node_s_own_count_is_read_from_diagnostics_after_the_lag() -> None:
                         "node's own tick_share ≥ 99.90 %")
     assert lines[1] == "tipper: delivered 98.90 % [98.90–98.90], CPU 40.0 % of a core"
     assert lines[2].startswith("RESULT FAIL: every scene delivered >= 98.90 %")
+
+
+def test_the_listener_s_latency_order_and_gaps() -> None:
+    from bench.node_dynamic import latency_figures, scenes_summary
+
+    ms = 1_000_000
+    stamps = [0, ms, 2 * ms, 2 * ms, 5 * ms, 6 * ms]  # a repeat, then a gap of 3 periods
+    received = [s + 300_000 for s in stamps]
+    received[4] += 4 * ms
+    got = latency_figures(stamps, received, 0, 6 * ms, 1000.0)  # the last stamp outside the window
+    assert got["latency_min"] == pytest.approx(0.3) and got["latency_max"] == pytest.approx(4.3)
+    assert got["latency_p50"] == pytest.approx(0.3) and got["max_gap"] == pytest.approx(3.0)
+    assert got["min_gap"] == pytest.approx(1.0)
+    assert got["increasing"] == 0.0  # the repeated stamp
+    assert latency_figures(stamps[:3], received[:3], 0, 6 * ms, 1000.0)["increasing"] == 1.0
+    rows = {"engine": [{"delivered": 0.995, "cpu": 0.8, "latency_p50": 0.4, "latency_p99": 2.5, "latency_max": 9.0}]}
+    assert scenes_summary(rows)[0] == ("engine: delivered 99.50 % [99.50–99.50], CPU 80.0 % of a core, stamp to "
+                                       "receipt p50 0.40 ms, p99 ≤ 2.50 ms, max 9.0 ms")

@@ -1,7 +1,7 @@
 """The dynamic node in real time (issue 32): an effort command ends at ``effort_timeout`` on the
 node's clock within a tick, over DDS with the real node at 1 kHz, the stamps following the wall
-clock; and, without ROS, a law that falls behind says so — one log line and the frames' status
-``behind`` (diagnostics WARN with the real-time factor)."""
+clock on the timer's period grid; and, without ROS, a law that falls behind says so — one log
+line and the frames' status ``behind`` (diagnostics WARN with the real-time factor)."""
 
 from __future__ import annotations
 
@@ -67,6 +67,9 @@ def test_an_effort_command_stops_at_its_timeout_within_a_tick_and_the_stamps_fol
     stamps = [stamp for stamp, _ in ticks]
     assert sent_ns - 5 * NS < stamps[0] and stamps[-1] <= time.time_ns()  # the wall clock's epoch, not run time
     assert all(b > a for a, b in zip(stamps, stamps[1:]))
+    # on the timer's period grid (linkage_ros._tick_grid: a late callback's skipped periods are
+    # caught up at their grid times, never stamped at the callback's own time)
+    assert all((b - a) % round(NS / RATE) == 0 for a, b in zip(stamps, stamps[1:]))
     assert "effort command timed out (0.2 s without one): efforts set to zero" in process.output()
 
 

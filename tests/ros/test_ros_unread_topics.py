@@ -141,3 +141,27 @@ def test_a_held_law_s_ticks_count_in_its_tick_share() -> None:
         runtime.tick(T0 + k * NS // 1000)
     assert law.tick_share == 0.5  # (a hold computes nothing: no factor in the message)
     assert law.behind == "dynamics fall behind real time: 50.0 % of the 1000 Hz ticks over the last 1.00 s"
+
+
+def test_the_path_markers_are_drawn_only_while_markers_are_read_or_recorded() -> None:
+    """Issue 32: the paths (markers serialised the generic way, 2–6 ms once a second: more than a
+    1 kHz period) are not drawn while nobody reads markers; a reader matched later gets them."""
+    from linkage_ros.runtime import Runtime
+
+    settings = {"scene": "four_bar_loaded", "mode": "dynamic", "rate_hz": 1000.0, "phi0": 0.3}
+    read, unread = Runtime(settings), Runtime(settings)
+    read.publish_only({"markers"})
+    unread.publish_only(set())
+
+    def markers(runtime: Runtime, k: int) -> int:
+        return len(dict(runtime.tick(T0 + k * NS // 1000)).get("markers", b""))
+
+    for k in range(1000):
+        markers(read, k), markers(unread, k)
+    with_paths, without = markers(read, 1000), markers(unread, 1000)  # the diagnostics tick, a second in
+    assert with_paths > 2 * without > 0
+    unread.publish_only({"markers"})  # a reader comes: the paths on its next tick
+    assert markers(unread, 1001) == with_paths
+    unread.publish_only(set())
+    unread.recorder = _Recorder()  # a recording gets them too
+    assert markers(unread, 2001) == markers(read, 2001) == with_paths
