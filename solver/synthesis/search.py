@@ -111,6 +111,8 @@ SEEDED_NFEV = 300
 #: (a stage that fails costs 3.5–4.3 s: case 0 with a minimum transmission angle of 80°) still
 #: ends at the best approximate design the DE finds, having spent at most this many stages first.
 SEEDED_STARTS = 4
+#: Group kinds whose long rows a population solves design by design (no seeded stages with them).
+_ONE_BY_ONE = ("triad", "slider_triad")
 
 
 def slack(template: Template, goal: Goal) -> int:
@@ -126,9 +128,12 @@ def short_starts(template: Template, goal: Goal) -> bool:
 
 
 def seeded(template: Template, goal: Goal) -> bool:
-    """Whether each start begins with the seeded stage (``SEEDED_SLACK``; :func:`_seeded_stage`)."""
+    """Whether the first starts are seeded stages (``SEEDED_SLACK``, ``SEEDED_STARTS``;
+    :func:`_seeded_stage`). Not with a triad: its sweep is solved design by design
+    (solver.groups._triad_population), and a screen of ``SEEDED_DESIGNS`` would take minutes."""
     return (not _weighted(goal) and goal.kind == "path" and goal.at is None
-            and slack(template, goal) >= SEEDED_SLACK)
+            and slack(template, goal) >= SEEDED_SLACK
+            and not any(g.kind in _ONE_BY_ONE for g in template.template_scene.ordered))
 
 
 @dataclass

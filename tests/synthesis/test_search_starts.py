@@ -139,3 +139,14 @@ def test_six_points_end_exact_in_the_first_seeded_stage() -> None:
     assert meets_constraints(res.scene, res.goal) is None
     again = run_start(t, res.goal, 0, 0, Options(), None)
     assert any(np.array_equal(p.x, res.best.x) for p in again.polished)
+
+
+def test_no_seeded_stages_with_a_triad() -> None:
+    """A triad's sweep is solved design by design: a path task on a triad template keeps the DE
+    starts (a screen of 10,000 designs would take minutes)."""
+    from solver.synthesis.search import seeded, slack
+
+    t = load_template(Path(__file__).parent / "templates" / "triad_press_path.yaml")
+    goal = make_goal(t, point="F", through=[[0.3, 0.6], [0.35, 0.65]], at=None, joint=None, pairs=None, poses=None,
+                     input_range=None, min_transmission=math.radians(30.0), max_ratio=None, samples=180)
+    assert slack(t, goal) == 3 and not seeded(t, goal)
