@@ -87,7 +87,8 @@ def synthesize(
     once as there are (the result is the same as in one process: search._workers); ``maxiter``:
     generations of one start and ``starts`` the most starts (by default 35 and 64 where the task's
     zeros form a family — unknowns ≥ equations — and there are no force terms, else 300 and 32:
-    search.short_starts). An expired
+    search.short_starts; a path without timing whose zeros form a family of dimension ≥ 3 —
+    6 targets of the four-bar or fewer — begins with 4 seeded stages: search.seeded). An expired
     ``time_limit`` (s) returns the best design so far, marked (``res.expired``).
     """
     t0 = time.monotonic()
