@@ -119,10 +119,11 @@ SEEDED_GAIN = 1.5
 #: Evaluations of the last polish after a slide on the targets alone (:func:`_slide`; a DE
 #: start's slide keeps 60): a slid end is feasible but often 1e-6 – 1e-5 off, and crawls too.
 SEEDED_NFEV = 300
-#: Starts 0 … SEEDED_STARTS − 1 of such a task are seeded stages alone (a stage costs about 1.5 s
-#: CPU and ended exact on case 0 of the six-target benchmark in 10 of 12 seeds, a DE start about
-#: 1 s at 1 in 10); the later ones are DE starts, so that a task without an exact feasible design
-#: (a stage that fails costs 3.5–4.3 s: case 0 with a minimum transmission angle of 80°) still
+#: Starts 0 … SEEDED_STARTS − 1 of such a task are seeded stages alone (a stage costs 1.3–2.9 s
+#: CPU at load 1 and ended exact on case 0 of the six-target benchmark in 12 of 12 seeds, a DE
+#: start about 1 s at 1 in 10); the later ones are DE starts, so that a task without an exact feasible
+#: design (a stage that fails costs 3.0–3.5 s at load 1.7, 3.5–4.3 s at load 5–6: case 0 with a
+#: minimum transmission angle of 80°) still
 #: ends at the best approximate design the DE finds, having spent at most this many stages first.
 SEEDED_STARTS = 4
 #: Group kinds whose long rows a population solves design by design (no seeded stages with them).
