@@ -11,7 +11,7 @@ feasible zero (:func:`_slide`; the same for the trial polishes during the search
 task's zeros form a family of dimension ≥ 3 (a path without timing: 6 targets of the four-bar or
 fewer), the first four starts are *seeded stages* instead (:func:`_seeded_stage`): the best of 10,000
 Latin-hypercube designs at the targets' scale polished together, the ends near a zero one by one,
-feasible first — zeros are plentiful there, and most stages end exact. Starts run in
+feasible and infeasible in turn — zeros are plentiful there, and most stages end exact. Starts run in
 order until one yields an exact design or ``starts`` are spent; on N local processes
 (``workers=N``) or a Dask client (``workers=client``) N starts run at once (:mod:`._workers`),
 and the results are read in start order with the same stopping rule, so whatever runs them the
@@ -101,14 +101,29 @@ SEEDED_SAMPLES = 60
 #: ends at 1e-6 of the targets' size, whose polish of 60 evaluations stalled there).
 SEEDED_BATCH = 200
 SEEDED_ITERATIONS = 150
-#: Ends near a zero polished one by one (feasible ones first, by cost; then the infeasible,
-#: slid along the family), each with this many evaluations at most.
-SEEDED_KEEP = 4
+#: Ends near a zero polished one by one, at most this many: feasible and infeasible ones in turn,
+#: each kind by cost (an exact but infeasible polish slid along the family: :func:`_slide`). In
+#: turn rather than the feasible ones first: on case 0 seed 1 of the six-target benchmark the four
+#: feasible ends all crawl at 1e-5 of the size while the first infeasible ones end exact and slide
+#: to a feasible zero (issue 32; docs/synthesis.md, Figures).
+SEEDED_KEEP = 6
+#: A one-by-one polish runs in chunks of ``SEEDED_CHUNK`` evaluations, at most ``SEEDED_CHUNKS``
+#: of them, and stops after a chunk that lowered its RMS residual by less than ``SEEDED_GAIN``
+#: times (:func:`_polish_while_falling`): an end that converges crawls down a factor 1.7–3 per
+#: 100 evaluations before its last quadratic steps (a crawl from 1e-5 to 1e-7 of the size takes
+#: 100–250), one that does not is flat (1e-5 → 1.2e-5, 5e-5 → 4e-5 over 300), so the failures
+#: cost a third of what 300 evaluations did and the converging ones may run on to 600.
+SEEDED_CHUNK = 100
+SEEDED_CHUNKS = 6
+SEEDED_GAIN = 1.5
+#: Evaluations of the last polish after a slide on the targets alone (:func:`_slide`; a DE
+#: start's slide keeps 60): a slid end is feasible but often 1e-6 – 1e-5 off, and crawls too.
 SEEDED_NFEV = 300
-#: Starts 0 … SEEDED_STARTS − 1 of such a task are seeded stages alone (a stage costs about 1.5 s
-#: CPU and ended exact on case 0 of the six-target benchmark in 10 of 12 seeds, a DE start about
-#: 1 s at 1 in 10); the later ones are DE starts, so that a task without an exact feasible design
-#: (a stage that fails costs 3.5–4.3 s: case 0 with a minimum transmission angle of 80°) still
+#: Starts 0 … SEEDED_STARTS − 1 of such a task are seeded stages alone (a stage costs 1.3–2.9 s
+#: CPU at load 1 and ended exact on case 0 of the six-target benchmark in 12 of 12 seeds, a DE
+#: start about 1 s at 1 in 10); the later ones are DE starts, so that a task without an exact feasible
+#: design (a stage that fails costs 3.0–3.5 s at load 1.7, 3.5–4.3 s at load 5–6: case 0 with a
+#: minimum transmission angle of 80°) still
 #: ends at the best approximate design the DE finds, having spent at most this many stages first.
 SEEDED_STARTS = 4
 #: Group kinds whose long rows a population solves design by design (no seeded stages with them).
@@ -244,9 +259,10 @@ def _seeded_stage(template: Template, goal: Goal, rng: np.random.Generator, dead
     """A start's seeded stage (``SEEDED_*``): ``SEEDED_DESIGNS`` designs of a Latin hypercube in
     the start box (:func:`start_box`) screened by the search's figure on a coarse sweep; the
     ``SEEDED_BATCH`` best distinct ones polished together (:func:`~.batch.polish_batch`); of the
-    ends near a zero, the feasible ones (the population's figure) by cost, then the infeasible
-    ones, polished one by one (an exact but infeasible one slid along the family: :func:`_slide`)
-    until one is exact and feasible. Returns the polished designs (the exact and feasible one
+    ends near a zero, the feasible (the population's figure) and the infeasible ones in turn, each
+    kind by cost (:func:`_seeded_order`), polished one by one while their residual falls
+    (:func:`_polish_while_falling`; an exact but infeasible one slid along the family:
+    :func:`_slide`) until one is exact and feasible. Returns the polished designs (the exact and feasible one
     last, where found) and the best figure of the screen."""
     box = start_box(template, goal, rng, SEEDED_DESIGNS)
     if not isinstance(box, np.ndarray):  # (a path task's box is always narrowed)
@@ -267,20 +283,46 @@ def _seeded_stage(template: Template, goal: Goal, rng: np.random.Generator, dead
         i = int(np.argmin(ends.cost))
         return [Polished(ends.x[i], ends.phases[i], float(ends.cost[i]))], best
     ok = objective(goal, evaluate(template, goal, ends.x[near])) < INFEASIBLE
-    order = [*near[ok][np.argsort(ends.cost[near[ok]], kind="stable")],
-             *near[~ok][np.argsort(ends.cost[near[~ok]], kind="stable")]][:SEEDED_KEEP]
+    order = _seeded_order(ends.cost, near, ok)[:SEEDED_KEEP]
     for i in order:
         if deadline is not None and time.monotonic() > deadline:
             break
-        p = polish(template, goal, ends.x[i], ends.phases[i], max_nfev=SEEDED_NFEV)
+        p = _polish_while_falling(template, goal, ends.x[i], ends.phases[i])
         out.append(p)
         if _exact_and_feasible(template, goal, p):
             break
-        slid = _slide(template, goal, [p], deadline)
+        slid = _slide(template, goal, [p], deadline, max_nfev=SEEDED_NFEV)
         out += slid
         if any(_exact_and_feasible(template, goal, q) for q in slid):
             break
     return out, best
+
+
+def _polish_while_falling(template: Template, goal: Goal, x: np.ndarray, phases: np.ndarray) -> Polished:
+    """:func:`~.polish.polish` from (x, phases) in chunks of ``SEEDED_CHUNK`` evaluations while
+    each chunk lowers the RMS residual ``SEEDED_GAIN`` times, at most ``SEEDED_CHUNKS``; the best
+    end (each chunk restarts the trust region from where the last one ended)."""
+    p = polish(template, goal, x, phases, max_nfev=SEEDED_CHUNK)
+    for _ in range(SEEDED_CHUNKS - 1):
+        if _exact(goal, p):
+            break
+        q = polish(template, goal, p.x, p.phases, max_nfev=SEEDED_CHUNK)
+        falling = q.cost < p.cost / SEEDED_GAIN**2
+        p = q if q.cost < p.cost else p
+        if not falling:
+            break
+    return p
+
+
+def _seeded_order(cost: np.ndarray, near: np.ndarray, ok: np.ndarray) -> list[int]:
+    """The ends ``near`` (indices) in the order of their one-by-one polish: feasible (``ok``) and
+    infeasible in turn, the feasible first, each kind by ``cost`` (``SEEDED_KEEP``)."""
+    kinds = [list(near[ok][np.argsort(cost[near[ok]], kind="stable")]),
+             list(near[~ok][np.argsort(cost[near[~ok]], kind="stable")])]
+    out: list[int] = []
+    for j in range(max(map(len, kinds))):
+        out += [int(k[j]) for k in kinds if j < len(k)]
+    return out
 
 
 def start_box(template: Template, goal: Goal, rng: np.random.Generator, count: int) -> np.ndarray | str:
@@ -331,7 +373,8 @@ def _polished(template: Template, goal: Goal, members: np.ndarray, iterations: i
     return [polish(template, goal, ends.x[i], ends.phases[i]) for i in order]
 
 
-def _slide(template: Template, goal: Goal, polished: list[Polished], deadline: float | None) -> list[Polished]:
+def _slide(template: Template, goal: Goal, polished: list[Polished], deadline: float | None, *,
+           max_nfev: int = 60) -> list[Polished]:
     """Where no polish ended exact and feasible: each exact but infeasible one polished again from
     where it ended with the feasibility residuals added at ``SLIDE_WEIGHT``, until one ends exact
     and feasible. An under-determined task (fewer equations than unknowns: 5 path targets and 9
@@ -349,7 +392,7 @@ def _slide(template: Template, goal: Goal, polished: list[Polished], deadline: f
             continue
         q = polish(template, goal, p.x, p.phases, feasible=SLIDE_WEIGHT)
         if _feasible(template, goal, q):  # the last steps to round-off, on the targets alone
-            again = polish(template, goal, q.x, q.phases)
+            again = polish(template, goal, q.x, q.phases, max_nfev=max_nfev)
             q = again if _exact_and_feasible(template, goal, again) else q
         out.append(q)
         if _exact_and_feasible(template, goal, q):
