@@ -24,20 +24,18 @@ import numpy as np
 import pytest
 from scene_builders import build
 from scipy.optimize import least_squares
+from triad_checks import TOL_POS, TOL_VEL, assert_joints_match, assert_points_match, complex_of
 
 from solver.errors import AssemblyError, SceneError
 from solver.groups._slider_triad_math import DEGREE, slider_coefficients, slider_roots
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "reference_slider_triad.json"
-TOL_POS = 1e-12  # of the mechanism's size
-TOL_VEL = 1e-9  # of the size (per rad)
 TOL_FD = 1e-6  # analogs vs central differences (step 1e-6: truncation ~1e-12, rounding ~1e-10)
 BRUTE_STARTS = 150
 BRUTE_SAME = 1e-6  # rad: two least-squares solutions are one mode
 
 
-def _c(pair: list[str]) -> complex:
-    return complex(float(pair[0]), float(pair[1]))
+_c = complex_of
 
 
 def _cases() -> list[dict]:
@@ -89,16 +87,8 @@ def test_reference_positions_and_analogs(i: int) -> None:
     phi = np.array([float(s["phi"]) for s in case["samples"]])
     k = scene.solve(phi)
     size = _size(case)
-    for name in "DEF":
-        ref = np.array([_c(s[name]) for s in case["samples"]])
-        vel = np.array([_c(s["d" + name]) for s in case["samples"]])
-        assert np.abs(k.point(name).position @ [1, 1j] - ref).max() <= TOL_POS * size, name
-        assert np.abs(k.point(name).velocity @ [1, 1j] - vel).max() <= TOL_VEL * size, name
-    for joint, key in (("ternary", "theta"), ("s", "s")):
-        ref_q = np.array([float(s[key]) for s in case["samples"]])
-        ref_v = np.array([float(s["d" + key]) for s in case["samples"]])
-        assert np.abs(k.joint(joint).position - ref_q).max() <= TOL_POS * size
-        assert np.abs(k.joint(joint).velocity - ref_v).max() <= TOL_VEL * size
+    assert_points_match(k, case["samples"], size)
+    assert_joints_match(k, case["samples"], size)
 
 
 @pytest.mark.parametrize("i", [0, 5, 11])
