@@ -41,3 +41,40 @@ def assert_joints_match(k: Any, samples: Sequence[dict], size: float,
         ref_v = np.array([float(s["d" + key]) for s in samples])
         assert np.abs(k.joint(joint).position - ref_q).max() <= TOL_POS * size, joint
         assert np.abs(k.joint(joint).velocity - ref_v).max() <= TOL_VEL * size, joint
+
+
+def dense_sweep(make_scene: Any, case: dict) -> tuple[Any, Any, np.ndarray, list[bool]]:
+    """A slider triad's reference ``case`` swept 1201 samples across its range (its own φ among
+    them): ``(k, full, where, calls)`` — the sweep through the anchors' shortcut
+    (solver.groups._slider_triad_sweep.fast_sweep, watched: ``calls`` says for each call whether
+    it was taken), the same sweep on the full path, and where the reference's φ lie in it."""
+    from unittest import mock
+
+    from solver.groups import _slider_triad_sweep
+
+    phi_s = np.array([float(s["phi"]) for s in case["samples"]])
+    phi = np.unique(np.concatenate([np.linspace(phi_s.min(), phi_s.max(), 1201), phi_s]))
+    calls: list[bool] = []
+    real = _slider_triad_sweep.fast_sweep
+
+    def spy(*args: Any, **kw: Any) -> Any:
+        out = real(*args, **kw)
+        calls.append(out is not None)
+        return out
+    with mock.patch.object(_slider_triad_sweep, "fast_sweep", spy):
+        k = make_scene(case).solve(phi)
+    with mock.patch.object(_slider_triad_sweep, "fast_sweep", lambda *a, **kw: None):
+        full = make_scene(case).solve(phi)
+    return k, full, np.searchsorted(phi, phi_s), calls
+
+
+def assert_dense_match(k: Any, full: Any, where: np.ndarray, samples: Sequence[dict], size: float) -> None:
+    """:func:`dense_sweep`'s sweep: the reference at its φ (positions and velocity analogs) and
+    the full path's positions at every sample."""
+    for name in "DEF":
+        got = k.point(name).position @ [1, 1j]
+        ref = np.array([complex_of(s[name]) for s in samples])
+        vel = np.array([complex_of(s["d" + name]) for s in samples])
+        assert np.abs(got[where] - ref).max() <= TOL_POS * size, name
+        assert np.abs((k.point(name).velocity @ [1, 1j])[where] - vel).max() <= TOL_VEL * size, name
+        assert np.abs(got - full.point(name).position @ [1, 1j]).max() <= TOL_POS * size, name

@@ -24,7 +24,15 @@ import numpy as np
 import pytest
 from scene_builders import build
 from scipy.optimize import least_squares
-from triad_checks import TOL_POS, TOL_VEL, assert_joints_match, assert_points_match, complex_of
+from triad_checks import (
+    TOL_POS,
+    TOL_VEL,
+    assert_dense_match,
+    assert_joints_match,
+    assert_points_match,
+    complex_of,
+    dense_sweep,
+)
 
 from solver.errors import AssemblyError, SceneError
 from solver.groups._slider_triad_math import DEGREE, slider_coefficients, slider_roots
@@ -375,34 +383,11 @@ def test_ticks_follow_by_newton_and_agree_with_the_sweep() -> None:
 def test_reference_in_a_dense_sweep_through_the_anchors_shortcut(i: int) -> None:
     """0.05° apart a sweep takes the anchors' shortcut (solver.groups._slider_triad_sweep): the
     same accuracy at the reference's φ, and the same root as the full path at every sample."""
-    from unittest import mock
-
-    from solver.groups import _slider_triad_sweep
-
     case = _cases()[i]
-    phi_s = np.array([float(s["phi"]) for s in case["samples"]])
-    phi = np.unique(np.concatenate([np.linspace(phi_s.min(), phi_s.max(), 1201), phi_s]))
-    where = np.searchsorted(phi, phi_s)
     size = _size(case)
-    calls = []
-    real = _slider_triad_sweep.fast_sweep
-
-    def spy(*args: Any, **kw: Any) -> Any:
-        out = real(*args, **kw)
-        calls.append(out is not None)
-        return out
-    with mock.patch.object(_slider_triad_sweep, "fast_sweep", spy):
-        k = _scene(case).solve(phi)
+    k, full, where, calls = dense_sweep(_scene, case)
     assert calls == [True]
-    with mock.patch.object(_slider_triad_sweep, "fast_sweep", lambda *a, **kw: None):
-        full = _scene(case).solve(phi)
-    for name in "DEF":
-        got = k.point(name).position @ [1, 1j]
-        ref = np.array([_c(s[name]) for s in case["samples"]])
-        vel = np.array([_c(s["d" + name]) for s in case["samples"]])
-        assert np.abs(got[where] - ref).max() <= TOL_POS * size, name
-        assert np.abs((k.point(name).velocity @ [1, 1j])[where] - vel).max() <= TOL_VEL * size, name
-        assert np.abs(got - full.point(name).position @ [1, 1j]).max() <= TOL_POS * size, name
+    assert_dense_match(k, full, where, case["samples"], size)
 
 
 def _spans_taken(scene: Any, phi: np.ndarray) -> tuple[Any, list[tuple[int, bool]]]:
